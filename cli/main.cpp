@@ -1,0 +1,27 @@
+// rfidray: one subcommand per use. Each subcommand lives in its own cli/cmd_*.cpp and registers itself here.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "cli/commands.h"
+#include "core/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"rfidray — ray-traced multipath channel engine for passive UHF RFID"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "rfidray 0.1.0");
+  rfidray::cli::register_commands(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    return rfidray::cli::run_selected(app);
+  } catch (const rfidray::InputError& e) {
+    std::cerr << "rfidray: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "rfidray: error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,53 @@
+#pragma once
+// The channel interface: everything between the reader antenna's port and the tag's port.
+// The ideal channel (free space, paper) and the ray-traced channels (raytrace/) implement it.
+#include <complex>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/antenna_pattern.h"
+#include "core/geometry.h"
+#include "core/path.h"
+#include "core/polarization.h"
+
+namespace rfidray {
+
+// One end of a link: where it is, which way it points, how it radiates.
+struct Endpoint {
+  Pose pose;
+  AntennaPattern pattern;
+  Polarization polarization;
+};
+
+class Channel {
+ public:
+  virtual ~Channel() = default;
+  virtual std::string name() const = 0;
+
+  // Every path of one link, with `contribution` filled (noise-free). Used by `rfidray link`.
+  virtual std::vector<Path> paths(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) const = 0;
+
+  // One-way channels h for one antenna pose and many tags (the batch lets a ray tracer share the
+  // candidate search of one antenna pose among all tags). Must be thread-safe; h.size() == tags.size().
+  virtual void one_way(const Endpoint& antenna, std::span<const Endpoint> tags, double frequency_hz,
+                       std::span<std::complex<double>> h) const {
+    for (size_t i = 0; i < tags.size(); ++i) h[i] = sum_paths(paths(antenna, tags[i], frequency_hz));
+  }
+
+  // True when the channel depends on nothing but the two endpoints (no moving scene objects), so
+  // a link whose endpoints did not move can reuse its last value.
+  virtual bool cacheable() const { return true; }
+};
+
+// Free space, line of sight always: h = √(G_R G_T) · λ/(4πD) · e^{-jkD} with the pattern gains in the
+// LoS direction. Polarization is taken as matched (the paper's model has none).
+class IdealChannel final : public Channel {
+ public:
+  std::string name() const override { return "ideal"; }
+  std::vector<Path> paths(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) const override;
+  void one_way(const Endpoint& antenna, std::span<const Endpoint> tags, double frequency_hz,
+               std::span<std::complex<double>> h) const override;
+};
+
+}  // namespace rfidray

@@ -1,0 +1,52 @@
+#pragma once
+// One propagation path of an antenna–tag link and the complex channel they sum to.
+// h = Σ_i (λ / 4π L_i) · g_R,i · g_T,i · Γ_i · e^{-j k L_i}   (one way; round trip is h², paper eq. 1)
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "core/geometry.h"
+#include "core/units.h"
+
+namespace rfidray {
+
+enum class PathKind { kLineOfSight, kBlocked, kReflection };
+
+inline const char* to_string(PathKind k) {
+  switch (k) {
+    case PathKind::kLineOfSight: return "los";
+    case PathKind::kBlocked: return "blocked";
+    case PathKind::kReflection: return "reflection";
+  }
+  return "?";
+}
+
+struct Path {
+  PathKind kind = PathKind::kLineOfSight;
+  double length_m = 0.0;
+  // Interaction point: the reflection point for reflections; for blocked paths the first crossing.
+  Vec3 point = Vec3::Zero();
+  std::string material;  // material of the reflecting / crossed surface ("" for LoS)
+  int crossings = 0;     // surfaces crossed (blocked paths)
+  // Everything but spreading and propagation phase: √(G_R G_T) in the path directions,
+  // polarization match, Fresnel / transmission coefficients.
+  std::complex<double> coefficient{1.0, 0.0};
+  // The path's contribution to the one-way channel h.
+  std::complex<double> contribution{0.0, 0.0};
+};
+
+// Contribution of one path: (λ / 4π L) · coefficient · e^{-j k L}.
+inline std::complex<double> path_contribution(double length_m, std::complex<double> coefficient,
+                                              double frequency_hz) {
+  const double lambda = wavelength_m(frequency_hz);
+  return coefficient * (lambda / (4.0 * kPi * length_m)) *
+         std::polar(1.0, -wavenumber_rad_m(frequency_hz) * length_m);
+}
+
+inline std::complex<double> sum_paths(const std::vector<Path>& paths) {
+  std::complex<double> h{0.0, 0.0};
+  for (const Path& p : paths) h += p.contribution;
+  return h;
+}
+
+}  // namespace rfidray

@@ -1,0 +1,61 @@
+#pragma once
+// Reader antenna and tag parameters, and the reading a reader reports. Field names follow the seed
+// plugin's SDF parameters where they exist (frequency, noisephi, noiserssi, range, optional_distribution,
+// optional_distribution_params, communication_gain, update_rate) so its users can copy them.
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "core/antenna_pattern.h"
+#include "core/polarization.h"
+
+namespace rfidray {
+
+enum class ReaderModelKind { kPaper, kPhysical };
+
+// The eight optional noise distributions of the seed plugin (paper eq. 4, n_optional), as in <random>.
+enum class DistributionKind { kNone, kUniform, kExponential, kGamma, kWeibull, kNormal, kLognormal, kChiSquared, kCauchy };
+
+struct OptionalDistribution {
+  DistributionKind kind = DistributionKind::kNone;
+  std::vector<double> params;
+};
+
+struct ReaderParams {
+  std::string name;
+  std::vector<double> frequencies_hz{865.7e6};  // one entry: fixed; several: hopping in this order
+  std::vector<double> phase_offsets_rad{0.0};     // φ0 per channel (same length as frequencies_hz)
+  double hop_dwell_s = 0.4;                       // time on one channel before hopping (EU readers: ~0.4 s)
+  double tx_power_dbm = 30.0;
+  double noise_phi_rad = 0.1;       // σ of n_φ (paper eq. 4)
+  double noise_rssi = 0.01;         // σ of n_RSSI (paper eq. 5)
+  double range_m = 7.0;             // r of the read condition D ≤ r·|1 + n_r| (paper model)
+  double range_sigma = 0.05;        // σ_r of n_r (paper §III-A, after DiGiampaolo & Martinelli)
+  OptionalDistribution optional_distribution;
+  double communication_gain = 1.0;  // G_RT of eq. 5 (linear)
+  double update_rate_hz = 15.0;
+  int phase_bits = 12;              // phase quantization: 2π / 2^bits per step (0: none)
+  double rssi_resolution_db = 1.0;  // RSSI reported in steps of this size (paper: integer dB)
+  double sensitivity_dbm = -80.0;   // reader receive sensitivity (physical model)
+  double modulation_factor = 0.25;  // K of the backscatter link (physical model): fraction re-radiated
+  ReaderModelKind model = ReaderModelKind::kPaper;
+  AntennaPattern pattern;           // physical model / ray-traced channels
+  Polarization polarization;
+};
+
+struct TagParams {
+  std::string name;  // EPC or a user name
+  double gain_dbi = 2.15;            // half-wave dipole-like tag
+  double chip_sensitivity_dbm = -20.0;
+  AntennaPattern pattern;            // used by the physical model and ray-traced channels
+  Polarization polarization;
+};
+
+// What one read attempt yields. `read == false` means the tag did not answer; phase/RSSI are then unset.
+struct Reading {
+  bool read = false;
+  double phase_rad = 0.0;  // [0, 2π)
+  double rssi_dbm = 0.0;
+};
+
+}  // namespace rfidray
