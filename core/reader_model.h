@@ -1,0 +1,39 @@
+#pragma once
+// The two reader models (switchable per antenna):
+//  - paper:    eq. 4 phase (φ0 + 4πD/λ + n_φ + n_opt) mod 2π, eq. 5 RSSI round(40·log10(G_RT·λ/(4πD) + n_RSSI)),
+//              read iff D ≤ r·|1 + n_r|, n_r ~ N(0, σ_r²).
+//  - physical: complex one-way channel h from a Channel; round trip h²; tag powered iff P_tx·|h|² ≥ chip
+//              sensitivity; RSSI (dBm) from P_tx·K·|h|⁴ plus noise; phase φ0 − arg(h²) plus noise; quantized.
+#include <complex>
+
+#include "core/random.h"
+#include "core/reader.h"
+
+namespace rfidray {
+
+// Everything a reader model needs to know about one read attempt.
+struct LinkState {
+  double distance_m = 0.0;             // true antenna–tag distance (paper model, CSV `dist`)
+  double frequency_hz = 865.7e6;
+  double phase_offset_rad = 0.0;       // φ0 of the current channel
+  std::complex<double> h_one_way{0.0, 0.0};  // from the Channel (physical model)
+};
+
+// Dispatches on reader.model. Draws from `rng` in a fixed order so runs are reproducible.
+// Throws InputError for D ≤ 0, non-finite inputs, or a non-positive frequency.
+Reading read_tag(const ReaderParams& reader, const TagParams& tag, const LinkState& link, Rng& rng);
+
+Reading paper_reading(const ReaderParams& reader, const LinkState& link, Rng& rng);
+Reading physical_reading(const ReaderParams& reader, const TagParams& tag, const LinkState& link, Rng& rng);
+
+// Quantizes a phase in [0, 2π) to `bits` bits of 2π (0 bits: unchanged); result in [0, 2π).
+double quantize_phase(double phase_rad, int bits);
+// Rounds an RSSI to the nearest multiple of `resolution_db` (0: unchanged).
+double quantize_rssi(double rssi_db, double resolution_db);
+
+// Validates reader parameters (positive frequency, matching φ0 list, non-negative noise, ...).
+// Throws InputError naming `field`.
+void validate(const ReaderParams& reader, const std::string& field);
+void validate(const TagParams& tag, const std::string& field);
+
+}  // namespace rfidray
