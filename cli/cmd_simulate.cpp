@@ -134,7 +134,7 @@ std::function<int()> setup_simulate(CLI::App& app) {
       "          pattern, polarization, start_s\n"
       "The seed Gazebo plugin's parameter names (frequency, noisephi, noiserssi, range, optional_distribution,\n"
       "optional_distribution_params, communication_gain, update_rate) are accepted as-is.");
-  cmd->add_option("scenario", opts->scenario, "Scenario YAML file (e.g. scenes/paper_warehouse.yaml)")->required();
+  cmd->add_option("SCENARIO", opts->scenario, "Scenario YAML file (e.g. scenes/paper_warehouse.yaml)")->required();
   cmd->add_option("--seed", opts->seed, "Random seed (overrides the scenario's `seed`)");
   cmd->add_option("--threads", opts->threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
       ->check(CLI::PositiveNumber);

@@ -177,8 +177,14 @@ class Map {
   }
   YAML::Node required(const char* key) {
     auto n = get(key);
-    if (!n) throw src_.error(node_, field(key), "is required");
-    return *n;
+    if (n) return *n;
+    // A misspelt required key is reported as the typo, not as a missing key.
+    for (auto it = node_.begin(); it != node_.end(); ++it) {
+      const std::string k = it->first.Scalar();
+      if (!known_.count(k) && edit_distance(k, key) <= 2)
+        throw src_.error(it->first, field(k), "unknown key '" + k + "' (did you mean '" + key + "'?)");
+    }
+    throw src_.error(node_, field(key), "is required");
   }
 
   void finish() const {
