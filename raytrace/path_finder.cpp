@@ -118,7 +118,7 @@ void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double freq
   double strongest = 0.0;
   for (const TracedPath& p : out) strongest = std::max(strongest, std::norm(p.contribution));
   const double floor = strongest * db_to_linear(-options_.drop_below_db);
-  std::erase_if(out, [&](const TracedPath& p) { return std::norm(p.contribution) < floor || p.contribution == 0.0; });
+  std::erase_if(out, [&](const TracedPath& p) { return std::norm(p.contribution) < floor; });
 }
 
 void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f, std::vector<TracedPath>& out) const {
