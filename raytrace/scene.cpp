@@ -1,5 +1,7 @@
 #include "raytrace/scene.h"
 
+#include <cstdio>
+
 #include "raytrace/obj_loader.h"
 
 namespace rfidray {
@@ -33,6 +35,18 @@ std::array<Vec3, 3> Scene::corners(uint32_t triangle) const {
   const TriangleMesh& m = meshes_[triangle_mesh_[triangle]];
   const auto& tri = m.triangles[triangle - triangle_offset_[triangle_mesh_[triangle]]];
   return {m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]};
+}
+
+std::vector<std::string> extrapolation_warnings(const Scene& scene, double frequency_hz) {
+  std::vector<std::string> out;
+  for (const RadioMaterial& m : scene.materials())
+    if (!m.perfect_conductor && m.extrapolated(frequency_hz)) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "material '%s': ITU-R P.2040 fit is specified from %g GHz; extrapolated to %g MHz",
+                    m.name.c_str(), m.min_valid_ghz, frequency_hz / 1e6);
+      out.push_back(buf);
+    }
+  return out;
 }
 
 std::shared_ptr<const Scene> load_scene(const std::vector<std::filesystem::path>& obj_files,

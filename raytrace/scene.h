@@ -58,6 +58,10 @@ class Scene {
   std::unique_ptr<EmbreeScene> bvh_;
 };
 
+// One line per scene material whose ITU-R P.2040 fit is extrapolated at this frequency (several are specified
+// from 1 GHz only; UHF RFID runs at 860–960 MHz), for the caller to print once.
+std::vector<std::string> extrapolation_warnings(const Scene& scene, double frequency_hz);
+
 // Loads OBJ files (their warnings are appended to `warnings` if given), resolves materials, builds the BVH.
 std::shared_ptr<const Scene> load_scene(const std::vector<std::filesystem::path>& obj_files,
                                         const MaterialAssignment& assignment, const SceneOptions& options = {},
