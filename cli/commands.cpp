@@ -6,6 +6,7 @@ namespace rfidray::cli {
 
 // Each subcommand file provides one setup function (declared here, defined in cli/cmd_<name>.cpp).
 // std::function<int()> setup_<name>(CLI::App& app);   (add one line per command)
+std::function<int()> setup_simulate(CLI::App& app);
 std::function<int()> setup_link(CLI::App& app);
 std::function<int()> setup_gen_warehouse(CLI::App& app);
 
@@ -23,6 +24,7 @@ void add(CLI::App& app, const CommandSetup& setup) {
 }  // namespace
 
 void register_commands(CLI::App& app) {
+  add(app, setup_simulate);
   add(app, setup_link);
   add(app, setup_gen_warehouse);
 }

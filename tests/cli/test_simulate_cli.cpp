@@ -1,0 +1,191 @@
+// `rfidray simulate` end to end through the real binary: the paper scenario, byte-identical output across
+// thread counts, the CSV format, moving tags, and bad inputs (non-zero exit, message naming file/line/field).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "cli/readings_csv.h"
+#include "core/units.h"
+
+namespace rfidray::cli {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kSource = RFIDRAY_SOURCE_DIR;
+const std::string kBinary = RFIDRAY_BINARY;
+
+struct RunResult {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+RunResult run(const std::string& args) {
+  RunResult r;
+  FILE* p = popen((kBinary + " " + args + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class SimulateCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rfidray_simulate_" + std::to_string(getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(SimulateCli, PaperScenarioIsByteIdenticalAtOneAndTwoThreads) {
+  const std::string scenario = kSource + "/scenes/paper_warehouse.yaml";
+  const RunResult one = run("simulate " + scenario + " --threads 1 -o " + (dir_ / "t1").string());
+  const RunResult two = run("simulate " + scenario + " --threads 2 -o " + (dir_ / "t2").string());
+  ASSERT_EQ(one.status, 0) << one.output;
+  ASSERT_EQ(two.status, 0) << two.output;
+  for (const char* f : {"mobile.csv", "fixed.csv", "tags.csv"}) {
+    const std::string a = slurp(dir_ / "t1" / f), b = slurp(dir_ / "t2" / f);
+    EXPECT_GT(a.size(), 30u) << f;
+    EXPECT_EQ(a, b) << f << " differs between 1 and 2 threads";
+  }
+  // A different seed gives different readings.
+  const RunResult other = run("simulate " + scenario + " --seed 99 -q -o " + (dir_ / "s99").string());
+  ASSERT_EQ(other.status, 0) << other.output;
+  EXPECT_NE(slurp(dir_ / "t1" / "mobile.csv"), slurp(dir_ / "s99" / "mobile.csv"));
+  EXPECT_TRUE(other.output.empty()) << other.output;  // -q
+}
+
+TEST_F(SimulateCli, PaperScenarioReadsEveryTagWithTheSeedColumns) {
+  const RunResult r = run("simulate " + kSource + "/scenes/paper_warehouse.yaml -o " + dir_.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("antenna mobile"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("wall time"), std::string::npos) << r.output;
+
+  const std::string csv = slurp(dir_ / "mobile.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "time,posx,posy,posz,q1,q2,q3,q4,name,dist,phase,rssi,antenna,frequency_hz,channel");
+  EXPECT_EQ(slurp(dir_ / "tags.csv").substr(0, 11), "name,x,y,z\n");
+
+  // Ground truth as written.
+  std::map<std::string, Vec3> truth;
+  std::istringstream tags(slurp(dir_ / "tags.csv"));
+  std::string line;
+  std::getline(tags, line);
+  while (std::getline(tags, line)) {
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream row(line);
+    std::string name;
+    Vec3 p;
+    row >> name >> p.x() >> p.y() >> p.z();
+    truth[name] = p;
+  }
+  ASSERT_EQ(truth.size(), 10u);
+  EXPECT_TRUE(truth["tag1"].isApprox(Vec3(2.90, 0.57, 2.05)));
+
+  const std::vector<CsvReading> rows = read_readings_csv((dir_ / "mobile.csv").string());
+  std::set<std::string> read_tags;
+  double last_t = -1.0;
+  for (const CsvReading& row : rows) {
+    read_tags.insert(row.tag);
+    ASSERT_TRUE(truth.count(row.tag)) << row.tag;
+    // dist is the true distance between the written antenna position and the tag (6 decimals each).
+    ASSERT_NEAR(row.distance_m, (truth[row.tag] - row.antenna_pose.position).norm(), 2e-6);
+    ASSERT_LE(row.distance_m, 7.0 * 1.3);  // read range r·|1 + n_r|, n_r ~ N(0, 0.05²): 6σ above r
+    ASSERT_GE(row.phase_rad, 0.0);
+    ASSERT_LT(row.phase_rad, kTwoPi);
+    ASSERT_NEAR(row.antenna_pose.position.z(), 1.68, 1e-9);
+    ASSERT_NEAR(row.antenna_pose.orientation.norm(), 1.0, 1e-8);
+    ASSERT_GE(row.time_s, last_t);  // ordered by tick
+    last_t = row.time_s;
+    ASSERT_EQ(row.antenna, "mobile");
+    ASSERT_EQ(row.frequency_hz, 865.7e6);
+  }
+  EXPECT_EQ(read_tags.size(), 10u) << "the mobile antenna must read every tag";
+  // The robot path ends at (3, 8).
+  ASSERT_FALSE(rows.empty());
+  EXPECT_LE(rows.back().antenna_pose.position.x(), 3.0 + 1e-9);
+}
+
+TEST_F(SimulateCli, MovingTagWritesItsTrajectoryAndMastStaysInRange) {
+  const RunResult r = run("simulate " + kSource + "/scenes/tests/moving_tag.yaml --threads 2 -o " + dir_.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string traj = slurp(dir_ / "tags_trajectory.csv");
+  EXPECT_EQ(traj.substr(0, traj.find('\n')), "time,name,x,y,z");
+  EXPECT_NE(traj.find("1.000000,conveyor_tag,-3.000000,2.000000,1.000000\n"), std::string::npos);
+  EXPECT_EQ(traj.find("fixed_tag"), std::string::npos);  // static tags are not in the trajectory file
+  std::set<int> channels;
+  for (const CsvReading& row : read_readings_csv((dir_ / "mast_reader.csv").string())) {
+    ASSERT_GE(row.antenna_pose.position.z(), 0.5 - 1e-9);
+    ASSERT_LE(row.antenna_pose.position.z(), 2.0 + 1e-9);
+    if (row.tag == "conveyor_tag") {
+      ASSERT_GE(row.time_s, 1.0);
+    }
+    channels.insert(row.channel);
+  }
+  EXPECT_EQ(channels.size(), 4u);  // EU hopping over 12 s at 0.4 s dwell
+}
+
+TEST_F(SimulateCli, HelpListsOptionsAndColumns) {
+  const RunResult r = run("simulate --help");
+  EXPECT_EQ(r.status, 0);
+  for (const char* s : {"--seed", "--threads", "--output", "--channel", "SCENARIO", "tags.csv",
+                        "time,posx,posy,posz,q1,q2,q3,q4,name,dist,phase,rssi", "noisephi"})
+    EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
+  const RunResult top = run("--help");
+  EXPECT_NE(top.output.find("simulate"), std::string::npos);
+}
+
+struct BadInput {
+  std::string args;
+  std::vector<std::string> expected;  // regexes the message must match
+};
+
+TEST_F(SimulateCli, BadInputsExitNonZeroNamingFileLineAndField) {
+  const std::string t = kSource + "/scenes/tests/";
+  const std::vector<BadInput> cases = {
+      {"simulate " + t + "does_not_exist.yaml", {R"(does_not_exist\.yaml: cannot open scenario file)"}},
+      {"simulate " + t + "bad_malformed.yaml", {R"(bad_malformed\.yaml:[67]:[0-9]+: malformed YAML)"}},
+      {"simulate " + t + "bad_unknown_distribution.yaml",
+       {R"(bad_unknown_distribution\.yaml:7: field 'antennas\[0\]\.optional_distribution': unknown distribution 'gaussian')"}},
+      {"simulate " + t + "bad_negative_frequency.yaml",
+       {R"(bad_negative_frequency\.yaml:6: field 'antennas\[0\]\.frequency': must be > 0 \(got -1\))"}},
+      {"simulate " + t + "bad_tag_at_antenna.yaml", {R"(bad_tag_at_antenna\.yaml:9: tag 't1' is at antenna 'reader')"}},
+      {"simulate " + t + "bad_unknown_key.yaml",
+       {R"(bad_unknown_key\.yaml:6: field 'antennas\[0\]\.noisepih': unknown key 'noisepih' \(did you mean 'noisephi'\?\))"}},
+      {"simulate " + kSource + "/scenes/paper_warehouse.yaml --channel nonsense",
+       {R"(field '--channel': unknown channel 'nonsense')"}},
+  };
+  for (const BadInput& c : cases) {
+    const RunResult r = run(c.args + " -o " + dir_.string());
+    EXPECT_NE(r.status, 0) << c.args;
+    EXPECT_NE(r.status, -1) << c.args << ": crashed";
+    for (const std::string& re : c.expected)
+      EXPECT_TRUE(std::regex_search(r.output, std::regex(re))) << c.args << "\n  expected /" << re << "/\n  got: " << r.output;
+    EXPECT_EQ(r.output.find("nan"), std::string::npos) << r.output;
+  }
+}
+
+}  // namespace
+}  // namespace rfidray::cli
