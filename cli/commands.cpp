@@ -9,6 +9,7 @@ namespace rfidray::cli {
 std::function<int()> setup_simulate(CLI::App& app);
 std::function<int()> setup_link(CLI::App& app);
 std::function<int()> setup_gen_warehouse(CLI::App& app);
+std::function<int()> setup_compare(CLI::App& app);
 
 namespace {
 std::map<const CLI::App*, std::function<int()>>& runners() {
@@ -27,6 +28,7 @@ void register_commands(CLI::App& app) {
   add(app, setup_simulate);
   add(app, setup_link);
   add(app, setup_gen_warehouse);
+  add(app, setup_compare);
 }
 
 int run_selected(CLI::App& app) {

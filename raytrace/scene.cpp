@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "core/error.h"
 #include "raytrace/obj_loader.h"
 
 namespace rfidray {
@@ -59,6 +60,46 @@ std::shared_ptr<const Scene> load_scene(const std::vector<std::filesystem::path>
     for (auto& m : s.meshes) meshes.push_back(std::move(m));
   }
   return std::make_shared<const Scene>(std::move(meshes), assignment, options);
+}
+
+}  // namespace rfidray
+
+namespace rfidray {
+
+std::shared_ptr<const Scene> load_scene(const SceneSpec& spec, const std::string& scenario_source,
+                                        const SceneOptions& options, std::vector<std::string>* warnings) {
+  MaterialAssignment assignment;
+  for (const MaterialSpec& m : spec.materials)
+    assignment.user_materials.push_back(user_material(m.name, m.relative_permittivity, m.conductivity_s_m, m.thickness_m));
+  for (const MaterialMapEntry& e : spec.material_map) assignment.by_material[e.from] = e.to;
+  assignment.default_material = spec.default_material;
+  std::vector<TriangleMesh> meshes;
+  for (size_t i = 0; i < spec.meshes.size(); ++i) {
+    const MeshSpec& ms = spec.meshes[i];
+    const std::string where = (scenario_source.empty() ? std::string() : scenario_source + ":" +
+                               std::to_string(ms.source_line) + ": ") + "scene.meshes[" + std::to_string(i) + "]";
+    ObjScene obj;
+    try {
+      obj = load_obj(ms.file);
+      if (!ms.material.empty()) find_radio_material(ms.material, assignment.user_materials, where + ".material");
+    } catch (const InputError& e) {
+      throw InputError(where + ": " + e.what());
+    }
+    if (warnings) warnings->insert(warnings->end(), obj.warnings.begin(), obj.warnings.end());
+    for (TriangleMesh& m : obj.meshes) {
+      m.transform(ms.pose, ms.scale);
+      if (!ms.material.empty()) {
+        m.material_names = {ms.material};
+        m.triangle_material.assign(m.triangles.size(), 0);
+      }
+      meshes.push_back(std::move(m));
+    }
+  }
+  try {
+    return std::make_shared<const Scene>(std::move(meshes), assignment, options);
+  } catch (const InputError& e) {
+    throw InputError((scenario_source.empty() ? std::string() : scenario_source + ": ") + "scene: " + e.what());
+  }
 }
 
 }  // namespace rfidray

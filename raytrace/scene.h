@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/material.h"
+#include "core/scenario.h"
 #include "raytrace/embree_scene.h"
 #include "raytrace/facet.h"
 #include "raytrace/material_map.h"
@@ -66,5 +67,11 @@ std::vector<std::string> extrapolation_warnings(const Scene& scene, double frequ
 std::shared_ptr<const Scene> load_scene(const std::vector<std::filesystem::path>& obj_files,
                                         const MaterialAssignment& assignment, const SceneOptions& options = {},
                                         std::vector<std::string>* warnings = nullptr);
+
+// The scene of a scenario: each mesh file loaded, scaled and placed (MeshSpec::pose, scale), its material
+// forced when MeshSpec::material is set, then the scenario's user materials, material_map and
+// default_material applied. Errors name the scenario file and the mesh entry's line.
+std::shared_ptr<const Scene> load_scene(const SceneSpec& spec, const std::string& scenario_source,
+                                        const SceneOptions& options = {}, std::vector<std::string>* warnings = nullptr);
 
 }  // namespace rfidray

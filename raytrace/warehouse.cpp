@@ -1,6 +1,7 @@
 #include "raytrace/warehouse.h"
 
 #include <cmath>
+#include <iterator>
 
 #include "core/error.h"
 
@@ -80,19 +81,27 @@ std::vector<TriangleMesh> paper_warehouse_meshes() {
   add_quad(walls, Vec3(x0, y0, 0), Vec3(x1 - x0, 0, 0), Vec3(0, 0, height), c);  // south y = −13
   add_quad(walls, Vec3(x0, y1, 0), Vec3(0, 0, height), Vec3(x1 - x0, 0, 0), c);  // north y = 11
   out.push_back(std::move(walls));
-  for (int i = 0; i < 5; ++i) {
-    RackSpec east;
-    east.front_x_m = 2.95;
-    east.facing = +1;
-    east.y_min_m = -9.5 + 2.1 * i;
-    east.length_m = 2.0;
-    east.shelf_tops_m = {0.15, 1.05, 2.00, 2.95};
-    out.push_back(rack_mesh("rack_east_" + std::to_string(i + 1), east));
-    RackSpec west = east;
-    west.front_x_m = -4.90;
-    west.facing = -1;
-    west.shelf_tops_m = {0.15, 1.00, 1.80, 2.70};
-    out.push_back(rack_mesh("rack_west_" + std::to_string(i + 1), west));
+  // East row (tags 1–6 at x = 2.90, z = 2.05): a 0.8 m bay is left open around y = −4 for the fixed antenna
+  // at (3.5, −4.0, 2.0), which looks out across the aisle from between two racks.
+  const double east[][2] = {{-9.5, -7.5}, {-7.4, -5.4}, {-5.3, -4.4}, {-3.6, -1.1}, {-1.0, 1.0}};
+  for (size_t i = 0; i < std::size(east); ++i) {
+    RackSpec r;
+    r.front_x_m = 2.95;
+    r.facing = +1;
+    r.y_min_m = east[i][0];
+    r.length_m = east[i][1] - east[i][0];
+    r.shelf_tops_m = {0.15, 1.05, 2.00, 2.95};
+    out.push_back(rack_mesh("rack_east_" + std::to_string(i + 1), r));
+  }
+  // West row (tags 7–10 at x = −4.85, z = 1.85, y from −7.70 to 5.95): eight 2 m racks.
+  for (int i = 0; i < 8; ++i) {
+    RackSpec r;
+    r.front_x_m = -4.90;
+    r.facing = -1;
+    r.y_min_m = -9.5 + 2.1 * i;
+    r.length_m = 2.0;
+    r.shelf_tops_m = {0.15, 1.00, 1.80, 2.70};
+    out.push_back(rack_mesh("rack_west_" + std::to_string(i + 1), r));
   }
   return out;
 }

@@ -31,9 +31,10 @@ struct RackSpec {
 TriangleMesh rack_mesh(const std::string& name, const RackSpec& spec, const std::string& material = "metal");
 
 // The warehouse of D'Avella et al. (2022), Fig. 3/4, as used by scenes/paper_warehouse.yaml: concrete floor
-// (x −8…7 m, y −13…11 m) and four 5 m concrete walls; five metal racks each side of the robot's aisle,
-// shelf fronts at x = 2.95 (shelf top 2.00 m; tags at x = 2.90, z = 2.05) and x = −4.90 (shelf top 1.80 m;
-// tags at x = −4.85, z = 1.85), racks spanning y −9.5…0.9 m; the aisle x = −1 and y = 8 stays clear.
+// (x −8…7 m, y −13…11 m) and four 5 m concrete walls; metal racks either side of the robot's aisle:
+// east row, shelf fronts at x = 2.95, y −9.5…1.0 with an open bay at y −4.4…−3.6 for the fixed antenna
+// (shelf top 2.00 m; tags at x = 2.90, z = 2.05); west row, fronts at x = −4.90, y −9.5…7.2 (shelf top
+// 1.80 m; tags at x = −4.85, z = 1.85). The aisle x = −1 (y −10…8) and the leg along y = 8 stay clear.
 std::vector<TriangleMesh> paper_warehouse_meshes();
 
 // A small hand-checkable scene: 20 × 20 m concrete ground plane at z = 0 centred on the origin, and one
