@@ -231,12 +231,11 @@ TEST(RaytracedChannel, DropThresholdIsRelativeToTheStrongestPath) {
   EXPECT_EQ(RaytracedChannel(scene, o).paths(a, t, kF).size(), 1u);
 }
 
+// The ten tags of scenes/paper_warehouse.yaml.
 std::vector<Endpoint> paper_tags() {
   std::vector<Endpoint> tags;
-  for (int i = 0; i < 5; ++i) {
-    tags.push_back(endpoint(Vec3(2.90, 0.57 - i * (0.57 + 8.66) / 4.0, 2.05), Vec3::UnitZ()));
-    tags.push_back(endpoint(Vec3(-4.85, 0.57 - i * (0.57 + 8.66) / 4.0, 1.85), Vec3::UnitZ()));
-  }
+  for (double y : {0.57, -1.24, -3.03, -4.82, -6.75, -8.66}) tags.push_back(endpoint(Vec3(2.90, y, 2.05), Vec3::UnitZ()));
+  for (double y : {-7.70, -3.03, 1.44, 5.95}) tags.push_back(endpoint(Vec3(-4.85, y, 1.85), Vec3::UnitZ()));
   return tags;
 }
 
@@ -249,14 +248,19 @@ TEST(RaytracedChannel, FastCandidatesAgreeWithExhaustiveOnThePaperWarehouse) {
   const RaytracedChannel exhaustive(scene, ref), quick(scene, fast);
   const auto tags = paper_tags();
   size_t reflections = 0, blocked = 0;
-  for (double y = -10.0; y <= 8.0; y += 0.75) {
+  // The mobile antenna along the robot path (x = −1, then y = 8), at two heights, plus the fixed antenna.
+  std::vector<Vec3> antennas;
+  for (double y = -10.0; y <= 8.0; y += 0.75) antennas.emplace_back(-1.0, y, y < 0 ? 0.6 : 1.68);
+  for (double x = -0.5; x <= 3.0; x += 0.5) antennas.emplace_back(x, 8.0, 1.68);
+  antennas.emplace_back(3.5, -4.0, 2.0);
+  for (const Vec3& pos : antennas) {
     for (int pol = 0; pol < 3; ++pol) {
-      Endpoint ant = endpoint(Vec3(-1.0, y, 0.6), pol == 0 ? Vec3::UnitZ() : Vec3::UnitY());
+      Endpoint ant = endpoint(pos, pol == 0 ? Vec3::UnitZ() : Vec3::UnitY());
       if (pol == 2) ant.polarization.kind = PolarizationKind::kCircularRight;
       for (const Endpoint& tag : tags) {
         const auto a = exhaustive.paths(ant, tag, kF);
         const auto b = quick.paths(ant, tag, kF);
-        ASSERT_EQ(a.size(), b.size()) << "antenna y=" << y << " tag " << tag.pose.position.transpose();
+        ASSERT_EQ(a.size(), b.size()) << "antenna " << pos.transpose() << " tag " << tag.pose.position.transpose();
         for (size_t i = 0; i < a.size(); ++i) {
           EXPECT_EQ(a[i].kind, b[i].kind);
           EXPECT_EQ(a[i].material, b[i].material);

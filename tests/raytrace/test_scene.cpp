@@ -13,6 +13,7 @@ namespace rfidray {
 namespace {
 
 namespace fs = std::filesystem;
+constexpr double kHalfTurn = 3.14159265358979323846;
 
 fs::path temp_file(const std::string& name, const std::string& text) {
   const fs::path dir = fs::temp_directory_path() / ("rfidray_test_scene_" + std::to_string(::getpid()));
@@ -204,6 +205,51 @@ TEST(EmbreeScene, HitsMapBackToTrianglesFacetsAndMaterials) {
   EXPECT_NEAR(std::abs(f.offset_m), 2.95, 1e-12);
   EXPECT_TRUE(scene.bvh().occluded(Vec3(-1, -3.0, 1.985), Vec3(1, 0, 0), 0.0, 4.0));
   EXPECT_FALSE(scene.bvh().occluded(Vec3(-1, -3.0, 1.985), Vec3(1, 0, 0), 0.0, 3.9));
+}
+
+TEST(SceneSpec, PlacesScalesAndMapsMaterialsWithLocatedErrors) {
+  const fs::path p = temp_file("quad.obj", "o q\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl paint\nf 1 2 3 4\n");
+  SceneSpec spec;
+  MeshSpec m;
+  m.file = p.string();
+  m.pose.position = Vec3(10, 0, 2);
+  m.pose.orientation = Quat(Eigen::AngleAxisd(kHalfTurn, Vec3::UnitX()));  // upside down
+  m.scale = Vec3(2, 3, 1);
+  m.source_line = 12;
+  spec.meshes = {m};
+  spec.materials.push_back({"paint", 3.0, 0.01, 0.002, 0});
+  auto scene = load_scene(spec, "s.yaml");
+  ASSERT_EQ(scene->facets().size(), 1u);
+  EXPECT_EQ(scene->materials()[0].name, "paint");
+  const Facet& f = scene->facets()[0];
+  EXPECT_NEAR(f.normal.z(), -1.0, 1e-12);
+  EXPECT_NEAR(f.lo.x(), 10.0, 1e-12);
+  EXPECT_NEAR(f.hi.x(), 12.0, 1e-12);
+  EXPECT_NEAR(f.lo.y(), -3.0, 1e-12);
+  EXPECT_NEAR(f.lo.z(), 2.0, 1e-12);
+  spec.materials.clear();
+  spec.material_map.push_back({"paint", "wood"});
+  EXPECT_EQ(load_scene(spec, "s.yaml")->materials()[0].name, "wood");
+  spec.meshes[0].material = "metal";  // per-file material beats the map
+  EXPECT_EQ(load_scene(spec, "s.yaml")->materials()[0].name, "metal");
+  spec.meshes[0].material = "cheese";
+  try {
+    load_scene(spec, "s.yaml");
+    FAIL() << "unknown material accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("s.yaml:12: scene.meshes[0]"), std::string::npos) << e.what();
+  }
+  spec.meshes[0].material.clear();
+  spec.material_map.clear();
+  EXPECT_THROW(load_scene(spec, "s.yaml"), InputError);  // 'paint' is not a radio material and there is no default
+  spec.meshes[0].file = temp_file("broken.obj", "v 0 0\n").string();
+  try {
+    load_scene(spec, "s.yaml");
+    FAIL() << "broken OBJ accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("s.yaml:12"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("broken.obj:1"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Warehouse, GeneratorCountsAndKeepsTheAislesClear) {
