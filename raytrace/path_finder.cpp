@@ -67,6 +67,41 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     g.hi = g.hi.cwiseMax(fc.hi);
     plane_of_facet_[f] = it->second;
   }
+  // Occupancy bitmaps: ~64 cells per facet (at most 2^18 per plane), shaped like the plane's extent.
+  std::vector<std::vector<uint32_t>> members(planes_.size());
+  for (size_t f = 0; f < facets.size(); ++f) members[plane_of_facet_[f]].push_back(static_cast<uint32_t>(f));
+  constexpr double kPad = 1e-6;  // metres: facet bounds are padded so rounding never loses a cell
+  for (size_t gi = 0; gi < planes_.size(); ++gi) {
+    PlaneGroup& g = planes_[gi];
+    int k = 0;
+    g.normal.cwiseAbs().maxCoeff(&k);
+    g.axis_u = (k + 1) % 3;
+    g.axis_v = (k + 2) % 3;
+    const double eu = std::max(g.hi[g.axis_u] - g.lo[g.axis_u], 1e-6);
+    const double ev = std::max(g.hi[g.axis_v] - g.lo[g.axis_v], 1e-6);
+    const double target = std::clamp(64.0 * members[gi].size(), 1.0, 262144.0);
+    g.nu = static_cast<int>(std::clamp(std::round(std::sqrt(target * eu / ev)), 1.0, 4096.0));
+    g.nv = static_cast<int>(std::clamp(std::ceil(target / g.nu), 1.0, 4096.0));
+    g.u0 = g.lo[g.axis_u] - kPad;
+    g.v0 = g.lo[g.axis_v] - kPad;
+    g.inv_du = g.nu / (eu + 2 * kPad);
+    g.inv_dv = g.nv / (ev + 2 * kPad);
+    g.bit_offset = occupancy_.size() * 64;
+    occupancy_.resize(occupancy_.size() + (static_cast<size_t>(g.nu) * g.nv + 63) / 64, 0);
+    auto cell = [](double x, double x0, double inv, int n) {
+      return std::clamp(static_cast<int>(std::floor((x - x0) * inv)), 0, n - 1);
+    };
+    for (uint32_t f : members[gi]) {
+      const Facet& fc = facets[f];
+      const int iu0 = cell(fc.lo[g.axis_u] - kPad, g.u0, g.inv_du, g.nu), iu1 = cell(fc.hi[g.axis_u] + kPad, g.u0, g.inv_du, g.nu);
+      const int iv0 = cell(fc.lo[g.axis_v] - kPad, g.v0, g.inv_dv, g.nv), iv1 = cell(fc.hi[g.axis_v] + kPad, g.v0, g.inv_dv, g.nv);
+      for (int iv = iv0; iv <= iv1; ++iv)
+        for (int iu = iu0; iu <= iu1; ++iu) {
+          const size_t bit = g.bit_offset + static_cast<size_t>(iv) * g.nu + iu;
+          occupancy_[bit / 64] |= uint64_t{1} << (bit % 64);
+        }
+    }
+  }
   // Spherical Fibonacci directions for the optional per-pose candidate search.
   const int n = options_.candidate_rays;
   const double golden = kPi * (3.0 - std::sqrt(5.0));
@@ -75,6 +110,13 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
     candidate_directions_.emplace_back(r * std::cos(golden * i), r * std::sin(golden * i), z);
   }
+}
+
+bool PathFinder::occupied(const PlaneGroup& g, const Vec3& p) const {
+  const double fu = (p[g.axis_u] - g.u0) * g.inv_du, fv = (p[g.axis_v] - g.v0) * g.inv_dv;
+  if (!(fu >= 0.0 && fv >= 0.0 && fu < g.nu && fv < g.nv)) return false;
+  const size_t bit = g.bit_offset + static_cast<size_t>(fv) * g.nu + static_cast<size_t>(fu);
+  return (occupancy_[bit / 64] >> (bit % 64)) & 1u;
 }
 
 void PathFinder::prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const {
@@ -206,7 +248,7 @@ void PathFinder::try_plane(uint32_t group, const Endpoint& ant, const Endpoint& 
   const Vec3& a = ant.pose.position;
   Vec3 image, p;
   if (!image_point(g.normal, g.offset_m, a, tag.pose.position, options_.surface_epsilon_m, image, p)) return;
-  if (!inside_box(p, g.lo, g.hi, 1e-6)) return;
+  if (!occupied(g, p)) return;
   // One ray A→P answers both "is leg 1 clear" and "which facet of this plane is at P": the first thing hit
   // must be a facet of this plane.
   const Vec3 d1 = p - a;

@@ -70,11 +70,19 @@ class PathFinder {
 
  private:
   // Facets sharing one plane (fast mode): one image per plane, Embree says which facet is hit.
+  // A conservative occupancy bitmap over the plane (facet bounds rasterised, in the two world coordinates
+  // the plane projects onto without degeneracy) rejects most image points with no facet near them before
+  // any ray is shot.
   struct PlaneGroup {
     Vec3 normal;
     double offset_m;
     Vec3 lo, hi;
+    int axis_u = 0, axis_v = 1;
+    double u0 = 0, v0 = 0, inv_du = 0, inv_dv = 0;
+    int nu = 1, nv = 1;
+    size_t bit_offset = 0;  // into occupancy_
   };
+  bool occupied(const PlaneGroup& g, const Vec3& p) const;
 
   void direct_path(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
   void reflections_exhaustive(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
@@ -90,6 +98,7 @@ class PathFinder {
   TraceOptions options_;
   std::vector<PlaneGroup> planes_;
   std::vector<uint32_t> plane_of_facet_;
+  std::vector<uint64_t> occupancy_;
   std::vector<Vec3> candidate_directions_;
 };
 
