@@ -7,6 +7,9 @@ namespace rfidray::cli {
 // Each subcommand file provides one setup function (declared here, defined in cli/cmd_<name>.cpp).
 // std::function<int()> setup_<name>(CLI::App& app);   (add one line per command)
 std::function<int()> setup_simulate(CLI::App& app);
+std::function<int()> setup_link(CLI::App& app);
+std::function<int()> setup_gen_warehouse(CLI::App& app);
+std::function<int()> setup_compare(CLI::App& app);
 
 namespace {
 std::map<const CLI::App*, std::function<int()>>& runners() {
@@ -23,6 +26,9 @@ void add(CLI::App& app, const CommandSetup& setup) {
 
 void register_commands(CLI::App& app) {
   add(app, setup_simulate);
+  add(app, setup_link);
+  add(app, setup_gen_warehouse);
+  add(app, setup_compare);
 }
 
 int run_selected(CLI::App& app) {

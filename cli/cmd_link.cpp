@@ -1,0 +1,269 @@
+// `rfidray link`: one noise-free antenna–tag link in a scene — every path, the one-way channel h, the round-trip
+// phase and the RSSI of the physical reader model, next to the ideal (free-space) channel. The tool to run when
+// one tag reads badly.
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/channel.h"
+#include "core/error.h"
+#include "core/reader.h"
+#include "core/units.h"
+#include "raytrace/raytraced_channel.h"
+
+namespace rfidray::cli {
+namespace {
+
+std::vector<double> parse_numbers(const std::string& text, const std::string& option) {
+  std::vector<double> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(v))
+      throw InputError("option " + option + ": '" + item + "' is not a number (in '" + text + "')");
+    out.push_back(v);
+  }
+  return out;
+}
+
+Vec3 parse_vec3(const std::string& text, const std::string& option) {
+  const auto v = parse_numbers(text, option);
+  if (v.size() != 3) throw InputError("option " + option + ": expected X,Y,Z (got '" + text + "')");
+  return Vec3(v[0], v[1], v[2]);
+}
+
+// linear:x,y,z | rhcp | lhcp (axis in the antenna's frame)
+Polarization parse_polarization(const std::string& text, const std::string& option) {
+  Polarization p;
+  const auto colon = text.find(':');
+  p.kind = parse_polarization_kind(text.substr(0, colon), option);
+  if (p.kind == PolarizationKind::kLinear) {
+    if (colon != std::string::npos) p.axis_local = parse_vec3(text.substr(colon + 1), option);
+    if (!(p.axis_local.norm() > 0.0)) throw InputError("option " + option + ": linear axis must be non-zero");
+    p.axis_local.normalize();
+  } else if (colon != std::string::npos) {
+    throw InputError("option " + option + ": circular polarization takes no axis (got '" + text + "')");
+  }
+  return p;
+}
+
+// isotropic[:GAIN_DBI] | dipole | patch:GAIN_DBI[:BEAMWIDTH_DEG]
+AntennaPattern parse_pattern(const std::string& text, const std::string& option) {
+  const auto colon = text.find(':');
+  AntennaPattern p;
+  p.kind = parse_pattern_kind(text.substr(0, colon), option);
+  if (p.kind == PatternKind::kTable) throw InputError("option " + option + ": table patterns come from a scenario file");
+  std::vector<double> args;
+  if (colon != std::string::npos) {
+    std::string rest = text.substr(colon + 1);
+    for (char& c : rest)
+      if (c == ':') c = ',';
+    args = parse_numbers(rest, option);
+  }
+  if (p.kind == PatternKind::kDipole && !args.empty()) throw InputError("option " + option + ": dipole takes no arguments");
+  if (p.kind == PatternKind::kPatch && (args.empty() || args.size() > 2))
+    throw InputError("option " + option + ": expected patch:GAIN_DBI[:BEAMWIDTH_DEG]");
+  if (p.kind == PatternKind::kIsotropic && args.size() > 1) throw InputError("option " + option + ": expected isotropic[:GAIN_DBI]");
+  if (!args.empty()) p.peak_gain_dbi = args[0];
+  if (args.size() > 1) p.beamwidth_deg = args[1];
+  p.validate(option);
+  return p;
+}
+
+// Roll, pitch, yaw in degrees (R = Rz(yaw)·Ry(pitch)·Rx(roll), the ROS convention).
+Quat parse_rpy(const std::string& text, const std::string& option) {
+  const Vec3 rpy = parse_vec3(text, option) * (kPi / 180.0);
+  return Quat(Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) *
+              Eigen::AngleAxisd(rpy.x(), Vec3::UnitX()));
+}
+
+nlohmann::json complex_json(std::complex<double> c) { return {{"re", c.real()}, {"im", c.imag()}}; }
+
+// Noise-free physical reader model (core/reader_model.h): round-trip phase −arg(h²) and P_tx·K·|h|⁴.
+nlohmann::json channel_json(const Channel& channel, const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
+                            const ReaderParams& reader, const TagParams& tag_params) {
+  const std::vector<Path> paths = channel.paths(antenna, tag, frequency_hz);
+  nlohmann::json jp = nlohmann::json::array();
+  for (const Path& p : paths)
+    jp.push_back({{"kind", to_string(p.kind)},
+                  {"length_m", p.length_m},
+                  {"point", {p.point.x(), p.point.y(), p.point.z()}},
+                  {"material", p.material},
+                  {"crossings", p.crossings},
+                  {"coefficient", complex_json(p.coefficient)},
+                  {"contribution", complex_json(p.contribution)}});
+  const std::complex<double> h = sum_paths(paths);
+  const double gain2 = std::norm(h);
+  nlohmann::json out = {{"channel", channel.name()}, {"paths", jp}, {"h", complex_json(h)}};
+  if (gain2 > 0.0) {
+    const double tag_dbm = reader.tx_power_dbm + linear_to_db(gain2);
+    const double rssi = reader.tx_power_dbm + linear_to_db(reader.modulation_factor) + 2.0 * linear_to_db(gain2);
+    out["path_gain_db"] = linear_to_db(gain2);
+    out["phase_rad"] = wrap_to_2pi(-std::arg(h * h));
+    out["rssi_dbm"] = rssi;
+    out["tag_power_dbm"] = tag_dbm;
+    out["tag_powered"] = tag_dbm >= tag_params.chip_sensitivity_dbm;
+    out["readable"] = tag_dbm >= tag_params.chip_sensitivity_dbm && rssi >= reader.sensitivity_dbm;
+  } else {  // no path at all: nothing to report rather than −inf
+    out["path_gain_db"] = nullptr;
+    out["phase_rad"] = nullptr;
+    out["rssi_dbm"] = nullptr;
+    out["tag_power_dbm"] = nullptr;
+    out["tag_powered"] = false;
+    out["readable"] = false;
+  }
+  return out;
+}
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+void print_table(const nlohmann::json& j) {
+  std::printf("scene %s: %zu triangles, %zu facets; level %s; candidates %s; f = %.4f MHz\n",
+              j["scene"]["files"].dump().c_str(), j["scene"]["triangles"].get<size_t>(),
+              j["scene"]["facets"].get<size_t>(), j["level"].get<std::string>().c_str(),
+              j["candidates"].get<std::string>().c_str(), j["frequency_hz"].get<double>() / 1e6);
+  for (const auto& note : j["scene"]["notes"]) std::printf("note: %s\n", note.get<std::string>().c_str());
+  for (const char* which : {"raytraced", "ideal"}) {
+    const auto& c = j[which];
+    std::printf("\n%s (%s)\n", which, c["channel"].get<std::string>().c_str());
+    std::printf("  %-2s %-10s %10s  %-26s %-12s %9s %8s %12s\n", "#", "kind", "length_m", "point", "material",
+                "|coef|", "arg_deg", "power_db");
+    int i = 0;
+    for (const auto& p : c["paths"]) {
+      const std::complex<double> co(p["coefficient"]["re"], p["coefficient"]["im"]);
+      const std::complex<double> ct(p["contribution"]["re"], p["contribution"]["im"]);
+      const auto& pt = p["point"];
+      const std::string point = "(" + fmt("%.3f", pt[0]) + ", " + fmt("%.3f", pt[1]) + ", " + fmt("%.3f", pt[2]) + ")";
+      std::printf("  %-2d %-10s %10.4f  %-26s %-12s %9.4f %8.2f %12s\n", i++, p["kind"].get<std::string>().c_str(),
+                  p["length_m"].get<double>(), point.c_str(), p["material"].get<std::string>().c_str(), std::abs(co),
+                  std::arg(co) * 180.0 / kPi, std::norm(ct) > 0 ? fmt("%.2f", linear_to_db(std::norm(ct))).c_str() : "-inf");
+    }
+    const std::complex<double> h(c["h"]["re"], c["h"]["im"]);
+    if (c["phase_rad"].is_null()) {
+      std::printf("  h = 0: no path reaches the tag\n");
+    } else {
+      std::printf("  h = %.6e %+.6ej  |h|² = %.2f dB  phase = %.4f rad  RSSI = %.2f dBm  tag power = %.2f dBm (%s)\n",
+                  h.real(), h.imag(), c["path_gain_db"].get<double>(), c["phase_rad"].get<double>(),
+                  c["rssi_dbm"].get<double>(), c["tag_power_dbm"].get<double>(),
+                  c["readable"].get<bool>() ? "readable" : c["tag_powered"].get<bool>() ? "powered, reply too weak" : "not powered");
+    }
+  }
+}
+
+struct LinkOptions {
+  std::vector<std::string> scene;
+  std::string material, default_material, antenna, tag, antenna_pol = "linear:0,0,1", tag_pol = "linear:0,0,1";
+  std::string pattern = "isotropic", tag_pattern = "isotropic", antenna_rpy = "0,0,0", tag_rpy = "0,0,0";
+  std::string level = "single-bounce", candidates = "fast";
+  double frequency_hz = ReaderParams{}.frequencies_hz.front();
+  double tx_power_dbm = ReaderParams{}.tx_power_dbm;
+  double thickness_m = -1.0;
+  double drop_db = TraceOptions{}.drop_below_db;
+  bool json = false;
+};
+
+int run_link(const LinkOptions& o) {
+  MaterialAssignment assignment;
+  assignment.override_all = o.material;
+  assignment.default_material = o.default_material;
+  assignment.thickness_m = o.thickness_m;
+  if (!o.material.empty()) find_radio_material(o.material, {}, "option --material");
+  if (!o.default_material.empty()) find_radio_material(o.default_material, {}, "option --default-material");
+  std::vector<std::filesystem::path> files(o.scene.begin(), o.scene.end());
+  std::vector<std::string> warnings;
+  const auto scene = load_scene(files, assignment, {}, &warnings);
+  for (const auto& w : extrapolation_warnings(*scene, o.frequency_hz)) warnings.push_back(w);
+  for (const auto& w : warnings) std::cerr << "rfidray: warning: " << w << "\n";
+
+  TraceOptions trace;
+  trace.level = parse_channel_level(o.level, "--level");
+  trace.candidates = parse_candidate_mode(o.candidates, "--candidates");
+  if (!(o.drop_db >= 0.0)) throw InputError("option --drop-db: must be ≥ 0 dB");
+  trace.drop_below_db = o.drop_db;
+  if (!(o.frequency_hz > 0.0) || !std::isfinite(o.frequency_hz)) throw InputError("option --frequency: must be > 0 Hz");
+
+  Endpoint antenna, tag;
+  antenna.pose.position = parse_vec3(o.antenna, "--antenna");
+  antenna.pose.orientation = parse_rpy(o.antenna_rpy, "--antenna-rpy");
+  antenna.polarization = parse_polarization(o.antenna_pol, "--antenna-pol");
+  antenna.pattern = parse_pattern(o.pattern, "--pattern");
+  tag.pose.position = parse_vec3(o.tag, "--tag");
+  tag.pose.orientation = parse_rpy(o.tag_rpy, "--tag-rpy");
+  tag.polarization = parse_polarization(o.tag_pol, "--tag-pol");
+  tag.pattern = parse_pattern(o.tag_pattern, "--tag-pattern");
+
+  ReaderParams reader;
+  reader.tx_power_dbm = o.tx_power_dbm;
+  const TagParams tag_params;
+  const RaytracedChannel raytraced(scene, trace);
+  const IdealChannel ideal;
+
+  nlohmann::json j;
+  j["scene"] = {{"files", o.scene},
+                {"triangles", scene->triangle_count()},
+                {"facets", scene->facets().size()},
+                {"notes", scene->notes()},
+                {"warnings", warnings}};
+  j["frequency_hz"] = o.frequency_hz;
+  j["level"] = to_string(trace.level);
+  j["candidates"] = to_string(trace.candidates);
+  j["drop_below_db"] = trace.drop_below_db;
+  j["antenna"] = {{"position", {antenna.pose.position.x(), antenna.pose.position.y(), antenna.pose.position.z()}},
+                  {"polarization", o.antenna_pol}, {"pattern", o.pattern}};
+  j["tag"] = {{"position", {tag.pose.position.x(), tag.pose.position.y(), tag.pose.position.z()}},
+              {"polarization", o.tag_pol}, {"pattern", o.tag_pattern}};
+  j["reader"] = {{"tx_power_dbm", reader.tx_power_dbm},
+                 {"modulation_factor", reader.modulation_factor},
+                 {"sensitivity_dbm", reader.sensitivity_dbm},
+                 {"tag_chip_sensitivity_dbm", tag_params.chip_sensitivity_dbm}};
+  j["raytraced"] = channel_json(raytraced, antenna, tag, o.frequency_hz, reader, tag_params);
+  j["ideal"] = channel_json(ideal, antenna, tag, o.frequency_hz, reader, tag_params);
+  if (o.json)
+    std::cout << j.dump(2) << "\n";
+  else
+    print_table(j);
+  return 0;
+}
+
+}  // namespace
+
+std::function<int()> setup_link(CLI::App& app) {
+  auto o = std::make_shared<LinkOptions>();
+  CLI::App* cmd = app.add_subcommand("link", "One noise-free antenna–tag link in a scene: paths, h, phase, RSSI (vs ideal)");
+  cmd->add_option("--scene", o->scene, "OBJ scene file(s); usemtl names are radio materials")->required();
+  cmd->add_option("--material", o->material, "radio material for every surface (overrides usemtl)");
+  cmd->add_option("--default-material", o->default_material, "radio material for usemtl names that are not materials");
+  cmd->add_option("--thickness", o->thickness_m, "slab thickness (m) for every material (blocked paths, slab reflection)");
+  cmd->add_option("--antenna", o->antenna, "antenna position X,Y,Z (m)")->required();
+  cmd->add_option("--tag", o->tag, "tag position X,Y,Z (m)")->required();
+  cmd->add_option("--frequency", o->frequency_hz, "carrier frequency (Hz)");
+  cmd->add_option("--tx-power", o->tx_power_dbm, "reader transmit power (dBm)");
+  cmd->add_option("--antenna-pol", o->antenna_pol, "linear:x,y,z | rhcp | lhcp (antenna frame)");
+  cmd->add_option("--tag-pol", o->tag_pol, "linear:x,y,z | rhcp | lhcp (tag frame)");
+  cmd->add_option("--pattern", o->pattern, "antenna pattern: isotropic[:GAIN_DBI] | dipole | patch:GAIN_DBI[:BW_DEG]");
+  cmd->add_option("--tag-pattern", o->tag_pattern, "tag pattern, same syntax");
+  cmd->add_option("--antenna-rpy", o->antenna_rpy, "antenna orientation roll,pitch,yaw (deg); boresight = local +X");
+  cmd->add_option("--tag-rpy", o->tag_rpy, "tag orientation roll,pitch,yaw (deg)");
+  cmd->add_option("--level", o->level, "los | los+blocked | single-bounce");
+  cmd->add_option("--candidates", o->candidates, "exhaustive | fast (reflection candidate search)");
+  cmd->add_option("--drop-db", o->drop_db, "drop paths this many dB below the strongest");
+  cmd->add_flag("--json", o->json, "JSON output");
+  return [o] { return run_link(*o); };
+}
+
+}  // namespace rfidray::cli

@@ -1,0 +1,90 @@
+#pragma once
+// The one place that talks to Embree 3: creates the device and the scene, adds one triangle geometry per
+// mesh (geomID == mesh index), commits once, and releases both in the destructor. Read-only afterwards,
+// so any number of threads may trace concurrently (Embree's rtcIntersect1/rtcOccluded1 are thread-safe on
+// a committed scene; the intersect context lives on the caller's stack, nothing is allocated per ray).
+//
+// Embree works in float: hit distances are good to ~1e-7 relative. The image method itself stays in double
+// (raytrace/path_finder.cpp); Embree only answers visibility and "which triangle is there".
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <string>
+
+#include <embree3/rtcore.h>
+
+#include "core/geometry.h"
+#include "raytrace/triangle_mesh.h"
+
+namespace rfidray {
+
+struct RayHit {
+  bool hit = false;
+  double t = std::numeric_limits<double>::infinity();  // distance along the (unit) direction, metres
+  uint32_t geom = 0, prim = 0;                          // mesh index, triangle index within the mesh
+};
+
+class EmbreeScene {
+ public:
+  // Builds and commits the BVH. `config` is passed to rtcNewDevice (e.g. "threads=2"; "" = Embree default).
+  // Throws std::runtime_error if Embree reports an error.
+  explicit EmbreeScene(std::span<const TriangleMesh> meshes, const std::string& config = "");
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  // Closest hit on origin + t·dir for t in [tnear, tfar]; `dir` must be unit length.
+  RayHit intersect(const Vec3& origin, const Vec3& dir, double tnear, double tfar) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    fill_ray(rh.ray, origin, dir, tnear, tfar);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &context, &rh);
+    RayHit out;
+    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+      out.hit = true;
+      out.t = rh.ray.tfar;
+      out.geom = rh.hit.geomID;
+      out.prim = rh.hit.primID;
+    }
+    return out;
+  }
+
+  // True if anything lies on origin + t·dir for t in [tnear, tfar].
+  bool occluded(const Vec3& origin, const Vec3& dir, double tnear, double tfar) const {
+    if (!(tfar > tnear)) return false;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray;
+    fill_ray(ray, origin, dir, tnear, tfar);
+    rtcOccluded1(scene_, &context, &ray);
+    return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
+  }
+
+  RTCScene handle() const { return scene_; }  // for raw-Embree baselines in bench/
+  size_t triangle_count() const { return triangle_count_; }
+
+ private:
+  static void fill_ray(RTCRay& r, const Vec3& o, const Vec3& d, double tnear, double tfar) {
+    r.org_x = static_cast<float>(o.x());
+    r.org_y = static_cast<float>(o.y());
+    r.org_z = static_cast<float>(o.z());
+    r.dir_x = static_cast<float>(d.x());
+    r.dir_y = static_cast<float>(d.y());
+    r.dir_z = static_cast<float>(d.z());
+    r.tnear = static_cast<float>(tnear);
+    r.tfar = static_cast<float>(tfar);
+    r.time = 0.0f;
+    r.mask = 0xFFFFFFFFu;
+    r.id = 0;
+    r.flags = 0;
+  }
+
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+  size_t triangle_count_ = 0;
+};
+
+}  // namespace rfidray

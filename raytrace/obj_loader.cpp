@@ -1,0 +1,217 @@
+#include "raytrace/obj_loader.h"
+
+#include <tiny_obj_loader.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+
+#include "core/error.h"
+
+namespace rfidray {
+namespace {
+
+// One `f` line as the validation pass saw it: tinyobjloader keeps faces in file order, so the k-th face of
+// the concatenated shapes is the k-th record here; that is how `usemtl` names survive without a .mtl.
+struct FaceRecord {
+  size_t line = 0;
+  int vertex_count = 0;
+  std::string usemtl;
+};
+
+std::vector<std::string_view> split_ws(std::string_view s) {
+  std::vector<std::string_view> out;
+  size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && (s[i] == ' ' || s[i] == '\t' || s[i] == '\r')) ++i;
+    size_t j = i;
+    while (j < s.size() && s[j] != ' ' && s[j] != '\t' && s[j] != '\r') ++j;
+    if (j > i) out.push_back(s.substr(i, j - i));
+    i = j;
+  }
+  return out;
+}
+
+bool parse_double(std::string_view t, double& v) {
+  const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+  return r.ec == std::errc() && r.ptr == t.data() + t.size() && std::isfinite(v);
+}
+
+bool parse_int(std::string_view t, long long& v) {
+  if (!t.empty() && t.front() == '+') t.remove_prefix(1);
+  const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+  return r.ec == std::errc() && r.ptr == t.data() + t.size();
+}
+
+// Validates the file line by line; returns the face records in file order.
+std::vector<FaceRecord> validate_obj(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path.string() + ": cannot open OBJ file");
+  const std::string file = path.string();
+  auto fail = [&](size_t line, const std::string& what) {
+    return InputError(file + ":" + std::to_string(line) + ": " + what);
+  };
+  std::vector<FaceRecord> faces;
+  std::string line, usemtl;
+  long long nv = 0, nvt = 0, nvn = 0;
+  size_t line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const auto tok = split_ws(line);
+    if (tok.empty() || tok[0].front() == '#') continue;
+    const std::string_view key = tok[0];
+    if (key == "v" || key == "vn" || key == "vt") {
+      const size_t need = key == "vt" ? 1 : 3;
+      if (tok.size() < need + 1) throw fail(line_no, "'" + std::string(key) + "' needs " + std::to_string(need) + " numbers");
+      for (size_t i = 1; i < tok.size() && i <= 3 + (key == "v" ? 4 : 0); ++i) {
+        double x;
+        if (!parse_double(tok[i], x))
+          throw fail(line_no, "malformed number '" + std::string(tok[i]) + "' in '" + std::string(key) + "' line");
+      }
+      (key == "v" ? nv : key == "vt" ? nvt : nvn)++;
+    } else if (key == "f") {
+      if (tok.size() < 4) throw fail(line_no, "a face needs at least 3 vertices");
+      for (size_t i = 1; i < tok.size(); ++i) {
+        std::string_view ref = tok[i];
+        const long long counts[3] = {nv, nvt, nvn};
+        for (int part = 0; part < 3; ++part) {
+          const size_t slash = ref.find('/');
+          const std::string_view idx = ref.substr(0, slash);
+          if (!(part > 0 && idx.empty())) {
+            long long k;
+            if (!parse_int(idx, k) || k == 0)
+              throw fail(line_no, "malformed face index '" + std::string(tok[i]) + "'");
+            const long long resolved = k > 0 ? k : counts[part] + k + 1;
+            if (resolved < 1 || resolved > counts[part])
+              throw fail(line_no, "face index " + std::to_string(k) + " out of range (" +
+                                      std::to_string(counts[part]) + " defined so far) in '" + std::string(tok[i]) + "'");
+          }
+          if (slash == std::string_view::npos) break;
+          ref.remove_prefix(slash + 1);
+          if (part == 2) throw fail(line_no, "malformed face index '" + std::string(tok[i]) + "'");
+        }
+      }
+      faces.push_back({line_no, static_cast<int>(tok.size() - 1), usemtl});
+    } else if (key == "usemtl") {
+      if (tok.size() < 2) throw fail(line_no, "'usemtl' without a material name");
+      usemtl = std::string(tok[1]);
+    }
+  }
+  return faces;
+}
+
+std::vector<std::string> split_lines(const std::string& text, const std::string& prefix) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  std::string l;
+  while (std::getline(in, l))
+    if (!l.empty()) out.push_back(prefix + l);
+  return out;
+}
+
+uint32_t material_slot(TriangleMesh& mesh, const std::string& name) {
+  for (size_t i = 0; i < mesh.material_names.size(); ++i)
+    if (mesh.material_names[i] == name) return static_cast<uint32_t>(i);
+  mesh.material_names.push_back(name);
+  return static_cast<uint32_t>(mesh.material_names.size() - 1);
+}
+
+}  // namespace
+
+ObjScene load_obj(const std::filesystem::path& path) {
+  const std::vector<FaceRecord> records = validate_obj(path);
+  const std::string file = path.string();
+
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = false;  // we fan-triangulate, keeping one face per `f` line
+  config.vertex_color = false;
+  config.mtl_search_path = path.parent_path().string();
+  tinyobj::ObjReader reader;
+  const bool ok = reader.ParseFromFile(file, config);
+  ObjScene out;
+  out.warnings = split_lines(reader.Warning(), file + ": ");
+  if (!ok) throw InputError(file + ": " + (reader.Error().empty() ? "cannot parse OBJ" : reader.Error()));
+  for (auto& e : split_lines(reader.Error(), file + ": ")) out.warnings.push_back(e);
+
+  const auto& attrib = reader.GetAttrib();
+  const size_t vertex_count = attrib.vertices.size() / 3;
+  std::map<std::string, size_t> mesh_of_name;
+  std::vector<std::vector<int32_t>> local_index;  // per mesh: global vertex → local (−1: not yet used)
+  size_t k = 0;
+  for (const auto& shape : reader.GetShapes()) {
+    if (shape.mesh.num_face_vertices.empty()) continue;
+    const std::string name = shape.name.empty() ? path.stem().string() : shape.name;
+    auto [it, inserted] = mesh_of_name.emplace(name, out.meshes.size());
+    if (inserted) {
+      out.meshes.emplace_back().name = name;
+      local_index.emplace_back(vertex_count, -1);
+    }
+    TriangleMesh& mesh = out.meshes[it->second];
+    auto& local = local_index[it->second];
+    auto vertex = [&](const tinyobj::index_t& idx) {
+      const int g = idx.vertex_index;
+      if (local[g] < 0) {
+        local[g] = static_cast<int32_t>(mesh.vertices.size());
+        mesh.vertices.emplace_back(attrib.vertices[3 * g], attrib.vertices[3 * g + 1], attrib.vertices[3 * g + 2]);
+      }
+      return static_cast<uint32_t>(local[g]);
+    };
+    size_t offset = 0;
+    for (const unsigned char n : shape.mesh.num_face_vertices) {
+      if (k >= records.size() || records[k].vertex_count != n)
+        throw InputError(file + ": face " + std::to_string(k + 1) + " could not be matched to its line");
+      const FaceRecord& rec = records[k++];
+      const uint32_t mat = material_slot(mesh, rec.usemtl);
+      const uint32_t v0 = vertex(shape.mesh.indices[offset]);
+      for (size_t i = 1; i + 1 < n; ++i) {
+        mesh.triangles.push_back({v0, vertex(shape.mesh.indices[offset + i]), vertex(shape.mesh.indices[offset + i + 1])});
+        mesh.triangle_material.push_back(mat);
+      }
+      offset += n;
+    }
+  }
+  if (k != records.size())
+    throw InputError(file + ":" + std::to_string(records[k].line) + ": face was not loaded by the OBJ parser");
+  return out;
+}
+
+void write_obj(const std::filesystem::path& path, const std::vector<TriangleMesh>& meshes) {
+  std::filesystem::path mtl = path;
+  mtl.replace_extension(".mtl");
+  std::FILE* f = std::fopen(path.string().c_str(), "w");
+  if (!f) throw InputError(path.string() + ": cannot write OBJ file");
+  std::fprintf(f, "# rfidray scene: %zu meshes; usemtl names are radio material names\nmtllib %s\n", meshes.size(),
+               mtl.filename().string().c_str());
+  std::map<std::string, int> all_materials;
+  size_t base = 1;
+  for (const TriangleMesh& m : meshes) {
+    std::fprintf(f, "o %s\n", m.name.c_str());
+    for (const Vec3& v : m.vertices) std::fprintf(f, "v %.10g %.10g %.10g\n", v.x(), v.y(), v.z());
+    int64_t current = -1;
+    for (size_t t = 0; t < m.triangles.size(); ++t) {
+      if (static_cast<int64_t>(m.triangle_material[t]) != current) {
+        current = m.triangle_material[t];
+        std::fprintf(f, "usemtl %s\n", m.material_names[current].c_str());
+        all_materials.emplace(m.material_names[current], 0);
+      }
+      const auto& tri = m.triangles[t];
+      std::fprintf(f, "f %zu %zu %zu\n", base + tri[0], base + tri[1], base + tri[2]);
+    }
+    base += m.vertices.size();
+  }
+  const bool ok = std::fclose(f) == 0;
+  std::FILE* g = std::fopen(mtl.string().c_str(), "w");
+  if (!ok || !g) throw InputError(mtl.string() + ": cannot write MTL file");
+  std::fprintf(g, "# Names are ITU-R P.2040 radio materials (raytrace/material_map.h); colours are for viewers only.\n");
+  for (const auto& [name, unused] : all_materials) {
+    const bool metal = name.find("metal") != std::string::npos;
+    std::fprintf(g, "newmtl %s\nKd %s\n\n", name.c_str(), metal ? "0.55 0.6 0.65" : "0.7 0.68 0.62");
+  }
+  if (std::fclose(g) != 0) throw InputError(mtl.string() + ": cannot write MTL file");
+}
+
+}  // namespace rfidray

@@ -1,0 +1,319 @@
+#include "raytrace/path_finder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "core/error.h"
+#include "core/fresnel.h"
+#include "core/units.h"
+
+namespace rfidray {
+namespace {
+
+// Mirror image of t in the plane n·x = c and the point where a→image meets the plane; false unless a and t
+// are strictly on the same side (at least `eps` away from it).
+bool image_point(const Vec3& n, double c, const Vec3& a, const Vec3& t, double eps, Vec3& image, Vec3& p) {
+  const double da = n.dot(a) - c;
+  const double dt = n.dot(t) - c;
+  if (da * dt <= 0.0 || std::abs(da) < eps || std::abs(dt) < eps) return false;
+  image = t - 2.0 * dt * n;
+  p = a + (da / (da + dt)) * (image - a);
+  return true;
+}
+
+bool inside_box(const Vec3& p, const Vec3& lo, const Vec3& hi, double tol) {
+  return (p.array() >= lo.array() - tol).all() && (p.array() <= hi.array() + tol).all();
+}
+
+// Distance along a leg leaving (or reaching) a plane at incidence cosine `cos_theta`, at which the leg is
+// `eps` above the plane; capped so short legs are still tested over most of their length.
+double plane_margin(double eps, double cos_theta, double leg_m) {
+  return std::min(eps / std::max(cos_theta, 1e-9), 0.25 * leg_m);
+}
+
+// Cheap key so coplanar facets (within ~1e-6) share a plane group.
+std::tuple<int64_t, int64_t, int64_t, int64_t> plane_key(Vec3 n, double c) {
+  // Canonical sign: the largest component positive.
+  int k = 0;
+  n.cwiseAbs().maxCoeff(&k);
+  if (n[k] < 0.0) {
+    n = -n;
+    c = -c;
+  }
+  return {std::llround(n.x() * 1e6), std::llround(n.y() * 1e6), std::llround(n.z() * 1e6), std::llround(c * 1e6)};
+}
+
+}  // namespace
+
+PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& options)
+    : scene_(std::move(scene)), options_(options) {
+  if (!scene_) throw InputError("ray-traced channel: no scene");
+  if (!(options_.drop_below_db >= 0.0)) throw field_error("drop_below_db", "must be ≥ 0 dB");
+  if (!(options_.endpoint_epsilon_m > 0.0) || !(options_.surface_epsilon_m > 0.0))
+    throw field_error("epsilon", "ray epsilons must be > 0");
+  if (options_.candidate_rays < 0) throw field_error("candidate_rays", "must be ≥ 0");
+  // Plane groups of the fast mode.
+  const auto& facets = scene_->facets();
+  std::map<std::tuple<int64_t, int64_t, int64_t, int64_t>, uint32_t> group_of_key;
+  plane_of_facet_.resize(facets.size());
+  for (size_t f = 0; f < facets.size(); ++f) {
+    const Facet& fc = facets[f];
+    auto [it, inserted] = group_of_key.emplace(plane_key(fc.normal, fc.offset_m), static_cast<uint32_t>(planes_.size()));
+    if (inserted) planes_.push_back({fc.normal, fc.offset_m, fc.lo, fc.hi});
+    PlaneGroup& g = planes_[it->second];
+    g.lo = g.lo.cwiseMin(fc.lo);
+    g.hi = g.hi.cwiseMax(fc.hi);
+    plane_of_facet_[f] = it->second;
+  }
+  // Occupancy bitmaps: ~64 cells per facet (at most 2^18 per plane), shaped like the plane's extent.
+  std::vector<std::vector<uint32_t>> members(planes_.size());
+  for (size_t f = 0; f < facets.size(); ++f) members[plane_of_facet_[f]].push_back(static_cast<uint32_t>(f));
+  constexpr double kPad = 1e-6;  // metres: facet bounds are padded so rounding never loses a cell
+  for (size_t gi = 0; gi < planes_.size(); ++gi) {
+    PlaneGroup& g = planes_[gi];
+    int k = 0;
+    g.normal.cwiseAbs().maxCoeff(&k);
+    g.axis_u = (k + 1) % 3;
+    g.axis_v = (k + 2) % 3;
+    const double eu = std::max(g.hi[g.axis_u] - g.lo[g.axis_u], 1e-6);
+    const double ev = std::max(g.hi[g.axis_v] - g.lo[g.axis_v], 1e-6);
+    const double target = std::clamp(64.0 * members[gi].size(), 1.0, 262144.0);
+    g.nu = static_cast<int>(std::clamp(std::round(std::sqrt(target * eu / ev)), 1.0, 4096.0));
+    g.nv = static_cast<int>(std::clamp(std::ceil(target / g.nu), 1.0, 4096.0));
+    g.u0 = g.lo[g.axis_u] - kPad;
+    g.v0 = g.lo[g.axis_v] - kPad;
+    g.inv_du = g.nu / (eu + 2 * kPad);
+    g.inv_dv = g.nv / (ev + 2 * kPad);
+    g.bit_offset = occupancy_.size() * 64;
+    occupancy_.resize(occupancy_.size() + (static_cast<size_t>(g.nu) * g.nv + 63) / 64, 0);
+    auto cell = [](double x, double x0, double inv, int n) {
+      return std::clamp(static_cast<int>(std::floor((x - x0) * inv)), 0, n - 1);
+    };
+    for (uint32_t f : members[gi]) {
+      const Facet& fc = facets[f];
+      const int iu0 = cell(fc.lo[g.axis_u] - kPad, g.u0, g.inv_du, g.nu), iu1 = cell(fc.hi[g.axis_u] + kPad, g.u0, g.inv_du, g.nu);
+      const int iv0 = cell(fc.lo[g.axis_v] - kPad, g.v0, g.inv_dv, g.nv), iv1 = cell(fc.hi[g.axis_v] + kPad, g.v0, g.inv_dv, g.nv);
+      for (int iv = iv0; iv <= iv1; ++iv)
+        for (int iu = iu0; iu <= iu1; ++iu) {
+          const size_t bit = g.bit_offset + static_cast<size_t>(iv) * g.nu + iu;
+          occupancy_[bit / 64] |= uint64_t{1} << (bit % 64);
+        }
+    }
+  }
+  // Spherical Fibonacci directions for the optional per-pose candidate search.
+  const int n = options_.candidate_rays;
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / n;
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    candidate_directions_.emplace_back(r * std::cos(golden * i), r * std::sin(golden * i), z);
+  }
+}
+
+bool PathFinder::occupied(const PlaneGroup& g, const Vec3& p) const {
+  const double fu = (p[g.axis_u] - g.u0) * g.inv_du, fv = (p[g.axis_v] - g.v0) * g.inv_dv;
+  if (!(fu >= 0.0 && fv >= 0.0 && fu < g.nu && fv < g.nv)) return false;
+  const size_t bit = g.bit_offset + static_cast<size_t>(fv) * g.nu + static_cast<size_t>(fu);
+  return (occupancy_[bit / 64] >> (bit % 64)) & 1u;
+}
+
+void PathFinder::prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const {
+  out.planes.clear();
+  out.all = options_.candidates != CandidateMode::kFast || candidate_directions_.empty();
+  if (out.all) return;
+  std::vector<char> seen(planes_.size(), 0);
+  const EmbreeScene& bvh = scene_->bvh();
+  for (const Vec3& d : candidate_directions_) {
+    const RayHit h = bvh.intersect(antenna_position, d, options_.endpoint_epsilon_m, 1e30);
+    if (!h.hit) continue;
+    const uint32_t f = scene_->facet_of(scene_->triangle_id(h.geom, h.prim));
+    if (f != kNoFacet) seen[plane_of_facet_[f]] = 1;
+  }
+  for (size_t g = 0; g < seen.size(); ++g)
+    if (seen[g]) out.planes.push_back(static_cast<uint32_t>(g));
+}
+
+void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
+                       const PoseCandidates& candidates, std::vector<TracedPath>& out) const {
+  out.clear();
+  const Vec3& a = antenna.pose.position;
+  const Vec3& t = tag.pose.position;
+  const double d = (t - a).norm();
+  if (!all_finite(a) || !all_finite(t) || !(d > 0.0))
+    throw InputError("link: antenna and tag coincide or are not finite (distance " + std::to_string(d) + " m)");
+  if (!(frequency_hz > 0.0) || !std::isfinite(frequency_hz))
+    throw InputError("link: frequency must be > 0 Hz (got " + std::to_string(frequency_hz) + ")");
+  direct_path(antenna, tag, frequency_hz, out);
+  if (options_.level == ChannelLevel::kSingleBounce) {
+    const size_t first = out.size();
+    if (options_.candidates == CandidateMode::kExhaustive)
+      reflections_exhaustive(antenna, tag, frequency_hz, out);
+    else
+      reflections_fast(antenna, tag, frequency_hz, candidates, out);
+    std::sort(out.begin() + first, out.end(), [](const TracedPath& x, const TracedPath& y) {
+      return std::tie(x.length_m, x.facet) < std::tie(y.length_m, y.facet);
+    });
+  }
+  // Drop paths far below the strongest (power ratio).
+  double strongest = 0.0;
+  for (const TracedPath& p : out) strongest = std::max(strongest, std::norm(p.contribution));
+  const double floor = strongest * db_to_linear(-options_.drop_below_db);
+  std::erase_if(out, [&](const TracedPath& p) { return std::norm(p.contribution) < floor; });
+}
+
+void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f, std::vector<TracedPath>& out) const {
+  const Vec3& a = ant.pose.position;
+  const Vec3 delta = tag.pose.position - a;
+  const double length = delta.norm();
+  const Vec3 dir = delta / length;
+  const double eps = std::min(options_.endpoint_epsilon_m, 0.25 * length);
+  const EmbreeScene& bvh = scene_->bvh();
+  const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, dir) *
+                                tag.pattern.gain_linear_world(tag.pose.orientation, -dir));
+  CVec3 field = ant.polarization.field(ant.pose.orientation, dir);
+  TracedPath p;
+  p.length_m = length;
+  p.point = a;
+  if (!scene_->empty() && bvh.occluded(a, dir, eps, length - eps)) {
+    if (options_.level == ChannelLevel::kLos) return;
+    // Walk the segment surface by surface.
+    p.kind = PathKind::kBlocked;
+    double tnear = eps;
+    for (;;) {
+      const RayHit h = bvh.intersect(a, dir, tnear, length - eps);
+      if (!h.hit) break;
+      const uint32_t tri = scene_->triangle_id(h.geom, h.prim);
+      const RadioMaterial& m = scene_->materials()[scene_->material_of(tri)];
+      if (m.perfect_conductor || ++p.crossings > options_.max_crossings) return;  // opaque
+      const Vec3& n = scene_->normal_of(tri);
+      const double cos_theta = std::abs(dir.dot(n));
+      field = transmit_field(field, dir, n, material_transmission(m, f, cos_theta));
+      if (p.crossings == 1) {
+        p.point = a + h.t * dir;
+        p.material = scene_->material_of(tri);
+      }
+      tnear = h.t + options_.surface_epsilon_m;
+    }
+  }
+  p.coefficient = gain * polarization_match(field, tag.polarization, tag.pose.orientation, dir);
+  p.contribution = path_contribution(length, p.coefficient, f);
+  out.push_back(p);
+}
+
+bool PathFinder::point_on_facet(const Facet& facet, const Vec3& p) const {
+  constexpr double kTol = 1e-9;  // metres; points on shared edges belong to both triangles
+  for (uint32_t tri : facet.triangles) {
+    const auto c = scene_->corners(tri);
+    double s[3];
+    bool pos = true, neg = true;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 e = c[(k + 1) % 3] - c[k];
+      s[k] = facet.normal.dot(e.cross(p - c[k]));
+      const double tol = kTol * e.norm();
+      pos = pos && s[k] >= -tol;
+      neg = neg && s[k] <= tol;
+    }
+    if (pos || neg) return true;
+  }
+  return false;
+}
+
+void PathFinder::reflections_exhaustive(const Endpoint& ant, const Endpoint& tag, double f,
+                                        std::vector<TracedPath>& out) const {
+  const auto& facets = scene_->facets();
+  Vec3 image, p;
+  for (size_t i = 0; i < facets.size(); ++i) {
+    const Facet& fc = facets[i];
+    if (!image_point(fc.normal, fc.offset_m, ant.pose.position, tag.pose.position, options_.surface_epsilon_m, image, p))
+      continue;
+    if (!inside_box(p, fc.lo, fc.hi, 1e-6) || !point_on_facet(fc, p)) continue;
+    add_reflection(static_cast<uint32_t>(i), image, p, ant, tag, f, /*check_leg1=*/true, out);
+  }
+}
+
+void PathFinder::reflections_fast(const Endpoint& ant, const Endpoint& tag, double f, const PoseCandidates& c,
+                                  std::vector<TracedPath>& out) const {
+  if (c.all) {
+    for (uint32_t g = 0; g < planes_.size(); ++g) try_plane(g, ant, tag, f, out);
+  } else {
+    for (uint32_t g : c.planes) try_plane(g, ant, tag, f, out);
+  }
+}
+
+void PathFinder::try_plane(uint32_t group, const Endpoint& ant, const Endpoint& tag, double f,
+                           std::vector<TracedPath>& out) const {
+  const PlaneGroup& g = planes_[group];
+  const Vec3& a = ant.pose.position;
+  Vec3 image, p;
+  if (!image_point(g.normal, g.offset_m, a, tag.pose.position, options_.surface_epsilon_m, image, p)) return;
+  if (!occupied(g, p)) return;
+  // One ray A→P answers both "is leg 1 clear" and "which facet of this plane is at P": the first thing hit
+  // must be a facet of this plane.
+  const Vec3 d1 = p - a;
+  const double l1 = d1.norm();
+  const Vec3 dir1 = d1 / l1;
+  const double margin = plane_margin(options_.surface_epsilon_m, std::abs(dir1.dot(g.normal)), l1);
+  const RayHit h = scene_->bvh().intersect(a, dir1, std::min(options_.endpoint_epsilon_m, 0.25 * l1), l1 + margin);
+  if (!h.hit) return;
+  const uint32_t facet = scene_->facet_of(scene_->triangle_id(h.geom, h.prim));
+  if (facet == kNoFacet || plane_of_facet_[facet] != group) return;
+  // Redo the image in the facet's own plane (identical to the group's within the grouping tolerance).
+  const Facet& fc = scene_->facets()[facet];
+  if (!image_point(fc.normal, fc.offset_m, a, tag.pose.position, options_.surface_epsilon_m, image, p)) return;
+  add_reflection(facet, image, p, ant, tag, f, /*check_leg1=*/false, out);
+}
+
+void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p, const Endpoint& ant,
+                                const Endpoint& tag, double f, bool check_leg1, std::vector<TracedPath>& out) const {
+  const Facet& fc = scene_->facets()[facet];
+  const Vec3& a = ant.pose.position;
+  const Vec3& t = tag.pose.position;
+  // Coplanar facets meeting along an edge both contain a P on that edge: count the reflection once.
+  for (const TracedPath& q : out)
+    if (q.kind == PathKind::kReflection && (q.point - p).norm() < 1e-7 &&
+        std::abs(scene_->facets()[q.facet].normal.dot(fc.normal)) > 1.0 - 1e-9)
+      return;
+  const Vec3 d1 = p - a, d2 = t - p;
+  const double l1 = d1.norm(), l2 = d2.norm();
+  if (!(l1 > 0.0) || !(l2 > 0.0)) return;
+  const Vec3 dir1 = d1 / l1, dir2 = d2 / l2;
+  const double cos_theta = std::abs(dir1.dot(fc.normal));
+  const EmbreeScene& bvh = scene_->bvh();
+  const double end_eps1 = std::min(options_.endpoint_epsilon_m, 0.25 * l1);
+  const double end_eps2 = std::min(options_.endpoint_epsilon_m, 0.25 * l2);
+  if (check_leg1 &&
+      bvh.occluded(a, dir1, end_eps1, l1 - plane_margin(options_.surface_epsilon_m, cos_theta, l1)))
+    return;
+  if (bvh.occluded(p, dir2, plane_margin(options_.surface_epsilon_m, cos_theta, l2), l2 - end_eps2)) return;
+
+  const RadioMaterial& m = scene_->materials()[fc.material];
+  const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, dir1) *
+                                tag.pattern.gain_linear_world(tag.pose.orientation, -dir2));
+  const CVec3 incident = ant.polarization.field(ant.pose.orientation, dir1);
+  const CVec3 reflected = reflect_field(incident, dir1, fc.normal, material_reflection(m, f, cos_theta));
+  TracedPath path;
+  path.kind = PathKind::kReflection;
+  path.length_m = (image - a).norm();
+  path.point = p;
+  path.material = fc.material;
+  path.facet = facet;
+  path.coefficient = gain * polarization_match(reflected, tag.polarization, tag.pose.orientation, dir2);
+  path.contribution = path_contribution(path.length_m, path.coefficient, f);
+  out.push_back(path);
+}
+
+Path PathFinder::to_path(const TracedPath& p) const {
+  Path out;
+  out.kind = p.kind;
+  out.length_m = p.length_m;
+  out.point = p.point;
+  if (p.material != kNoMaterial) out.material = scene_->materials()[p.material].name;
+  out.crossings = p.crossings;
+  out.coefficient = p.coefficient;
+  out.contribution = p.contribution;
+  return out;
+}
+
+}  // namespace rfidray

@@ -1,0 +1,105 @@
+#pragma once
+// Paths of one antenna–tag link in a static scene.
+//
+// Direct path. Unoccluded → `los`. Otherwise (level ≥ los+blocked) → `blocked`: the straight segment is kept
+// and every surface it crosses multiplies the field by that surface's transmission (core/fresnel.h
+// material_transmission: the ITU-R P.2040 slab of the material's thickness when it has one, else the single
+// air→material interface), applied per TE/TM component with transmit_field. Each crossed triangle counts as
+// one surface, so a wall should be modelled as one sheet carrying the wall's thickness (a closed box would be
+// crossed twice). Metal (perfect conductor) is opaque: the path is dropped. No refraction offset.
+//
+// Single-bounce specular reflection, exact image method: the tag T is mirrored in the facet plane (T'),
+// the reflection point P is where A→T' meets the plane, it must lie on the facet's triangles, and both legs
+// A→P and P→T must be unoccluded. Length |A − T'|. Coefficient:
+//   √(G_R(A→P) G_T(T→P)) · e_tag · R(e_A),
+// with e_A the reader's field towards P (Polarization::field), R = reflect_field with material_reflection
+// at the angle of incidence (TE ⊥ plane of incidence, TM in it; conventions in core/fresnel.h), and e_tag·
+// the polarization match at the tag (core/polarization.h).
+//
+// Contribution of each path: path_contribution(L, coefficient, f) = coefficient·λ/(4πL)·e^{−jkL}.
+// Paths more than drop_below_db below the strongest are dropped. Reflections are ordered by length, then facet.
+#include <complex>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "core/channel.h"
+#include "core/path.h"
+#include "raytrace/scene.h"
+#include "raytrace/trace_options.h"
+
+namespace rfidray {
+
+inline constexpr uint32_t kNoMaterial = std::numeric_limits<uint32_t>::max();
+
+// A path as the tracer produces it (no strings: the hot loop does not allocate).
+struct TracedPath {
+  PathKind kind = PathKind::kLineOfSight;
+  double length_m = 0.0;
+  Vec3 point = Vec3::Zero();
+  uint32_t material = kNoMaterial;  // reflecting or first crossed surface
+  uint32_t facet = kNoFacet;        // reflecting facet
+  int crossings = 0;
+  std::complex<double> coefficient{1.0, 0.0};
+  std::complex<double> contribution{0.0, 0.0};
+};
+
+// Planes to try for one antenna pose (the per-pose, tag-independent part of the candidate search).
+struct PoseCandidates {
+  bool all = true;              // test every plane (exact)
+  std::vector<uint32_t> planes; // otherwise only these (plane-group ids)
+};
+
+class PathFinder {
+ public:
+  PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& options);
+
+  const Scene& scene() const { return *scene_; }
+  const TraceOptions& options() const { return options_; }
+  size_t plane_count() const { return planes_.size(); }
+
+  // Per-pose candidate search (shoots options().candidate_rays rays when > 0 in fast mode).
+  void prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const;
+  // Every path of one link into `out` (cleared first; reuse it across calls to avoid allocation).
+  // Throws InputError if the endpoints coincide or are not finite.
+  void trace(const Endpoint& antenna, const Endpoint& tag, double frequency_hz, const PoseCandidates& candidates,
+             std::vector<TracedPath>& out) const;
+
+  // Converts a traced path to the core Path (material names filled in).
+  Path to_path(const TracedPath& p) const;
+
+ private:
+  // Facets sharing one plane (fast mode): one image per plane, Embree says which facet is hit.
+  // A conservative occupancy bitmap over the plane (facet bounds rasterised, in the two world coordinates
+  // the plane projects onto without degeneracy) rejects most image points with no facet near them before
+  // any ray is shot.
+  struct PlaneGroup {
+    Vec3 normal;
+    double offset_m;
+    Vec3 lo, hi;
+    int axis_u = 0, axis_v = 1;
+    double u0 = 0, v0 = 0, inv_du = 0, inv_dv = 0;
+    int nu = 1, nv = 1;
+    size_t bit_offset = 0;  // into occupancy_
+  };
+  bool occupied(const PlaneGroup& g, const Vec3& p) const;
+
+  void direct_path(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
+  void reflections_exhaustive(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
+  void reflections_fast(const Endpoint& a, const Endpoint& t, double f, const PoseCandidates& c,
+                        std::vector<TracedPath>& out) const;
+  void try_plane(uint32_t group, const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
+  // Shared tail of both modes: P on facet f is valid; checks leg 2 (and leg 1 if asked) and appends.
+  void add_reflection(uint32_t facet, const Vec3& image, const Vec3& p, const Endpoint& a, const Endpoint& t,
+                      double f, bool check_leg1, std::vector<TracedPath>& out) const;
+  bool point_on_facet(const Facet& facet, const Vec3& p) const;
+
+  std::shared_ptr<const Scene> scene_;
+  TraceOptions options_;
+  std::vector<PlaneGroup> planes_;
+  std::vector<uint32_t> plane_of_facet_;
+  std::vector<uint64_t> occupancy_;
+  std::vector<Vec3> candidate_directions_;
+};
+
+}  // namespace rfidray

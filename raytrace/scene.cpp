@@ -1,0 +1,105 @@
+#include "raytrace/scene.h"
+
+#include <cstdio>
+
+#include "core/error.h"
+#include "raytrace/obj_loader.h"
+
+namespace rfidray {
+
+Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignment, const SceneOptions& options)
+    : meshes_(std::move(meshes)) {
+  ResolvedMaterials resolved = resolve_materials(meshes_, assignment);
+  materials_ = std::move(resolved.materials);
+  notes_ = std::move(resolved.notes);
+  uint32_t offset = 0;
+  for (size_t m = 0; m < meshes_.size(); ++m) {
+    triangle_offset_.push_back(offset);
+    offset += static_cast<uint32_t>(meshes_[m].triangles.size());
+    for (size_t t = 0; t < meshes_[m].triangles.size(); ++t) {
+      triangle_mesh_.push_back(static_cast<uint32_t>(m));
+      material_of_triangle_.push_back(resolved.per_triangle[m][t]);
+      const auto& tri = meshes_[m].triangles[t];
+      const auto& v = meshes_[m].vertices;
+      const Vec3 c = (v[tri[1]] - v[tri[0]]).cross(v[tri[2]] - v[tri[0]]);
+      const double len = c.norm();
+      triangle_normal_.push_back(len > 0.0 ? Vec3(c / len) : Vec3::Zero());
+    }
+  }
+  FacetSet fs = merge_facets(meshes_, resolved.per_triangle, triangle_offset_, options.facets);
+  facets_ = std::move(fs.facets);
+  facet_of_triangle_ = std::move(fs.facet_of_triangle);
+  bvh_ = std::make_unique<EmbreeScene>(meshes_, options.embree_config);
+}
+
+std::array<Vec3, 3> Scene::corners(uint32_t triangle) const {
+  const TriangleMesh& m = meshes_[triangle_mesh_[triangle]];
+  const auto& tri = m.triangles[triangle - triangle_offset_[triangle_mesh_[triangle]]];
+  return {m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]};
+}
+
+std::vector<std::string> extrapolation_warnings(const Scene& scene, double frequency_hz) {
+  std::vector<std::string> out;
+  for (const RadioMaterial& m : scene.materials())
+    if (!m.perfect_conductor && m.extrapolated(frequency_hz)) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "material '%s': ITU-R P.2040 fit is specified from %g GHz; extrapolated to %g MHz",
+                    m.name.c_str(), m.min_valid_ghz, frequency_hz / 1e6);
+      out.push_back(buf);
+    }
+  return out;
+}
+
+std::shared_ptr<const Scene> load_scene(const std::vector<std::filesystem::path>& obj_files,
+                                        const MaterialAssignment& assignment, const SceneOptions& options,
+                                        std::vector<std::string>* warnings) {
+  std::vector<TriangleMesh> meshes;
+  for (const auto& f : obj_files) {
+    ObjScene s = load_obj(f);
+    if (warnings) warnings->insert(warnings->end(), s.warnings.begin(), s.warnings.end());
+    for (auto& m : s.meshes) meshes.push_back(std::move(m));
+  }
+  return std::make_shared<const Scene>(std::move(meshes), assignment, options);
+}
+
+}  // namespace rfidray
+
+namespace rfidray {
+
+std::shared_ptr<const Scene> load_scene(const SceneSpec& spec, const std::string& scenario_source,
+                                        const SceneOptions& options, std::vector<std::string>* warnings) {
+  MaterialAssignment assignment;
+  for (const MaterialSpec& m : spec.materials)
+    assignment.user_materials.push_back(user_material(m.name, m.relative_permittivity, m.conductivity_s_m, m.thickness_m));
+  for (const MaterialMapEntry& e : spec.material_map) assignment.by_material[e.from] = e.to;
+  assignment.default_material = spec.default_material;
+  std::vector<TriangleMesh> meshes;
+  for (size_t i = 0; i < spec.meshes.size(); ++i) {
+    const MeshSpec& ms = spec.meshes[i];
+    const std::string where = (scenario_source.empty() ? std::string() : scenario_source + ":" +
+                               std::to_string(ms.source_line) + ": ") + "scene.meshes[" + std::to_string(i) + "]";
+    ObjScene obj;
+    try {
+      obj = load_obj(ms.file);
+      if (!ms.material.empty()) find_radio_material(ms.material, assignment.user_materials, where + ".material");
+    } catch (const InputError& e) {
+      throw InputError(where + ": " + e.what());
+    }
+    if (warnings) warnings->insert(warnings->end(), obj.warnings.begin(), obj.warnings.end());
+    for (TriangleMesh& m : obj.meshes) {
+      m.transform(ms.pose, ms.scale);
+      if (!ms.material.empty()) {
+        m.material_names = {ms.material};
+        m.triangle_material.assign(m.triangles.size(), 0);
+      }
+      meshes.push_back(std::move(m));
+    }
+  }
+  try {
+    return std::make_shared<const Scene>(std::move(meshes), assignment, options);
+  } catch (const InputError& e) {
+    throw InputError((scenario_source.empty() ? std::string() : scenario_source + ": ") + "scene: " + e.what());
+  }
+}
+
+}  // namespace rfidray

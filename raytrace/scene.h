@@ -1,0 +1,77 @@
+#pragma once
+// A static radio scene: triangle meshes with resolved radio materials, their planar facets, and one Embree
+// BVH built once. Read-only after construction, so one Scene is shared by every thread and channel.
+//
+// Dynamic objects (moving obstacles) would be added as further Embree geometries in a second, rebuilt
+// top-level scene referencing this one as an instance; everything here is addressed by (geomID, primID),
+// which stays valid in that design.
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/material.h"
+#include "core/scenario.h"
+#include "raytrace/embree_scene.h"
+#include "raytrace/facet.h"
+#include "raytrace/material_map.h"
+#include "raytrace/triangle_mesh.h"
+
+namespace rfidray {
+
+struct SceneOptions {
+  FacetOptions facets;
+  std::string embree_config;  // rtcNewDevice config ("" = Embree default)
+};
+
+class Scene {
+ public:
+  Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignment, const SceneOptions& options = {});
+
+  const std::vector<TriangleMesh>& meshes() const { return meshes_; }
+  const std::vector<RadioMaterial>& materials() const { return materials_; }
+  const std::vector<Facet>& facets() const { return facets_; }
+  const EmbreeScene& bvh() const { return *bvh_; }
+  // Defaults applied and other remarks from material resolution, for the user.
+  const std::vector<std::string>& notes() const { return notes_; }
+
+  size_t triangle_count() const { return facet_of_triangle_.size(); }
+  bool empty() const { return triangle_count() == 0; }
+  // Global triangle id of an Embree hit.
+  uint32_t triangle_id(uint32_t geom, uint32_t prim) const { return triangle_offset_[geom] + prim; }
+  uint32_t facet_of(uint32_t triangle) const { return facet_of_triangle_[triangle]; }
+  uint32_t material_of(uint32_t triangle) const { return material_of_triangle_[triangle]; }
+  // Unit normal of a triangle (zero for degenerate ones).
+  const Vec3& normal_of(uint32_t triangle) const { return triangle_normal_[triangle]; }
+  // The three corners of a triangle.
+  std::array<Vec3, 3> corners(uint32_t triangle) const;
+
+ private:
+  std::vector<TriangleMesh> meshes_;
+  std::vector<RadioMaterial> materials_;
+  std::vector<uint32_t> triangle_offset_;       // per mesh
+  std::vector<uint32_t> triangle_mesh_;         // global triangle → mesh
+  std::vector<uint32_t> material_of_triangle_;  // global triangle → material
+  std::vector<uint32_t> facet_of_triangle_;     // global triangle → facet
+  std::vector<Vec3> triangle_normal_;
+  std::vector<Facet> facets_;
+  std::vector<std::string> notes_;
+  std::unique_ptr<EmbreeScene> bvh_;
+};
+
+// One line per scene material whose ITU-R P.2040 fit is extrapolated at this frequency (several are specified
+// from 1 GHz only; UHF RFID runs at 860–960 MHz), for the caller to print once.
+std::vector<std::string> extrapolation_warnings(const Scene& scene, double frequency_hz);
+
+// Loads OBJ files (their warnings are appended to `warnings` if given), resolves materials, builds the BVH.
+std::shared_ptr<const Scene> load_scene(const std::vector<std::filesystem::path>& obj_files,
+                                        const MaterialAssignment& assignment, const SceneOptions& options = {},
+                                        std::vector<std::string>* warnings = nullptr);
+
+// The scene of a scenario: each mesh file loaded, scaled and placed (MeshSpec::pose, scale), its material
+// forced when MeshSpec::material is set, then the scenario's user materials, material_map and
+// default_material applied. Errors name the scenario file and the mesh entry's line.
+std::shared_ptr<const Scene> load_scene(const SceneSpec& spec, const std::string& scenario_source,
+                                        const SceneOptions& options = {}, std::vector<std::string>* warnings = nullptr);
+
+}  // namespace rfidray

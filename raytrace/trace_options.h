@@ -1,0 +1,43 @@
+#pragma once
+// Settings of the ray-traced channel (raytrace/raytraced_channel.h).
+#include <string>
+
+namespace rfidray {
+
+// What the channel models. Each level includes the previous one.
+enum class ChannelLevel {
+  kLos,           // the direct path if unoccluded, else nothing (h = 0)
+  kLosBlocked,    // the direct path, through obstacles if needed (transmission loss per crossed surface)
+  kSingleBounce,  // + every single specular reflection (image method) with both legs unoccluded
+};
+
+enum class CandidateMode {
+  kExhaustive,  // reference: every facet, point-in-triangle on its triangles, rtcOccluded1 on both legs
+  kFast,        // facets grouped by plane; one image per plane; Embree says which facet (if any) is there
+};
+
+struct TraceOptions {
+  ChannelLevel level = ChannelLevel::kSingleBounce;
+  CandidateMode candidates = CandidateMode::kFast;
+  // Fast mode, optional: shoot this many rays (spherical Fibonacci) from each antenna pose and test only
+  // the planes they hit. 0 = off (exact: every plane is tested). Small reflectors can be missed when > 0.
+  int candidate_rays = 0;
+  // Paths whose power is more than this many dB below the strongest path of the link are dropped.
+  double drop_below_db = 40.0;
+  // Rays stop this short of an antenna or tag, so a tag mounted on a surface is not occluded by it.
+  double endpoint_epsilon_m = 1e-3;
+  // Reflection legs are tested from this height above the reflecting plane (float-precision margin of
+  // Embree; 100 µm ≈ λ/3500 at 866 MHz); crossings closer together than this count once.
+  double surface_epsilon_m = 1e-4;
+  // A direct path crossing more surfaces than this is dropped (its transmission is negligible anyway).
+  int max_crossings = 16;
+};
+
+const char* to_string(ChannelLevel level);
+const char* to_string(CandidateMode mode);
+// "los" | "los+blocked" | "single-bounce"; throws InputError naming `field` otherwise.
+ChannelLevel parse_channel_level(const std::string& name, const std::string& field);
+// "exhaustive" | "fast"
+CandidateMode parse_candidate_mode(const std::string& name, const std::string& field);
+
+}  // namespace rfidray

@@ -1,0 +1,81 @@
+// `rfidray compare` end to end on a short scenario: a ray-traced LoS through an empty scene equals the ideal
+// channel (zero phase error and RSSI difference); through the paper warehouse with reflections it does not.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+int run(const std::string& args, std::string* out = nullptr) {
+  const std::string cmd = std::string(RFIDRAY_BINARY) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf{};
+  std::string text;
+  while (pipe && fgets(buf.data(), buf.size(), pipe)) text += buf.data();
+  const int status = pipe ? pclose(pipe) : -1;
+  if (out) *out = text;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+fs::path scenario(const std::string& name, const std::string& meshes) {
+  const fs::path dir = fs::temp_directory_path() / ("rfidray_compare_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path p = dir / name;
+  std::ofstream(p) << "seed: 7\nduration_s: 3\nmodel: physical\nscene:\n  meshes: " << meshes << "\n"
+                   << "antennas:\n  - name: fixed\n    position: [-1.0, -3.0, 0.8]\n    frequency: 865.7e6\n"
+                      "    update_rate: 10\ntags:\n  - {name: a, position: [2.90, -3.03, 2.05]}\n"
+                      "  - {name: b, position: [-4.85, -3.03, 1.85]}\n";
+  return p;
+}
+
+// antenna,tag,reads_ideal,reads_raytraced,both,phase_err_mean,phase_err_rms,phase_err_max_abs,rssi_mean,rssi_rms,...
+std::vector<std::vector<std::string>> read_csv(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<std::vector<std::string>> rows;
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string c;
+    while (std::getline(ss, c, ',')) cells.push_back(c);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+TEST(CompareCli, EmptySceneLosEqualsIdealAndTheWarehouseDoesNot) {
+  const fs::path out = fs::temp_directory_path() / ("rfidray_compare_out_" + std::to_string(::getpid()));
+  std::string text;
+  ASSERT_EQ(run("compare " + scenario("empty.yaml", "[]").string() + " --channel los -o " + (out / "empty").string(), &text), 0) << text;
+  auto rows = read_csv(out / "empty" / "compare.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  for (const auto& r : rows) {
+    EXPECT_EQ(r[2], r[3]);          // same reads
+    EXPECT_GE(std::stoi(r[2]), 30);   // 3 s at 10 Hz, all read (a few metres, free space)
+    EXPECT_EQ(std::stod(r[7]), 0.0);  // phase error
+    EXPECT_EQ(std::stod(r[9]), 0.0);  // RSSI difference
+  }
+  EXPECT_TRUE(fs::exists(out / "empty" / "compare.png"));
+
+  const std::string obj = std::string(RFIDRAY_SOURCE_DIR) + "/scenes/paper_warehouse.obj";
+  ASSERT_EQ(run("compare " + scenario("wh.yaml", "[{file: " + obj + "}]").string() + " --tags b -o " + (out / "wh").string(), &text), 0) << text;
+  rows = read_csv(out / "wh" / "compare.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_GT(std::stod(rows[0][6]) + std::stod(rows[1][6]), 0.01);  // multipath moves the phase
+  EXPECT_NE(text.find("single-bounce"), std::string::npos);
+
+  EXPECT_EQ(run("compare " + scenario("e2.yaml", "[]").string() + " --tags nosuch -o " + (out / "x").string(), &text), 2);
+  EXPECT_NE(text.find("nosuch"), std::string::npos);
+  fs::remove_all(out);
+}
+
+}  // namespace

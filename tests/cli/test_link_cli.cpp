@@ -1,0 +1,116 @@
+// `rfidray link` end to end: the JSON parses, matches the library's channel, and bad input fails cleanly.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <sys/wait.h>
+
+#include "core/reader.h"
+#include "core/units.h"
+#include "raytrace/raytraced_channel.h"
+
+namespace rfidray {
+namespace {
+
+struct CliRun {
+  int status;
+  std::string out;
+};
+
+CliRun run(const std::string& args) {
+  const std::string cmd = std::string(RFIDRAY_BINARY) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf{};
+  while (pipe && fgets(buf.data(), buf.size(), pipe)) out += buf.data();
+  const int status = pipe ? pclose(pipe) : -1;
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+const std::string kScene = std::string(RFIDRAY_SOURCE_DIR) + "/scenes/paper_warehouse.obj";
+
+TEST(LinkCli, JsonMatchesTheLibrary) {
+  const CliRun r = run("link --json --scene " + kScene +
+                    " --antenna=-1,-3,0.6 --tag 2.9,-2.35,2.05 --antenna-pol rhcp --pattern patch:8:70 --frequency 866e6");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto first_brace = r.out.find('{');
+  ASSERT_NE(first_brace, std::string::npos) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out.substr(first_brace));
+
+  Endpoint ant, tag;
+  ant.pose.position = Vec3(-1, -3, 0.6);
+  ant.polarization.kind = PolarizationKind::kCircularRight;
+  ant.pattern.kind = PatternKind::kPatch;
+  ant.pattern.peak_gain_dbi = 8.0;
+  ant.pattern.beamwidth_deg = 70.0;
+  tag.pose.position = Vec3(2.9, -2.35, 2.05);
+  const auto scene = load_scene({kScene}, MaterialAssignment{});
+  const RaytracedChannel channel(scene);
+  const auto paths = channel.paths(ant, tag, 866e6);
+  const auto& jp = j["raytraced"]["paths"];
+  ASSERT_EQ(jp.size(), paths.size());
+  ASSERT_GE(paths.size(), 2u);  // LoS plus at least the floor reflection
+  for (size_t i = 0; i < paths.size(); ++i) {
+    EXPECT_EQ(jp[i]["kind"], to_string(paths[i].kind));
+    EXPECT_EQ(jp[i]["material"], paths[i].material);
+    EXPECT_DOUBLE_EQ(jp[i]["length_m"].get<double>(), paths[i].length_m);
+    for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(jp[i]["point"][k].get<double>(), paths[i].point[k]);
+    EXPECT_DOUBLE_EQ(jp[i]["coefficient"]["re"].get<double>(), paths[i].coefficient.real());
+    EXPECT_DOUBLE_EQ(jp[i]["coefficient"]["im"].get<double>(), paths[i].coefficient.imag());
+  }
+  const std::complex<double> h = sum_paths(paths);
+  EXPECT_DOUBLE_EQ(j["raytraced"]["h"]["re"].get<double>(), h.real());
+  EXPECT_DOUBLE_EQ(j["raytraced"]["h"]["im"].get<double>(), h.imag());
+  EXPECT_NEAR(j["raytraced"]["phase_rad"].get<double>(), wrap_to_2pi(-std::arg(h * h)), 1e-12);
+  const ReaderParams reader;
+  EXPECT_NEAR(j["raytraced"]["rssi_dbm"].get<double>(),
+              reader.tx_power_dbm + linear_to_db(reader.modulation_factor) + 40.0 * std::log10(std::abs(h)), 1e-9);
+  // Ideal channel: free space, |h| = √G λ/(4πD) with the patch gain towards the tag.
+  const double d = (tag.pose.position - ant.pose.position).norm();
+  const std::complex<double> hi(j["ideal"]["h"]["re"].get<double>(), j["ideal"]["h"]["im"].get<double>());
+  const double g = ant.pattern.gain_linear((tag.pose.position - ant.pose.position) / d);
+  EXPECT_NEAR(std::abs(hi), std::sqrt(g) * wavelength_m(866e6) / (4 * kPi * d), 1e-15);
+  EXPECT_NEAR(j["ideal"]["phase_rad"].get<double>(), wrap_to_2pi(2.0 * wavenumber_rad_m(866e6) * d), 1e-9);
+  // The P.2040 extrapolation below 1 GHz is reported.
+  EXPECT_NE(j["scene"]["warnings"].dump().find("extrapolated"), std::string::npos);
+}
+
+TEST(LinkCli, TableAndLevels) {
+  const CliRun table = run("link --scene " + kScene + " --antenna=-1,-3,0.6 --tag 2.9,-2.35,2.05");
+  ASSERT_EQ(table.status, 0) << table.out;
+  EXPECT_NE(table.out.find("reflection"), std::string::npos);
+  EXPECT_NE(table.out.find("RSSI"), std::string::npos);
+  const CliRun los = run("link --json --level los --scene " + kScene + " --antenna=-1,-3,0.6 --tag 2.9,-2.35,2.05");
+  ASSERT_EQ(los.status, 0) << los.out;
+  const auto j = nlohmann::json::parse(los.out.substr(los.out.find('{')));
+  ASSERT_EQ(j["raytraced"]["paths"].size(), 1u);
+  EXPECT_EQ(j["raytraced"]["paths"][0]["kind"], "los");
+}
+
+TEST(LinkCli, BadInputFailsWithAMessage) {
+  const std::string ok = " --antenna 0,0,1 --tag 1,0,1";
+  struct Case {
+    std::string args, needle;
+  } cases[] = {
+      {"link --scene /nonexistent.obj" + ok, "/nonexistent.obj"},
+      {"link --scene " + kScene + " --antenna 0,0 --tag 1,0,1", "--antenna"},
+      {"link --scene " + kScene + " --antenna 0,0,x --tag 1,0,1", "'x'"},
+      {"link --scene " + kScene + ok + " --level multi", "multi"},
+      {"link --scene " + kScene + ok + " --material cheese", "cheese"},
+      {"link --scene " + kScene + ok + " --antenna-pol linear:0,0,0", "--antenna-pol"},
+      {"link --scene " + kScene + ok + " --pattern patch", "patch"},
+      {"link --scene " + kScene + " --antenna 1,0,1 --tag 1,0,1", "coincide"},
+  };
+  for (const Case& c : cases) {
+    const CliRun r = run(c.args);
+    EXPECT_EQ(r.status, 2) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.needle), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+  }
+}
+
+}  // namespace
+}  // namespace rfidray
