@@ -103,9 +103,9 @@ std::vector<Vec3> intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1
       const int a = 2 * i + slot, b = 2 * j + slot;
       if (!s1.valid[a] || !s1.valid[b]) continue;
       if ((f[a] > 0.0) == (f[b] > 0.0)) continue;
-      // Same track only: consecutive samples close compared with their distance from F1.
-      const double rho = std::max((s1.points[a] - h1.f1).head<2>().norm(), 1e-3);
-      if ((s1.points[a] - s1.points[b]).norm() > 4.0 * dpsi * rho + 0.5) continue;
+      // Far from the foci the section is nearly radial from F1, so one ray step may span metres of it:
+      // bisection on ψ is still valid along the continuous root track; a bracket across a track break
+      // (slot swap) converges to the break and is rejected by the polish below.
       double lo = kTwoPi * i / n, hi = lo + dpsi, flo = f[a];
       Vec3 p = s1.points[a];
       bool ok = true;
