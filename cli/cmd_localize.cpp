@@ -54,7 +54,7 @@ int run_localize(const LocalizeState& s) {
   if (prior == loc::MirrorPrior::kPoint && s.truth.empty()) throw field_error("--mirror-prior truth", "needs --truth");
 
   std::vector<std::vector<ReadingRow>> files;
-  for (const std::string& f : s.readings) files.push_back(read_readings_csv(f));
+  for (const std::string& f : s.readings) files.push_back(load_localize_readings(f));
   const std::vector<loc::TagReads> tags = group_by_tag(files, s.frequency_hz);
 
   nlohmann::json results = nlohmann::json::array();

@@ -60,7 +60,7 @@ std::vector<std::string> split_csv_line(const std::string& line) {
   return out;
 }
 
-std::vector<ReadingRow> read_readings_csv(const std::filesystem::path& file) {
+std::vector<ReadingRow> load_localize_readings(const std::filesystem::path& file) {
   std::ifstream in(file);
   if (!in) throw InputError(file.string() + ": cannot open readings file");
   static const std::vector<std::string> kRequired{"time", "posx", "posy", "posz", "q1", "q2",

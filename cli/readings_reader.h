@@ -29,7 +29,7 @@ struct ReadingRow {
 };
 
 // Throws InputError "<file>:<line>: <what>" (or "<file>: ..." for file-level problems).
-std::vector<ReadingRow> read_readings_csv(const std::filesystem::path& file);
+std::vector<ReadingRow> load_localize_readings(const std::filesystem::path& file);
 // name → position; header name,x,y,z.
 std::map<std::string, Vec3> read_truth_csv(const std::filesystem::path& file);
 
