@@ -6,6 +6,7 @@ namespace rfidray::cli {
 
 // Each subcommand file provides one setup function (declared here, defined in cli/cmd_<name>.cpp).
 // std::function<int()> setup_<name>(CLI::App& app);   (add one line per command)
+std::function<int()> setup_simulate(CLI::App& app);
 std::function<int()> setup_localize(CLI::App& app);
 
 namespace {
@@ -22,6 +23,7 @@ void add(CLI::App& app, const CommandSetup& setup) {
 }  // namespace
 
 void register_commands(CLI::App& app) {
+  add(app, setup_simulate);
   add(app, setup_localize);
 }
 

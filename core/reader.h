@@ -29,6 +29,7 @@ struct ReaderParams {
   double tx_power_dbm = 30.0;
   double noise_phi_rad = 0.1;       // σ of n_φ (paper eq. 4)
   double noise_rssi = 0.01;         // σ of n_RSSI (paper eq. 5)
+  double noise_rssi_db = 0.5;       // σ (dB) of the RSSI noise added in dB by the physical model
   double range_m = 7.0;             // r of the read condition D ≤ r·|1 + n_r| (paper model)
   double range_sigma = 0.05;        // σ_r of n_r (paper §III-A, after DiGiampaolo & Martinelli)
   OptionalDistribution optional_distribution;

@@ -1,9 +1,21 @@
 #pragma once
 // The two reader models (switchable per antenna):
 //  - paper:    eq. 4 phase (φ0 + 4πD/λ + n_φ + n_opt) mod 2π, eq. 5 RSSI round(40·log10(G_RT·λ/(4πD) + n_RSSI)),
-//              read iff D ≤ r·|1 + n_r|, n_r ~ N(0, σ_r²).
-//  - physical: complex one-way channel h from a Channel; round trip h²; tag powered iff P_tx·|h|² ≥ chip
-//              sensitivity; RSSI (dBm) from P_tx·K·|h|⁴ plus noise; phase φ0 − arg(h²) plus noise; quantized.
+//              read iff D ≤ r·|1 + n_r|, n_r ~ N(0, σ_r²). n_φ = noisephi·N(0,1), n_RSSI = noiserssi·N(0,1).
+//              When G_RT·λ/(4πD) + n_RSSI ≤ 0 (noise larger than the signal) eq. 5 has no value: the reader
+//              reports nothing, so that attempt is a no-read. (The seed Gazebo plugin reads `noiserssi` from
+//              the `noisephi` SDF element; we do not copy that bug: each noise has its own parameter.)
+//              Draw order: n_r, n_φ, n_opt, n_RSSI.
+//  - physical: complex one-way channel h from a Channel (it already contains both antenna gains and the
+//              polarization match); round trip h². Tag powered iff P_tx·|h|² ≥ chip sensitivity;
+//              P_rx = P_tx·K·|h|⁴ (K = modulation_factor); read iff also P_rx ≥ reader sensitivity (noise-free
+//              power); RSSI (dBm) = 10·log10(P_rx / 1 mW) + noise_rssi_db·N(0,1); phase φ0 − arg(h²) + n_φ + n_opt.
+//              For the ideal channel h = √(G_R G_T)·λ/(4πD)·e^{−jkD}, φ0 − arg(h²) ≡ φ0 + 4πD/λ (eq. 3).
+//              Draw order: n_φ, n_opt, n_RSSI.
+// Both: every draw is made on every attempt (read or not), standard normals from one
+// std::normal_distribution<double> per call, so the stream position after an attempt never depends on its
+// outcome and runs are reproducible. Phase wrapped to [0, 2π) then rounded to the nearest of 2^phase_bits
+// levels; RSSI rounded to the nearest multiple of rssi_resolution_db.
 #include <complex>
 
 #include "core/random.h"

@@ -1,0 +1,176 @@
+#include "core/reader_model.h"
+
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "core/distribution.h"
+#include "core/error.h"
+#include "core/units.h"
+
+namespace rfidray {
+namespace {
+
+std::string num(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+std::string link_field(const ReaderParams& reader, const char* what) {
+  return (reader.name.empty() ? std::string("link") : "antenna '" + reader.name + "' link") + "." + what;
+}
+
+void check_link(const ReaderParams& reader, const LinkState& link) {
+  if (!(std::isfinite(link.distance_m) && link.distance_m > 0.0))
+    throw field_error(link_field(reader, "distance_m"),
+                      "antenna–tag distance must be finite and > 0 (got " + num(link.distance_m) + ")");
+  if (!(std::isfinite(link.frequency_hz) && link.frequency_hz > 0.0))
+    throw field_error(link_field(reader, "frequency_hz"), "must be finite and > 0 (got " + num(link.frequency_hz) + ")");
+  if (!std::isfinite(link.phase_offset_rad))
+    throw field_error(link_field(reader, "phase_offset_rad"), "must be finite (got " + num(link.phase_offset_rad) + ")");
+}
+
+void require_finite(double v, const std::string& field) {
+  if (!std::isfinite(v)) throw field_error(field, "must be a finite number (got " + num(v) + ")");
+}
+void require_positive(double v, const std::string& field) {
+  if (!(std::isfinite(v) && v > 0.0)) throw field_error(field, "must be finite and > 0 (got " + num(v) + ")");
+}
+void require_non_negative(double v, const std::string& field) {
+  if (!(std::isfinite(v) && v >= 0.0)) throw field_error(field, "must be finite and >= 0 (got " + num(v) + ")");
+}
+
+void validate_polarization(const Polarization& p, const std::string& field) {
+  if (!p.axis_local.allFinite() || p.axis_local.norm() < 1e-12)
+    throw field_error(field + ".axis", "must be a finite, non-zero vector");
+}
+
+}  // namespace
+
+double quantize_phase(double phase_rad, int bits) {
+  const double wrapped = wrap_to_2pi(phase_rad);
+  if (bits <= 0) return wrapped;
+  // Round to the nearest of 2^bits levels; the level 2^bits is the same angle as 0.
+  const double levels = std::ldexp(1.0, bits);
+  const double step = kTwoPi / levels;
+  double k = std::round(wrapped / step);
+  if (k >= levels) k = 0.0;
+  return k * step;
+}
+
+double quantize_rssi(double rssi_db, double resolution_db) {
+  if (!(resolution_db > 0.0)) return rssi_db;
+  return std::round(rssi_db / resolution_db) * resolution_db;
+}
+
+// Draw order (fixed, all four always drawn so that the stream position after a read attempt does not
+// depend on its outcome): 1. n_r, 2. n_φ, 3. n_opt, 4. n_RSSI. Standard normals come from one
+// std::normal_distribution<double> per call, in that order.
+// Note: the seed Gazebo plugin reads `noiserssi` from the `noisephi` SDF element, so its RSSI noise is
+// the phase noise; we read each from its own parameter (ReaderParams::noise_rssi).
+Reading paper_reading(const ReaderParams& reader, const LinkState& link, Rng& rng) {
+  check_link(reader, link);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const double n_r = reader.range_sigma * unit(rng);
+  const double n_phi = reader.noise_phi_rad * unit(rng);
+  const double n_opt = sample(reader.optional_distribution, rng);
+  const double n_rssi = reader.noise_rssi * unit(rng);
+
+  const double lambda = wavelength_m(link.frequency_hz);
+  const double d = link.distance_m;
+  Reading r;
+  // Perturbed range r̃ = r·|1 + n_r| (paper §IV, after DiGiampaolo & Martinelli).
+  if (d > reader.range_m * std::abs(1.0 + n_r)) return r;
+  // Eq. 5: RSSI = round(40·log10(G_RT·λ/(4πD) + n_RSSI)). The noise is added to the linear amplitude, so
+  // it can drive the argument to ≤ 0; a real reader then reports nothing, so that attempt is no read.
+  const double amplitude = reader.communication_gain * lambda / (4.0 * kPi * d) + n_rssi;
+  if (!(amplitude > 0.0)) return r;
+  // Eq. 4: φ = (φ0 + 4πD/λ + n_φ + n_opt) mod 2π, then quantized.
+  const double phase = link.phase_offset_rad + 4.0 * kPi * d / lambda + n_phi + n_opt;
+  if (!std::isfinite(phase)) return r;  // e.g. a Cauchy draw overflowing: no usable phase
+  r.read = true;
+  r.phase_rad = quantize_phase(phase, reader.phase_bits);
+  r.rssi_dbm = quantize_rssi(40.0 * std::log10(amplitude), reader.rssi_resolution_db);
+  return r;
+}
+
+// Draw order (fixed, all three always drawn): 1. n_φ, 2. n_opt, 3. n_RSSI (dB).
+Reading physical_reading(const ReaderParams& reader, const TagParams& tag, const LinkState& link, Rng& rng) {
+  check_link(reader, link);
+  if (!(std::isfinite(link.h_one_way.real()) && std::isfinite(link.h_one_way.imag())))
+    throw field_error(link_field(reader, "h_one_way"), "channel must be finite");
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const double n_phi = reader.noise_phi_rad * unit(rng);
+  const double n_opt = sample(reader.optional_distribution, rng);
+  const double n_rssi_db = reader.noise_rssi_db * unit(rng);
+
+  Reading r;
+  const double p_tx_w = dbm_to_watt(reader.tx_power_dbm);
+  const double gain2 = std::norm(link.h_one_way);  // |h|², includes both antenna gains and polarization
+  // Forward link: the tag chip wakes up iff the power it receives reaches its sensitivity.
+  if (!(p_tx_w * gain2 >= dbm_to_watt(tag.chip_sensitivity_dbm))) return r;
+  // Reverse link: backscattered power P_rx = P_tx·K·|h|⁴ (monostatic, round trip h²).
+  const double p_rx_w = p_tx_w * reader.modulation_factor * gain2 * gain2;
+  if (!(p_rx_w >= dbm_to_watt(reader.sensitivity_dbm))) return r;  // noise-free power decides decoding
+  const std::complex<double> h2 = link.h_one_way * link.h_one_way;
+  // Round-trip phase φ0 − arg(h²): for the ideal channel this is φ0 + 4πD/λ (eq. 3).
+  const double phase = link.phase_offset_rad - std::arg(h2) + n_phi + n_opt;
+  if (!std::isfinite(phase)) return r;
+  r.read = true;
+  r.phase_rad = quantize_phase(phase, reader.phase_bits);
+  r.rssi_dbm = quantize_rssi(watt_to_dbm(p_rx_w) + n_rssi_db, reader.rssi_resolution_db);
+  return r;
+}
+
+Reading read_tag(const ReaderParams& reader, const TagParams& tag, const LinkState& link, Rng& rng) {
+  switch (reader.model) {
+    case ReaderModelKind::kPaper: return paper_reading(reader, link, rng);
+    case ReaderModelKind::kPhysical: return physical_reading(reader, tag, link, rng);
+  }
+  return paper_reading(reader, link, rng);
+}
+
+void validate(const ReaderParams& reader, const std::string& field) {
+  if (reader.frequencies_hz.empty()) throw field_error(field + ".frequency", "needs at least one frequency");
+  for (size_t i = 0; i < reader.frequencies_hz.size(); ++i)
+    require_positive(reader.frequencies_hz[i], field + ".frequency[" + std::to_string(i) + "]");
+  if (reader.phase_offsets_rad.size() != reader.frequencies_hz.size())
+    throw field_error(field + ".phase_offset", "needs one φ0 per frequency (" +
+                                                   std::to_string(reader.frequencies_hz.size()) + " frequencies, " +
+                                                   std::to_string(reader.phase_offsets_rad.size()) + " offsets)");
+  for (size_t i = 0; i < reader.phase_offsets_rad.size(); ++i)
+    require_finite(reader.phase_offsets_rad[i], field + ".phase_offset[" + std::to_string(i) + "]");
+  require_positive(reader.hop_dwell_s, field + ".hop_dwell_s");
+  require_finite(reader.tx_power_dbm, field + ".tx_power_dbm");
+  require_non_negative(reader.noise_phi_rad, field + ".noisephi");
+  require_non_negative(reader.noise_rssi, field + ".noiserssi");
+  require_non_negative(reader.noise_rssi_db, field + ".noise_rssi_db");
+  require_positive(reader.range_m, field + ".range");
+  require_non_negative(reader.range_sigma, field + ".range_sigma");
+  // Re-parse so that a hand-built OptionalDistribution gets the same checks as a parsed one.
+  parse_distribution(reader.optional_distribution.kind == DistributionKind::kNone
+                         ? std::string()
+                         : to_string(reader.optional_distribution.kind),
+                     reader.optional_distribution.params, field + ".optional_distribution");
+  require_positive(reader.communication_gain, field + ".communication_gain");
+  require_positive(reader.update_rate_hz, field + ".update_rate");
+  if (reader.phase_bits < 0 || reader.phase_bits > 32)
+    throw field_error(field + ".phase_bits", "must be in [0, 32] (got " + std::to_string(reader.phase_bits) + ")");
+  require_non_negative(reader.rssi_resolution_db, field + ".rssi_resolution_db");
+  require_finite(reader.sensitivity_dbm, field + ".sensitivity_dbm");
+  if (!(std::isfinite(reader.modulation_factor) && reader.modulation_factor > 0.0 && reader.modulation_factor <= 1.0))
+    throw field_error(field + ".modulation_factor", "must be in (0, 1] (got " + num(reader.modulation_factor) + ")");
+  reader.pattern.validate(field + ".pattern");
+  validate_polarization(reader.polarization, field + ".polarization");
+}
+
+void validate(const TagParams& tag, const std::string& field) {
+  require_finite(tag.gain_dbi, field + ".gain_dbi");
+  require_finite(tag.chip_sensitivity_dbm, field + ".chip_sensitivity_dbm");
+  tag.pattern.validate(field + ".pattern");
+  validate_polarization(tag.polarization, field + ".polarization");
+}
+
+}  // namespace rfidray

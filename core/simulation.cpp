@@ -1,0 +1,298 @@
+#include "core/simulation.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <exception>
+#include <optional>
+#include <string>
+
+#include "core/error.h"
+#include "core/mast.h"
+#include "core/random.h"
+#include "core/reader_model.h"
+#include "core/waypoint_trajectory.h"
+
+namespace rfidray {
+namespace {
+
+std::string where(const Scenario& s, int line) {
+  if (s.source.empty()) return "";
+  return line > 0 ? s.source + ":" + std::to_string(line) + ": " : s.source + ": ";
+}
+
+// Re-raises an InputError with the scenario location in front.
+template <typename F>
+auto located(const Scenario& s, int line, F&& f) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw InputError(where(s, line) + e.what());
+  }
+}
+
+std::string fmt(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+struct CachedLink {
+  bool valid = false;
+  Pose antenna_pose, tag_pose;
+  std::complex<double> h{0.0, 0.0};
+};
+
+}  // namespace
+
+TrajectoryPtr build_trajectory(const Scenario& scenario, const SceneMotion& motion, const MotionSpec& spec,
+                               double start_s, const std::string& owner) {
+  if (spec.kind == MotionSpec::Kind::kWaypoints) {
+    if (spec.mast) throw InputError(owner + ": a mast needs a fixed or robot base, not waypoints");
+    return std::make_shared<WaypointTrajectory>(spec.waypoints, spec.speed_m_s, spec.pose.orientation, start_s);
+  }
+  if (spec.kind == MotionSpec::Kind::kFixed && !spec.mast) return std::make_shared<StaticTrajectory>(spec.pose);
+  TrajectoryPtr base;
+  if (spec.kind == MotionSpec::Kind::kRobot) {
+    for (size_t i = 0; i < scenario.robots.size(); ++i)
+      if (scenario.robots[i].name == spec.robot) base = motion.robots.at(i);
+    if (!base) throw InputError(owner + ": unknown robot '" + spec.robot + "'");
+  } else {
+    base = std::make_shared<StaticTrajectory>(Pose{});
+  }
+  if (spec.mast) base = std::make_shared<MastTrajectory>(base, *spec.mast);
+  return std::make_shared<MountedTrajectory>(base, spec.pose);
+}
+
+SceneMotion build_motion(const Scenario& scenario) {
+  SceneMotion m;
+  for (const RobotSpec& r : scenario.robots)
+    m.robots.push_back(located(scenario, r.source_line, [&] {
+      return std::make_shared<const DifferentialDriveTrajectory>(r.waypoints, r.drive);
+    }));
+  for (const AntennaSpec& a : scenario.antennas)
+    m.antennas.push_back(located(scenario, a.source_line, [&] {
+      return build_trajectory(scenario, m, a.motion, a.start_s, "antenna '" + a.reader.name + "'");
+    }));
+  for (const TagSpec& t : scenario.tags)
+    m.tags.push_back(located(scenario, t.source_line, [&] {
+      return build_trajectory(scenario, m, t.motion, t.start_s, "tag '" + t.tag.name + "'");
+    }));
+  return m;
+}
+
+double scenario_duration_s(const Scenario& scenario, const SceneMotion& motion) {
+  if (scenario.duration_s) {
+    const double d = *scenario.duration_s;
+    if (!(d >= 0.0) || !std::isfinite(d))
+      throw InputError(where(scenario, 0) + "field 'duration_s': must be >= 0 and finite (got " + fmt(d) + ")");
+    return d;
+  }
+  double end = 0.0;
+  bool any = false;
+  for (const auto& r : motion.robots) {
+    end = std::max(end, r->end_time_s());
+    any = true;
+  }
+  auto consider = [&](const MotionSpec& spec, const TrajectoryPtr& t) {
+    if (spec.kind == MotionSpec::Kind::kWaypoints && std::isfinite(t->end_time_s())) {
+      end = std::max(end, t->end_time_s());
+      any = true;
+    }
+  };
+  for (size_t i = 0; i < scenario.antennas.size(); ++i) consider(scenario.antennas[i].motion, motion.antennas[i]);
+  for (size_t i = 0; i < scenario.tags.size(); ++i) consider(scenario.tags[i].motion, motion.tags[i]);
+  if (!any)
+    throw InputError(where(scenario, 0) +
+                     "field 'duration_s': required when no robot or waypoint motion ends the run");
+  return end;
+}
+
+size_t hop_channel_index(const ReaderParams& reader, double t_s) {
+  const size_t n = reader.frequencies_hz.size();
+  if (n <= 1 || !(reader.hop_dwell_s > 0.0) || t_s <= 0.0) return 0;
+  return static_cast<size_t>(std::floor(t_s / reader.hop_dwell_s)) % n;
+}
+
+SimulationResult simulate(const Scenario& scenario, const Channel& channel, const SimulationOptions& options) {
+  const SceneMotion motion = build_motion(scenario);
+  SimulationResult result;
+  result.duration_s = scenario_duration_s(scenario, motion);
+  const size_t n_ant = scenario.antennas.size(), n_tags = scenario.tags.size();
+  result.antennas.resize(n_ant);
+  const bool cacheable = channel.cacheable();
+
+  for (size_t a = 0; a < n_ant; ++a) {
+    const ReaderParams& r = scenario.antennas[a].reader;
+    located(scenario, scenario.antennas[a].source_line, [&] {
+      validate(r, "antennas[" + std::to_string(a) + "]");
+      return 0;
+    });
+    if (r.phase_offsets_rad.size() != r.frequencies_hz.size())
+      throw InputError(where(scenario, scenario.antennas[a].source_line) + "antenna '" + r.name +
+                       "': one phase offset per channel frequency needed");
+  }
+
+  auto antenna_endpoint = [&](size_t a, const Pose& pose) {
+    const ReaderParams& r = scenario.antennas[a].reader;
+    return Endpoint{pose, r.pattern, r.polarization};
+  };
+  auto tag_endpoint = [&](size_t i, const Pose& pose) {
+    const TagParams& t = scenario.tags[i].tag;
+    return Endpoint{pose, t.pattern, t.polarization};
+  };
+  auto coincident_error = [&](size_t a, size_t i, double t_s, double d) {
+    return InputError(where(scenario, scenario.tags[i].source_line) + "tag '" + scenario.tags[i].tag.name +
+                      "' is at antenna '" + scenario.antennas[a].reader.name + "' at t = " + fmt(t_s) +
+                      " s (distance " + fmt(d) + " m; the models need D > 0)");
+  };
+  auto needs_h = [&](size_t a) { return scenario.antennas[a].reader.model == ReaderModelKind::kPhysical; };
+
+  // Static links (antenna and tag both static) are computed once per channel frequency, up front.
+  // static_h[a][c * n_tags + i]; empty when the antenna moves or does not need h.
+  std::vector<std::vector<std::optional<std::complex<double>>>> static_h(n_ant);
+  std::vector<std::pair<size_t, size_t>> static_jobs;  // (antenna, channel)
+  for (size_t a = 0; a < n_ant; ++a) {
+    if (!cacheable || !needs_h(a) || !motion.antennas[a]->is_static()) continue;
+    static_h[a].resize(scenario.antennas[a].reader.frequencies_hz.size() * n_tags);
+    for (size_t c = 0; c < scenario.antennas[a].reader.frequencies_hz.size(); ++c) static_jobs.push_back({a, c});
+  }
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  std::vector<std::exception_ptr> static_errors(static_jobs.size());
+  std::vector<uint64_t> static_evals(static_jobs.size(), 0);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (size_t j = 0; j < static_jobs.size(); ++j) {
+    const auto [a, c] = static_jobs[j];
+    try {
+      const Pose ap = motion.antennas[a]->pose_at(0.0);
+      std::vector<Endpoint> ends;
+      std::vector<size_t> index;
+      for (size_t i = 0; i < n_tags; ++i) {
+        if (!motion.tags[i]->is_static()) continue;
+        const Pose tp = motion.tags[i]->pose_at(0.0);
+        const double d = (tp.position - ap.position).norm();
+        if (!(d >= kMinLinkDistance_m)) throw coincident_error(a, i, 0.0, d);
+        ends.push_back(tag_endpoint(i, tp));
+        index.push_back(i);
+      }
+      std::vector<std::complex<double>> h(ends.size());
+      channel.one_way(antenna_endpoint(a, ap), ends, scenario.antennas[a].reader.frequencies_hz[c], h);
+      static_evals[j] = ends.size();
+      for (size_t k = 0; k < index.size(); ++k) static_h[a][c * n_tags + index[k]] = h[k];
+    } catch (...) {  // exceptions must not leave an OpenMP region; rethrown below in job order
+      static_errors[j] = std::current_exception();
+    }
+  }
+  for (auto& e : static_errors)
+    if (e) std::rethrow_exception(e);
+  for (uint64_t n : static_evals) result.channel_evaluations += n;
+
+  // Work items: blocks of consecutive ticks of one antenna.
+  struct Item {
+    size_t antenna;
+    uint64_t tick0, tick1;  // [tick0, tick1)
+    AntennaResult out;
+    uint64_t evaluations = 0;
+    std::exception_ptr error;
+  };
+  std::vector<Item> items;
+  const uint64_t block = std::max<uint64_t>(1, options.ticks_per_block);
+  for (size_t a = 0; a < n_ant; ++a) {
+    const double rate = scenario.antennas[a].reader.update_rate_hz;
+    // Ticks at t = k / rate for k = 0 … ⌊duration·rate⌋ (the tolerance keeps an exact end tick).
+    const uint64_t n_ticks = static_cast<uint64_t>(std::floor(result.duration_s * rate + 1e-9)) + 1;
+    for (uint64_t k = 0; k < n_ticks; k += block) items.push_back({a, k, std::min(n_ticks, k + block), {}, 0, {}});
+  }
+
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (size_t w = 0; w < items.size(); ++w) {
+    Item& item = items[w];
+    const size_t a = item.antenna;
+    const AntennaSpec& ant = scenario.antennas[a];
+    const ReaderParams& reader = ant.reader;
+    const size_t n_ch = reader.frequencies_hz.size();
+    // Links whose two poses did not change since they were last computed on a channel reuse h.
+    std::vector<CachedLink> cache(cacheable && needs_h(a) ? n_ch * n_tags : 0);
+    std::vector<Pose> tag_pose(n_tags);
+    std::vector<double> dist(n_tags);
+    std::vector<std::complex<double>> h(n_tags);
+    std::vector<size_t> present, missing;
+    std::vector<Endpoint> batch;
+    std::vector<std::complex<double>> batch_h;
+    try {
+      for (uint64_t k = item.tick0; k < item.tick1; ++k) {
+        const double t = static_cast<double>(k) / reader.update_rate_hz;
+        if (t < ant.start_s) continue;
+        ++item.out.ticks;
+        const Pose ap = motion.antennas[a]->pose_at(t);
+        const size_t c = hop_channel_index(reader, t);
+        present.clear();
+        for (size_t i = 0; i < n_tags; ++i) {
+          if (t < scenario.tags[i].start_s) continue;
+          tag_pose[i] = motion.tags[i]->pose_at(t);
+          dist[i] = (tag_pose[i].position - ap.position).norm();
+          if (!(dist[i] >= kMinLinkDistance_m)) throw coincident_error(a, i, t, dist[i]);
+          present.push_back(i);
+        }
+        if (needs_h(a)) {
+          missing.clear();
+          batch.clear();
+          for (size_t i : present) {
+            if (!static_h[a].empty() && static_h[a][c * n_tags + i]) {
+              h[i] = *static_h[a][c * n_tags + i];
+              continue;
+            }
+            if (!cache.empty()) {
+              const CachedLink& e = cache[c * n_tags + i];
+              if (e.valid && e.antenna_pose == ap && e.tag_pose == tag_pose[i]) {
+                h[i] = e.h;
+                continue;
+              }
+            }
+            missing.push_back(i);
+            batch.push_back(tag_endpoint(i, tag_pose[i]));
+          }
+          if (!batch.empty()) {
+            batch_h.resize(batch.size());
+            channel.one_way(antenna_endpoint(a, ap), batch, reader.frequencies_hz[c], batch_h);
+            item.evaluations += batch.size();
+            for (size_t m = 0; m < missing.size(); ++m) {
+              const size_t i = missing[m];
+              h[i] = batch_h[m];
+              if (!cache.empty()) cache[c * n_tags + i] = {true, ap, tag_pose[i], batch_h[m]};
+            }
+          }
+        }
+        Rng rng = make_stream(scenario.seed, {static_cast<uint64_t>(a), k});
+        for (size_t i : present) {
+          ++item.out.attempts;
+          LinkState link;
+          link.distance_m = dist[i];
+          link.frequency_hz = reader.frequencies_hz[c];
+          link.phase_offset_rad = reader.phase_offsets_rad[c];
+          link.h_one_way = needs_h(a) ? h[i] : std::complex<double>{0.0, 0.0};
+          const Reading reading = read_tag(reader, scenario.tags[i].tag, link, rng);
+          if (!reading.read) continue;
+          item.out.reads.push_back(
+              {t, k, static_cast<uint32_t>(i), ap, dist[i], link.frequency_hz, static_cast<uint32_t>(c), reading});
+        }
+      }
+    } catch (...) {
+      item.error = std::current_exception();
+    }
+  }
+
+  for (Item& item : items) {
+    if (item.error) std::rethrow_exception(item.error);  // the first failing item in (antenna, tick) order
+    AntennaResult& out = result.antennas[item.antenna];
+    out.ticks += item.out.ticks;
+    out.attempts += item.out.attempts;
+    out.reads.insert(out.reads.end(), item.out.reads.begin(), item.out.reads.end());
+    result.channel_evaluations += item.evaluations;
+  }
+  return result;
+}
+
+}  // namespace rfidray

@@ -1,0 +1,72 @@
+#pragma once
+// The simulation loop: every antenna reads at its update rate over the scenario duration; at each tick the
+// antenna pose, the hop channel and every present tag give one read attempt through the reader model.
+// Work items are (antenna, block of ticks), run in parallel with OpenMP; each tick draws from its own
+// random stream make_stream(seed, {antenna, tick}), so the result is identical at any thread count.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/channel.h"
+#include "core/differential_drive.h"
+#include "core/reader.h"
+#include "core/scenario.h"
+#include "core/trajectory.h"
+
+namespace rfidray {
+
+// Antenna–tag distances below this count as "the tag is at the antenna" (an input error).
+inline constexpr double kMinLinkDistance_m = 1e-6;
+
+// The trajectories of a scenario, index-aligned with its robots, antennas and tags.
+struct SceneMotion {
+  std::vector<std::shared_ptr<const DifferentialDriveTrajectory>> robots;
+  std::vector<TrajectoryPtr> antennas;
+  std::vector<TrajectoryPtr> tags;
+};
+
+// Builds one trajectory (see MotionSpec for the composition). `owner` names the antenna or tag in errors.
+TrajectoryPtr build_trajectory(const Scenario& scenario, const SceneMotion& motion, const MotionSpec& spec,
+                               double start_s, const std::string& owner);
+// Throws InputError (prefixed with the scenario file and the owner's line) on bad motion parameters.
+SceneMotion build_motion(const Scenario& scenario);
+
+// scenario.duration_s if set; else the time the last robot or waypoint motion ends. Throws InputError
+// when neither exists (nothing to end the run).
+double scenario_duration_s(const Scenario& scenario, const SceneMotion& motion);
+
+// Hop channel index at time t: channels are visited in list order, hop_dwell_s each, cyclically.
+size_t hop_channel_index(const ReaderParams& reader, double t_s);
+
+struct ReadRecord {
+  double time_s = 0.0;
+  uint64_t tick = 0;
+  uint32_t tag = 0;  // index into Scenario::tags
+  Pose antenna_pose;
+  double distance_m = 0.0;  // true distance
+  double frequency_hz = 0.0;
+  uint32_t channel_index = 0;
+  Reading reading;
+};
+
+struct AntennaResult {
+  std::vector<ReadRecord> reads;  // successful reads only, ordered by (tick, tag)
+  uint64_t ticks = 0;             // ticks at which the antenna was active
+  uint64_t attempts = 0;          // (tick, present tag) pairs
+};
+
+struct SimulationOptions {
+  int threads = 0;               // 0: OpenMP default
+  uint64_t ticks_per_block = 64;  // work-item size; results do not depend on it
+};
+
+struct SimulationResult {
+  double duration_s = 0.0;
+  std::vector<AntennaResult> antennas;  // index-aligned with Scenario::antennas
+  uint64_t channel_evaluations = 0;     // links handed to Channel::one_way (after caching)
+};
+
+// Runs the scenario. Throws InputError for bad inputs (e.g. a tag at an antenna: names both).
+SimulationResult simulate(const Scenario& scenario, const Channel& channel, const SimulationOptions& options = {});
+
+}  // namespace rfidray
