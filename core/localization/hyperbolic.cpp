@@ -72,36 +72,27 @@ std::vector<Intersection> intersect_conics(const std::vector<Hyperbola>& conics,
   return out;
 }
 
-std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, double bandwidth_m, int max_modes) {
-  std::vector<Vec3> modes;
-  if (set.empty()) return modes;
-  using Key = std::tuple<long, long, long>;
-  auto key = [&](const Vec3& p, double cell) {
-    return Key{static_cast<long>(std::floor(p.x() / cell)), static_cast<long>(std::floor(p.y() / cell)),
-               static_cast<long>(std::floor(p.z() / cell))};
-  };
-  const double cell = bandwidth_m;
-  std::map<Key, std::vector<int>> grid;
-  for (int i = 0; i < static_cast<int>(set.size()); ++i) grid[key(set[i].point, cell)].push_back(i);
-  // Kernel-density score of each occupied cell: quality summed over the 3×3×3 neighbourhood.
-  std::vector<std::pair<double, Key>> scored;
-  for (const auto& [k, idx] : grid) {
-    double s = 0.0;
-    for (long dx = -1; dx <= 1; ++dx)
-      for (long dy = -1; dy <= 1; ++dy)
-        for (long dz = -1; dz <= 1; ++dz) {
-          auto it = grid.find({std::get<0>(k) + dx, std::get<1>(k) + dy, std::get<2>(k) + dz});
-          if (it != grid.end())
-            for (int i : it->second) s += set[i].quality;
-        }
-    scored.emplace_back(s, k);
-  }
-  std::sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) {
-    return a.first != b.first ? a.first > b.first : a.second < b.second;
-  });
-  auto mean_shift = [&](Vec3 x, double h) {
+namespace {
+
+using Key = std::tuple<long, long, long>;
+using CellGrid = std::map<Key, std::vector<int>>;
+
+Key cell_key(const Vec3& p, double cell) {
+  return Key{static_cast<long>(std::floor(p.x() / cell)), static_cast<long>(std::floor(p.y() / cell)),
+             static_cast<long>(std::floor(p.z() / cell))};
+}
+
+CellGrid make_cells(const std::vector<Intersection>& set, double cell) {
+  CellGrid grid;
+  for (int i = 0; i < static_cast<int>(set.size()); ++i) grid[cell_key(set[i].point, cell)].push_back(i);
+  return grid;
+}
+
+// Quality-weighted Gaussian mean shift at bandwidth h, then h/2 and h/4.
+Vec3 shift_to_mode(const std::vector<Intersection>& set, const CellGrid& grid, double cell, Vec3 x, double bandwidth_m) {
+  for (double h : {bandwidth_m, bandwidth_m / 2.0, bandwidth_m / 4.0}) {
     for (int it = 0; it < 30; ++it) {
-      const Key c = key(x, cell);
+      const Key c = cell_key(x, cell);
       const long reach = static_cast<long>(std::ceil(3.0 * h / cell));
       Vec3 num = Vec3::Zero();
       double den = 0.0;
@@ -122,17 +113,44 @@ std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, doubl
       x = next;
       if (moved < 1e-7) break;
     }
-    return x;
-  };
+  }
+  return x;
+}
+
+}  // namespace
+
+Vec3 intersection_mode_near(const std::vector<Intersection>& set, const Vec3& start, double bandwidth_m) {
+  return shift_to_mode(set, make_cells(set, bandwidth_m), bandwidth_m, start, bandwidth_m);
+}
+
+std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, double bandwidth_m, int max_modes) {
+  std::vector<Vec3> modes;
+  if (set.empty()) return modes;
+  const double cell = bandwidth_m;
+  CellGrid grid = make_cells(set, cell);
+  // Kernel-density score of each occupied cell: quality summed over the 3×3×3 neighbourhood.
+  std::vector<std::pair<double, Key>> scored;
+  for (const auto& [k, idx] : grid) {
+    double s = 0.0;
+    for (long dx = -1; dx <= 1; ++dx)
+      for (long dy = -1; dy <= 1; ++dy)
+        for (long dz = -1; dz <= 1; ++dz) {
+          auto it = grid.find({std::get<0>(k) + dx, std::get<1>(k) + dy, std::get<2>(k) + dz});
+          if (it != grid.end())
+            for (int i : it->second) s += set[i].quality;
+        }
+    scored.emplace_back(s, k);
+  }
+  std::sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
+  });
   for (const auto& [score, k] : scored) {
     if (static_cast<int>(modes.size()) >= max_modes) break;
     Vec3 start = Vec3::Zero();
     double w = 0.0;
     for (int i : grid[k]) start += set[i].quality * set[i].point, w += set[i].quality;
     start /= w;
-    Vec3 x = mean_shift(start, bandwidth_m);
-    x = mean_shift(x, bandwidth_m / 2.0);
-    x = mean_shift(x, bandwidth_m / 4.0);
+    const Vec3 x = shift_to_mode(set, grid, cell, start, bandwidth_m);
     bool distinct = true;
     for (const Vec3& m : modes) distinct &= (m - x).norm() > 2.0 * bandwidth_m;
     if (distinct) modes.push_back(x);
@@ -175,7 +193,12 @@ LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& o
     if (s < best) best = s, result.position = m;
   }
   result.ok = true;
+  const Vec3 own = result.position;
   finish_unwrapped(result, prep, cost, options);
+  // A prior that picked the mirror side picked the least-squares mirror point: report instead the mode of
+  // this method's own intersection set there (the mirror cluster exists: conics are mirror-symmetric).
+  if (result.ok && !result.mirror_resolved_by.empty() && (result.position - own).norm() > 0.0)
+    result.position = intersection_mode_near(set, result.position, options.cluster_bandwidth_m);
   return result;
 }
 

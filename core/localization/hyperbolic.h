@@ -34,5 +34,7 @@ std::vector<Intersection> intersect_conics(const std::vector<Hyperbola>& conics,
                                            double plane_height_m);
 // Candidate modes of the intersection set (strongest first).
 std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, double bandwidth_m, int max_modes);
+// The mode reached by mean shift (bandwidth h, h/2, h/4) from `start`.
+Vec3 intersection_mode_near(const std::vector<Intersection>& set, const Vec3& start, double bandwidth_m);
 
 }  // namespace rfidray::loc

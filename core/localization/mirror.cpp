@@ -50,7 +50,9 @@ MirrorCheck check_mirror(const std::vector<Vec3>& positions, const Vec3& estimat
   if (!check.mirror.allFinite() || (check.mirror.array() < objective.region_min.array() - tol).any() ||
       (check.mirror.array() > objective.region_max.array() + tol).any())
     return check;
-  const double best = objective.ssr(estimate);
+  // Compare like with like: both candidates re-converged by the same local optimiser (a method's own
+  // estimate need not be the least-squares optimum, e.g. the hyperbolic cluster mode).
+  const double best = objective.ssr(objective.refine(estimate));
   const double other = objective.ssr(check.mirror);
   const int dof_left = std::max(1, objective.residuals - objective.dof);
   const double sigma2 = std::max(best / dof_left, noise_floor * noise_floor);

@@ -20,6 +20,7 @@ struct LocalizeOptions {
   UnwrapOptions unwrap;        // frequency is set per group
   int min_reads = 10;          // fewer usable reads → too few reads
   int min_segment_reads = 5;   // segments shorter than this carry no usable range difference
+  double min_segment_extent_m = 0.01;   // segments whose antenna moved less carry no position information
   double min_aperture_m = 0.3;          // antenna path extent below this → aperture too short
   double min_aperture_angle_deg = 10.0; // path seen from the estimate under a smaller angle → too short
                                         // (cross-range resolution λ/(4 sin(θ/2)) > λ at 10°)

@@ -68,6 +68,11 @@ std::optional<LocalizeResult> prepare(const TagReads& tag, const LocalizeOptions
     const double lambda = wavelength_m(group.frequency_hz);
     for (const UnwrapSegment& s : u.segments) {
       if (static_cast<int>(s.index.size()) < options.min_segment_reads) continue;
+      // A (nearly) stationary antenna sees a constant range: with the offset unknown it carries no position
+      // information (a fixed antenna), and its position would only distort the path's line/plane fit.
+      std::vector<Vec3> seg_positions;
+      for (int i : s.index) seg_positions.push_back(group.reads[i].antenna_m);
+      if (extent_m(seg_positions) < options.min_segment_extent_m) continue;
       RangeSegment rs;
       rs.group = static_cast<int>(g);
       rs.wavelength_m = lambda;
