@@ -6,6 +6,11 @@
 
 namespace rfidray::loc {
 
+// The uncertainty gate: sets predicted_std_m and fails the result when it exceeds options.max_std_m.
+// sigma_m: the per-read range noise estimated from the fit.
+void gate_uncertainty(LocalizeResult& result, const PreparedTag& prep, const RangeCost& cost, double sigma_m,
+                      const LocalizeOptions& options);
+
 void finish_unwrapped(LocalizeResult& result, const PreparedTag& prep, const RangeCost& cost,
                       const LocalizeOptions& options);
 

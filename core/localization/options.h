@@ -28,6 +28,11 @@ struct LocalizeOptions {
 
   // Mirror test: a distinct candidate whose fit is within this many χ² units of the best is ambiguous.
   double mirror_chi2 = 25.0;
+  // Quality gates: a result whose predicted 1-σ position uncertainty exceeds max_std_m is failed (aperture
+  // too short when the path is seen under < 60°, else phase too noisy); unwrapped methods also fail when
+  // more than max_slip_fraction of the reads sit > 0.75π from the fit (a cycle slip shifts reads by 2π).
+  double max_std_m = 0.02;
+  double max_slip_fraction = 0.02;
   double noise_floor_m = 1e-4; // lower bound of the residual σ used by the χ² tests (quantisation level)
   MirrorPrior mirror_prior = MirrorPrior::kNone;
   Vec3 prior_point = Vec3::Zero();

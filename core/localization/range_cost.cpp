@@ -1,6 +1,7 @@
 #include "core/localization/range_cost.h"
 
 #include <cmath>
+#include <limits>
 
 namespace rfidray::loc {
 
@@ -68,6 +69,17 @@ double RangeCost::offset_m(const Vec3& x, int segment) const {
   double sum = 0.0;
   for (size_t k = 0; k < s.range_m.size(); ++k) sum += s.range_m[k] - (x - s.antenna_m[k]).norm();
   return sum / static_cast<double>(s.range_m.size());
+}
+
+double predicted_std_m(const RangeCost& cost, const Vec3& x, double sigma_m) {
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  cost.evaluate(x, r, &J);
+  const Eigen::MatrixXd A = J.transpose() * J;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
+  if (!lu.isInvertible()) return std::numeric_limits<double>::infinity();
+  const double tr = lu.inverse().trace();
+  return tr > 0.0 ? sigma_m * std::sqrt(tr) : std::numeric_limits<double>::infinity();
 }
 
 LmResult levenberg_marquardt(const RangeCost& cost, const Vec3& start, int max_iterations) {

@@ -33,6 +33,9 @@ class RangeCost {
   int n_ = 0;
 };
 
+// 1-σ position uncertainty sqrt(trace(σ²(JᵀJ)⁻¹)) at x for a range noise σ (m); infinite if singular.
+double predicted_std_m(const RangeCost& cost, const Vec3& x, double sigma_m);
+
 struct LmResult {
   Vec3 position = Vec3::Zero();
   double ssr = 0.0;

@@ -19,6 +19,7 @@ const char* to_string(FailReason r) {
     case FailReason::kUndersampled: return "undersampled";
     case FailReason::kNoConvergence: return "no convergence";
     case FailReason::kAmbiguousMirror: return "ambiguous mirror solution";
+    case FailReason::kNoisyPhase: return "phase too noisy";
   }
   return "?";
 }

@@ -17,6 +17,7 @@ enum class FailReason {
   kUndersampled,      // reads too far apart (> λ/4) to unwrap, or SAR grating lobes
   kNoConvergence,     // optimiser did not converge / no intersection cluster
   kAmbiguousMirror,   // a mirror solution across the (straight/planar) path fits the data as well
+  kNoisyPhase,        // cycle slips in the unwrapped phase, or noise too large for the geometry
 };
 
 const char* to_string(Method m);
@@ -29,7 +30,8 @@ struct LocalizeResult {
   FailReason reason = FailReason::kNone;
   std::string detail;              // human-readable explanation of the reason
   Vec3 position = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
-  double rms_residual_m = 0.0;     // RMS of the relative-range residual at the estimate (unwrapped methods)
+  double rms_residual_m = 0.0;     // RMS of the relative-range residual at the estimate
+  double predicted_std_m = 0.0;    // 1-σ position uncertainty from σ̂²(JᵀJ)⁻¹ at the estimate
   int reads_used = 0;
   int segments = 0;
   std::string mirror_resolved_by;  // non-empty when a detected mirror ambiguity was settled by a prior

@@ -10,6 +10,7 @@
 #include <limits>
 #include <sstream>
 
+#include "core/localization/finish.h"
 #include "core/localization/grid.h"
 #include "core/localization/methods.h"
 #include "core/localization/mirror.h"
@@ -142,6 +143,14 @@ LocalizeResult localize_sar(const TagReads& tag, const LocalizeOptions& options)
   if (auto fail = check_aperture_angle(prep, result.position, options)) {
     fail->reads_used = result.reads_used;
     return *fail;
+  }
+
+  // Uncertainty gate on the same geometry (groups as segments), σ from the wrapped-phase residual.
+  {
+    const RangeCost cost(prep, options.height_known, options.tag_height_m);
+    const int dof = std::max(1, full.count() - (planar ? 2 : 3) - static_cast<int>(tag.groups.size()));
+    gate_uncertainty(result, prep, cost, std::sqrt(best_ssr / dof) * lambda_min / (4.0 * kPi), options);
+    if (!result.ok) return result;
   }
 
   const double floor_rad = options.noise_floor_m * 4.0 * kPi / lambda_min;
