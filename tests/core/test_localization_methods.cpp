@@ -161,6 +161,43 @@ TEST(Undersampling, UnwrappingMethodsFailAboveQuarterWavelength) {
   else EXPECT_EQ(sar.reason, FailReason::kUndersampled) << sar.detail;
 }
 
+TEST(QualityGates, UnwrappingMethodsFailOnCycleSlipsInsteadOfReturningAWrongPoint) {
+  // σφ = 1 rad: the unwrapped history slips cycles; the fit would be centimetres to decimetres off.
+  SyntheticSpec s = clean_spec();
+  s.phase_noise_rad = 1.0;
+  for (uint64_t trial = 0; trial < 3; ++trial) {
+    s.stream = trial;
+    const TagReads reads = synthesize("t", kTag, l_path(), s);
+    for (Method m : {Method::kHyperbolic, Method::kNlls}) {
+      const LocalizeResult r = localize(m, reads, options_2d());
+      EXPECT_FALSE(r.ok) << to_string(m) << " error " << (r.position - kTag).norm();
+      EXPECT_EQ(r.reason, FailReason::kNoisyPhase) << to_string(m) << ": " << r.detail;
+    }
+  }
+}
+
+TEST(QualityGates, WeakGeometryFailsOnPredictedUncertainty) {
+  // 1 m of L-shaped path (aperture angle above the 10° pre-check) with σφ = 0.1 rad: decimetre-level
+  // uncertainty, reported as aperture too short rather than as an ok estimate.
+  SyntheticSpec s = clean_spec();
+  s.phase_noise_rad = 0.1;
+  const auto path = sample_polyline({Vec3(-1, 0.2, 1.68), Vec3(-1, 0.87, 1.68), Vec3(-0.67, 0.87, 1.68)}, 0.35, 15.0);
+  const LocalizeResult r = localize_nlls(synthesize("t", kTag, path, s), options_2d());
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.reason, FailReason::kApertureTooShort) << r.detail;
+  EXPECT_GT(r.predicted_std_m, options_2d().max_std_m);
+}
+
+TEST(QualityGates, PaperNoiseLevelPassesWithSmallPredictedUncertainty) {
+  SyntheticSpec s = clean_spec();
+  s.phase_noise_rad = 0.1;
+  const LocalizeResult r = localize_nlls(synthesize("t", kTag, l_path(), s), options_2d());
+  ASSERT_TRUE(r.ok) << r.detail;
+  EXPECT_LT(r.predicted_std_m, 0.005);
+  // The predicted 1-σ is honest: the actual error is within a few σ.
+  EXPECT_LT((r.position - kTag).norm(), 4 * r.predicted_std_m + 1e-4);
+}
+
 TEST(Nlls, StartsFromGivenInitialGuess) {
   const TagReads reads = synthesize("t", kTag, l_path(), clean_spec());
   const Vec3 guess = kTag + Vec3(0.3, -0.2, 0.0);
