@@ -1,0 +1,184 @@
+// `rfidray localize`: tag positions from readings CSVs with the hyperbolic (paper), NLLS and SAR methods.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli/readings_reader.h"
+#include "core/error.h"
+#include "core/localization/methods.h"
+#include "core/localization/summary.h"
+
+namespace rfidray::cli {
+
+namespace {
+
+struct LocalizeState {
+  std::vector<std::string> readings;
+  std::string truth;
+  std::string method = "all";
+  std::string mirror_prior = "none";
+  bool height_known = false;
+  bool json = false;
+  double frequency_hz = 865.7e6;
+  double max_range_m = 10.0;
+  double stride_m = 0.10;
+};
+
+nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+int run_localize(const LocalizeState& s) {
+  std::vector<loc::Method> methods;
+  if (s.method == "all") {
+    methods = {loc::Method::kHyperbolic, loc::Method::kNlls, loc::Method::kSar};
+  } else {
+    loc::Method m;
+    if (!loc::parse_method(s.method, m))
+      throw field_error("--method", "must be hyperbolic, nlls, sar or all (got '" + s.method + "')");
+    methods = {m};
+  }
+  loc::MirrorPrior prior = loc::MirrorPrior::kNone;
+  if (s.mirror_prior == "boresight") prior = loc::MirrorPrior::kBoresight;
+  else if (s.mirror_prior == "truth") prior = loc::MirrorPrior::kPoint;
+  else if (s.mirror_prior != "none")
+    throw field_error("--mirror-prior", "must be none, boresight or truth (got '" + s.mirror_prior + "')");
+  if (s.frequency_hz <= 0.0) throw field_error("--frequency-hz", "must be > 0");
+  if (s.max_range_m <= 0.0) throw field_error("--max-range", "must be > 0");
+  if (s.stride_m <= 0.0) throw field_error("--stride", "must be > 0");
+
+  std::map<std::string, Vec3> truth;
+  if (!s.truth.empty()) truth = read_truth_csv(s.truth);
+  if (s.height_known && s.truth.empty()) throw field_error("--height-known", "needs --truth (the tag z comes from it)");
+  if (prior == loc::MirrorPrior::kPoint && s.truth.empty()) throw field_error("--mirror-prior truth", "needs --truth");
+
+  std::vector<std::vector<ReadingRow>> files;
+  for (const std::string& f : s.readings) files.push_back(load_localize_readings(f));
+  const std::vector<loc::TagReads> tags = group_by_tag(files, s.frequency_hz);
+
+  nlohmann::json results = nlohmann::json::array();
+  std::map<loc::Method, std::vector<double>> errors, times;
+  std::map<loc::Method, int> failed;
+  for (const loc::TagReads& tag : tags) {
+    loc::LocalizeOptions o;
+    o.max_range_m = s.max_range_m;
+    o.stride_m = s.stride_m;
+    o.mirror_prior = prior;
+    const auto t = truth.find(tag.tag);
+    if (s.height_known || prior == loc::MirrorPrior::kPoint) {
+      if (t == truth.end())
+        throw InputError(s.truth + ": no ground truth for tag '" + tag.tag + "' (needed by --height-known / --mirror-prior truth)");
+      o.height_known = s.height_known;
+      o.tag_height_m = t->second.z();
+      o.prior_point = t->second;
+    }
+    for (loc::Method m : methods) {
+      const auto start = std::chrono::steady_clock::now();
+      const loc::LocalizeResult r = loc::localize(m, tag, o);
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      times[m].push_back(ms);
+      nlohmann::json j;
+      j["name"] = tag.tag;
+      j["method"] = loc::to_string(m);
+      j["status"] = r.ok ? "ok" : "failed";
+      if (!r.ok) {
+        j["reason"] = loc::to_string(r.reason);
+        j["detail"] = r.detail;
+        ++failed[m];
+      }
+      j["x"] = r.ok ? number_or_null(r.position.x()) : nullptr;
+      j["y"] = r.ok ? number_or_null(r.position.y()) : nullptr;
+      j["z"] = r.ok ? number_or_null(r.position.z()) : nullptr;
+      if (r.ok && t != truth.end()) {
+        const double e = (r.position - t->second).norm();
+        j["error_m"] = e;
+        errors[m].push_back(e);
+      }
+      if (r.ok && !r.mirror_resolved_by.empty()) j["mirror_resolved_by"] = r.mirror_resolved_by;
+      j["reads"] = tag.read_count();
+      j["time_ms"] = ms;
+      results.push_back(j);
+    }
+  }
+  nlohmann::json summary = nlohmann::json::object();
+  for (loc::Method m : methods) {
+    const loc::ErrorSummary sum = loc::summarize(errors[m], failed[m], times[m]);
+    summary[loc::to_string(m)] = {{"mean_error_m", number_or_null(sum.mean_error_m)},
+                                  {"median_error_m", number_or_null(sum.median_error_m)},
+                                  {"max_error_m", number_or_null(sum.max_error_m)},
+                                  {"min_error_m", number_or_null(sum.min_error_m)},
+                                  {"ok", sum.ok},
+                                  {"failed", sum.failed},
+                                  {"mean_time_ms", number_or_null(sum.mean_time_ms)}};
+  }
+  if (s.json) {
+    std::cout << nlohmann::json{{"results", results}, {"summary", summary}}.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << std::left << std::setw(16) << "tag" << std::setw(12) << "method" << std::setw(9) << "status"
+            << std::right << std::setw(10) << "x" << std::setw(10) << "y" << std::setw(10) << "z" << std::setw(12)
+            << "error_mm" << std::setw(10) << "time_ms" << "  reason\n";
+  std::cout << std::fixed;
+  for (const auto& j : results) {
+    std::cout << std::left << std::setw(16) << j["name"].get<std::string>() << std::setw(12)
+              << j["method"].get<std::string>() << std::setw(9) << j["status"].get<std::string>() << std::right
+              << std::setprecision(4);
+    for (const char* c : {"x", "y", "z"})
+      if (j[c].is_null()) std::cout << std::setw(10) << "-";
+      else std::cout << std::setw(10) << j[c].get<double>();
+    std::cout << std::setprecision(1);
+    if (j.contains("error_m")) std::cout << std::setw(12) << 1000.0 * j["error_m"].get<double>();
+    else std::cout << std::setw(12) << "-";
+    std::cout << std::setw(10) << j["time_ms"].get<double>();
+    if (j.contains("reason")) std::cout << "  " << j["reason"].get<std::string>() << ": " << j["detail"].get<std::string>();
+    std::cout << "\n";
+  }
+  std::cout << "\nsummary (errors over ok tags with truth):\n";
+  for (auto& [name, v] : summary.items()) {
+    std::cout << "  " << std::left << std::setw(11) << name << std::right << std::setprecision(1);
+    for (const char* c : {"mean_error_m", "median_error_m", "max_error_m", "min_error_m"}) {
+      std::cout << "  " << c << "=";
+      if (v[c].is_null()) std::cout << "-";
+      else std::cout << 1000.0 * v[c].get<double>() << "mm";
+    }
+    std::cout << "  ok=" << v["ok"] << " failed=" << v["failed"] << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+std::function<int()> setup_localize(CLI::App& app) {
+  auto state = std::make_shared<LocalizeState>();
+  CLI::App* sub = app.add_subcommand(
+      "localize",
+      "Locate tags from readings CSVs (of `rfidray simulate`) with unwrapping + hyperbolic intersection (the "
+      "paper's method), Levenberg-Marquardt on the unwrapped phase, or a SAR grid. The CSV's `dist` column is "
+      "ground truth and never used.");
+  sub->add_option("readings", state->readings,
+                  "readings CSV(s): header time,posx,posy,posz,q1,q2,q3,q4,name,dist,phase,rssi[,antenna,channel,"
+                  "frequency_hz,...]; one phase history per (file, antenna, channel, frequency)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  sub->add_option("--truth", state->truth, "ground truth CSV name,x,y,z: adds error_m and the summary")
+      ->check(CLI::ExistingFile);
+  sub->add_option("--method", state->method, "hyperbolic | nlls | sar | all")->capture_default_str();
+  sub->add_flag("--height-known", state->height_known,
+                "2-D localization (the paper's case): each tag's z is taken from --truth and held fixed");
+  sub->add_option("--mirror-prior", state->mirror_prior,
+                  "how to settle a detected mirror ambiguity (straight path): none (report failed), boresight "
+                  "(the side the antenna +X axis faces), truth (the side of the --truth position: an oracle)")
+      ->capture_default_str();
+  sub->add_option("--frequency-hz", state->frequency_hz, "carrier when the CSV has no frequency column")
+      ->capture_default_str();
+  sub->add_option("--max-range", state->max_range_m, "search region: within this distance (m) of the path")
+      ->capture_default_str();
+  sub->add_option("--stride", state->stride_m, "hyperbolic: antenna move (m) between conics (minimum)")
+      ->capture_default_str();
+  sub->add_flag("--json", state->json, "print JSON: results[] {name, method, status, reason?, x, y, z, error_m?, "
+                                       "time_ms} and summary per method");
+  return [state] { return run_localize(*state); };
+}
+
+}  // namespace rfidray::cli

@@ -1,0 +1,171 @@
+#include "cli/readings_reader.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <tuple>
+
+#include "core/error.h"
+#include "core/units.h"
+
+namespace rfidray::cli {
+
+namespace {
+
+std::string where(const std::filesystem::path& file, int line) {
+  return file.string() + ":" + std::to_string(line) + ": ";
+}
+
+std::string trim(std::string s) {
+  while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\t')) s.pop_back();
+  size_t i = 0;
+  while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
+  return s.substr(i);
+}
+
+double parse_number(const std::string& text, const std::string& column, const std::filesystem::path& file, int line) {
+  const std::string t = trim(text);
+  double v = 0.0;
+  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (t.empty() || ec != std::errc() || ptr != t.data() + t.size())
+    throw InputError(where(file, line) + "column '" + column + "': not a number ('" + t + "')");
+  if (!std::isfinite(v)) throw InputError(where(file, line) + "column '" + column + "': not finite");
+  return v;
+}
+
+}  // namespace
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> out;
+  std::string field;
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') field += '"', ++i;
+      else if (c == '"') quoted = false;
+      else field += c;
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      out.push_back(field);
+      field.clear();
+    } else if (c != '\r') {
+      field += c;
+    }
+  }
+  out.push_back(field);
+  return out;
+}
+
+std::vector<ReadingRow> load_localize_readings(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file.string() + ": cannot open readings file");
+  static const std::vector<std::string> kRequired{"time", "posx", "posy", "posz", "q1", "q2",
+                                                  "q3",   "q4",   "name", "dist", "phase", "rssi"};
+  std::string text;
+  if (!std::getline(in, text)) throw InputError(file.string() + ": empty file (expected a header line)");
+  std::vector<std::string> header = split_csv_line(text);
+  for (auto& h : header) h = trim(h);
+  for (size_t i = 0; i < kRequired.size(); ++i)
+    if (i >= header.size() || header[i] != kRequired[i])
+      throw InputError(where(file, 1) + "header column " + std::to_string(i + 1) + " must be '" + kRequired[i] +
+                       "' (header must start with time,posx,posy,posz,q1,q2,q3,q4,name,dist,phase,rssi)");
+  int col_antenna = -1, col_channel = -1, col_frequency = -1;
+  for (size_t i = kRequired.size(); i < header.size(); ++i) {
+    if (header[i] == "antenna") col_antenna = static_cast<int>(i);
+    else if (header[i] == "channel") col_channel = static_cast<int>(i);
+    else if (header[i] == "frequency_hz" || header[i] == "frequency") col_frequency = static_cast<int>(i);
+  }
+  std::vector<ReadingRow> rows;
+  int line = 1;
+  while (std::getline(in, text)) {
+    ++line;
+    if (trim(text).empty()) continue;
+    const std::vector<std::string> f = split_csv_line(text);
+    if (f.size() != header.size())
+      throw InputError(where(file, line) + "expected " + std::to_string(header.size()) + " fields, got " +
+                       std::to_string(f.size()));
+    ReadingRow r;
+    r.line = line;
+    auto num = [&](int i) { return parse_number(f[i], header[i], file, line); };
+    r.time_s = num(0);
+    r.position = Vec3(num(1), num(2), num(3));
+    const Eigen::Vector4d q(num(4), num(5), num(6), num(7));
+    if (q.norm() < 1e-9) throw InputError(where(file, line) + "quaternion q1..q4 has zero norm");
+    r.orientation = Quat(q[3], q[0], q[1], q[2]).normalized();
+    r.name = trim(f[8]);
+    if (r.name.empty()) throw InputError(where(file, line) + "column 'name': empty tag name");
+    r.dist_m = num(9);
+    r.phase_rad = num(10);
+    if (r.phase_rad < -kPi - 1e-6 || r.phase_rad > kTwoPi + 1e-6)
+      throw InputError(where(file, line) + "column 'phase': " + trim(f[10]) +
+                       " rad is outside [-pi, 2pi) (expected radians in [0, 2pi) or (-pi, pi])");
+    r.rssi = num(11);
+    if (col_antenna >= 0) r.antenna = trim(f[col_antenna]);
+    if (col_channel >= 0) r.channel = trim(f[col_channel]);
+    if (col_frequency >= 0) {
+      r.frequency_hz = num(col_frequency);
+      if (r.frequency_hz <= 0.0) throw InputError(where(file, line) + "column '" + header[col_frequency] + "': must be > 0");
+    }
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+std::map<std::string, Vec3> read_truth_csv(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file.string() + ": cannot open truth file");
+  std::string text;
+  if (!std::getline(in, text)) throw InputError(file.string() + ": empty file (expected header name,x,y,z)");
+  std::vector<std::string> header = split_csv_line(text);
+  for (auto& h : header) h = trim(h);
+  if (header.size() < 4 || header[0] != "name" || header[1] != "x" || header[2] != "y" || header[3] != "z")
+    throw InputError(where(file, 1) + "header must start with name,x,y,z");
+  std::map<std::string, Vec3> out;
+  int line = 1;
+  while (std::getline(in, text)) {
+    ++line;
+    if (trim(text).empty()) continue;
+    const std::vector<std::string> f = split_csv_line(text);
+    if (f.size() != header.size())
+      throw InputError(where(file, line) + "expected " + std::to_string(header.size()) + " fields, got " +
+                       std::to_string(f.size()));
+    const std::string name = trim(f[0]);
+    if (name.empty()) throw InputError(where(file, line) + "column 'name': empty tag name");
+    const Vec3 p(parse_number(f[1], "x", file, line), parse_number(f[2], "y", file, line),
+                 parse_number(f[3], "z", file, line));
+    if (!out.emplace(name, p).second) throw InputError(where(file, line) + "duplicate tag '" + name + "'");
+  }
+  return out;
+}
+
+std::vector<loc::TagReads> group_by_tag(const std::vector<std::vector<ReadingRow>>& files, double default_frequency_hz) {
+  using Key = std::tuple<std::string, size_t, std::string, std::string, double>;
+  std::map<Key, loc::ReadGroup> groups;
+  for (size_t fi = 0; fi < files.size(); ++fi)
+    for (const ReadingRow& r : files[fi]) {
+      const double f = r.frequency_hz > 0.0 ? r.frequency_hz : default_frequency_hz;
+      loc::ReadGroup& g = groups[Key{r.name, fi, r.antenna, r.channel, f}];
+      if (g.reads.empty()) {
+        g.antenna = "file" + std::to_string(fi) + (r.antenna.empty() ? "" : ":" + r.antenna) +
+                    (r.channel.empty() ? "" : "/" + r.channel);
+        g.frequency_hz = f;
+      }
+      // The truth column `dist` is deliberately not copied.
+      g.reads.push_back(loc::PhaseRead{r.time_s, r.position, r.orientation, r.phase_rad});
+    }
+  std::vector<loc::TagReads> out;
+  for (auto& [key, g] : groups) {
+    std::stable_sort(g.reads.begin(), g.reads.end(),
+                     [](const loc::PhaseRead& a, const loc::PhaseRead& b) { return a.time_s < b.time_s; });
+    const std::string& name = std::get<0>(key);
+    if (out.empty() || out.back().tag != name) out.push_back(loc::TagReads{name, {}});
+    out.back().groups.push_back(std::move(g));
+  }
+  return out;
+}
+
+}  // namespace rfidray::cli

@@ -1,0 +1,52 @@
+#pragma once
+// The conics of the paper's method (§III-D, Fig. 7–8). Two antenna positions F1 (reference AP0) and F2
+// (current AP1) and the unwrapped range change Δr define the locus |x − F2| − |x − F1| = Δr: one sheet of a
+// hyperboloid of revolution with foci F1, F2. Its section with a horizontal plane z = h (known tag height)
+// is a conic — the paper's hyperbola when F1, F2 lie in a plane parallel to it.
+//
+// Plane sections are computed in polar form around F1: on the ray x = F1_xy + ρ(cos ψ, sin ψ), z = h, the
+// locus condition squared twice is a quadratic in ρ,
+//   4((e·δ)² − Δ²) ρ² − 4K(e·δ) ρ + K² − 4Δ²c1² = 0,  K = |δ|² + c2² − c1² − Δ²,
+// (δ = F2_xy − F1_xy, c_i = h − F_i.z), and a root belongs to the right sheet iff Δ·(K − 2ρ e·δ) ≥ 0.
+#include <vector>
+
+#include "core/geometry.h"
+
+namespace rfidray::loc {
+
+struct Hyperbola {
+  Vec3 f1 = Vec3::Zero(), f2 = Vec3::Zero();
+  double delta_m = 0.0;              // Δr = |x − F2| − |x − F1|
+  double phase_distance_m = 0.0;     // unwrapped phase distance at F2 (phiDist_n of the paper)
+  bool valid() const { return std::abs(delta_m) < (f2 - f1).norm(); }
+};
+
+// Signed locus residual |x − F2| − |x − F1| − Δr (m); its gradient (u2 − u1) has norm 2 sin(α/2), α the
+// angle F1–x–F2.
+double residual(const Hyperbola& h, const Vec3& x);
+Vec3 gradient(const Hyperbola& h, const Vec3& x);
+
+// Points of the plane section, ray by ray: up to two per ray ψ (slot 0/1 = −/+ root of the quadratic).
+bool point_on_ray(const Hyperbola& h, double height_m, double psi_rad, int slot, Vec3& out);
+
+// The section sampled on `rays` equally spaced rays, points beyond max_range_m of F2 marked invalid.
+struct PlaneSection {
+  int rays = 0;
+  double height_m = 0.0;
+  std::vector<Vec3> points;  // rays × 2, row-major [ray][slot]
+  std::vector<char> valid;
+};
+PlaneSection sample_section(const Hyperbola& h, double height_m, int rays, double max_range_m);
+
+// All intersections of two plane sections (sign changes of h2's residual along h1's section, refined by
+// bisection on the ray angle and polished by Newton on both loci). Exact to ~1e-9 m.
+std::vector<Vec3> intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyperbola& h2);
+
+// Intersection of three hyperboloids (3-D) by Gauss–Newton from `seed`; false if it does not converge.
+bool intersect_3d(const Hyperbola& a, const Hyperbola& b, const Hyperbola& c, const Vec3& seed, Vec3& out);
+
+// Quality of an intersection: 1 / GDOP = 1 / sqrt(trace((JᵀJ)⁻¹)), J = the loci gradients (rows) in the
+// unknown coordinates (xy in 2-D). A range error σ moves the point by about σ·GDOP, so larger is better.
+double intersection_quality(const std::vector<Vec3>& gradients, bool planar);
+
+}  // namespace rfidray::loc

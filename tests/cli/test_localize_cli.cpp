@@ -1,0 +1,173 @@
+// Readings/truth CSV parsing and `rfidray localize` end to end on a small synthetic CSV.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+
+#include "cli/readings_reader.h"
+#include "core/error.h"
+#include "core/localization/synthetic.h"
+
+namespace rfidray::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path temp_dir() {
+  const fs::path d = fs::temp_directory_path() / ("rfidray_localize_test_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+std::string expect_input_error(const fs::path& p, bool truth = false) {
+  try {
+    if (truth) read_truth_csv(p);
+    else load_localize_readings(p);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no InputError for " << p;
+  return "";
+}
+
+const std::string kHeader = "time,posx,posy,posz,q1,q2,q3,q4,name,dist,phase,rssi";
+
+TEST(ReadingsReader, MalformedNumberNamesFileLineAndColumn) {
+  const fs::path p = temp_dir() / "bad_number.csv";
+  write(p, kHeader + "\n0,0,0,0,0,0,0,1,t,1,0.5,-50\n0.1,0,0,x0,0,0,0,1,t,1,0.5,-50\n");
+  const std::string msg = expect_input_error(p);
+  EXPECT_NE(msg.find("bad_number.csv:3:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("posz"), std::string::npos) << msg;
+}
+
+TEST(ReadingsReader, WrongFieldCountAndHeaderAndPhaseRange) {
+  const fs::path d = temp_dir();
+  write(d / "fields.csv", kHeader + "\n0,0,0,0,0,0,0,1,t,1,0.5,-50\n\n0,0,0,0,0,0,0,1,t,1,0.5\n");
+  EXPECT_NE(expect_input_error(d / "fields.csv").find("fields.csv:4: expected 12 fields, got 11"), std::string::npos);
+  write(d / "header.csv", "time,posx,posy,posz,q1,q2,q3,q4,name,phase,dist,rssi\n");
+  EXPECT_NE(expect_input_error(d / "header.csv").find("header.csv:1:"), std::string::npos);
+  write(d / "phase.csv", kHeader + "\n0,0,0,0,0,0,0,1,t,1,7.5,-50\n");
+  EXPECT_NE(expect_input_error(d / "phase.csv").find("phase.csv:2: column 'phase'"), std::string::npos);
+  write(d / "quat.csv", kHeader + "\n0,0,0,0,0,0,0,0,t,1,1,-50\n");
+  EXPECT_NE(expect_input_error(d / "quat.csv").find("quat.csv:2:"), std::string::npos);
+  EXPECT_NE(expect_input_error(d / "missing.csv").find("cannot open"), std::string::npos);
+}
+
+TEST(ReadingsReader, TruthFileErrors) {
+  const fs::path d = temp_dir();
+  write(d / "dup.csv", "name,x,y,z\na,1,2,3\na,1,2,3\n");
+  EXPECT_NE(expect_input_error(d / "dup.csv", true).find("dup.csv:3: duplicate tag 'a'"), std::string::npos);
+  write(d / "nan.csv", "name,x,y,z\na,1,nan,3\n");
+  EXPECT_NE(expect_input_error(d / "nan.csv", true).find("nan.csv:2:"), std::string::npos);
+}
+
+TEST(ReadingsReader, GroupsByAntennaChannelFrequencyAndSortsByTime) {
+  const fs::path p = temp_dir() / "groups.csv";
+  write(p, kHeader + ",antenna,frequency_hz\n"
+               "0.2,0,0,0,0,0,0,1,t,1,0.5,-50,a,866.3e6\n"
+               "0.1,0,0,0,0,0,0,1,t,1,0.4,-50,a,866.3e6\n"
+               "0.1,0,0,0,0,0,0,1,t,1,0.4,-50,a,865.7e6\n"
+               "0.1,0,0,0,0,0,0,1,u,1,0.4,-50,b,865.7e6\n");
+  const auto tags = group_by_tag({load_localize_readings(p)}, 865.7e6);
+  ASSERT_EQ(tags.size(), 2u);
+  EXPECT_EQ(tags[0].tag, "t");
+  ASSERT_EQ(tags[0].groups.size(), 2u);
+  const auto& g = tags[0].groups[1].frequency_hz == 866.3e6 ? tags[0].groups[1] : tags[0].groups[0];
+  ASSERT_EQ(g.reads.size(), 2u);
+  EXPECT_LT(g.reads[0].time_s, g.reads[1].time_s);
+}
+
+// Writes a readings CSV of two tags seen from an L-shaped path, and the truth file.
+void write_scenario(const fs::path& readings, const fs::path& truth, bool scramble_dist) {
+  const std::vector<std::pair<std::string, Vec3>> tags{{"tagA", Vec3(1.5, 0.5, 2.05)}, {"tagB", Vec3(-3.0, 1.0, 1.85)}};
+  const auto path = loc::sample_polyline({Vec3(-1, -3, 1.68), Vec3(-1, 3, 1.68), Vec3(2, 3, 1.68)}, 0.35, 15.0);
+  std::ofstream out(readings);
+  out << kHeader << ",antenna\n" << std::setprecision(17);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> junk(0.0, 50.0);
+  for (size_t i = 0; i < tags.size(); ++i) {
+    loc::SyntheticSpec spec;
+    spec.phase_offsets_rad = {0.9};
+    const loc::TagReads t = loc::synthesize(tags[i].first, tags[i].second, path, spec);
+    for (const auto& r : t.groups[0].reads) {
+      const double dist = scramble_dist ? junk(rng) : (tags[i].second - r.antenna_m).norm();
+      const auto& q = r.antenna_orientation;
+      out << r.time_s << "," << r.antenna_m.x() << "," << r.antenna_m.y() << "," << r.antenna_m.z() << "," << q.x()
+          << "," << q.y() << "," << q.z() << "," << q.w() << "," << tags[i].first << "," << dist << "," << r.phase_rad
+          << ",-55,mobile\n";
+    }
+  }
+  std::ofstream t(truth);
+  t << "name,x,y,z\n";
+  for (const auto& [n, p] : tags) t << n << "," << p.x() << "," << p.y() << "," << p.z() << "\n";
+}
+
+std::string run(const std::string& args, int& status) {
+  const std::string cmd = std::string(RFIDRAY_BINARY) + " localize " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
+  status = pclose(pipe);
+  return out;
+}
+
+nlohmann::json without_times(nlohmann::json j) {
+  for (auto& r : j["results"]) r.erase("time_ms");
+  for (auto& [k, v] : j["summary"].items()) v.erase("mean_time_ms");
+  return j;
+}
+
+TEST(LocalizeCli, EndToEndRecoversTagsAndIgnoresDistColumn) {
+  const fs::path d = temp_dir();
+  write_scenario(d / "r.csv", d / "t.csv", false);
+  write_scenario(d / "r_scrambled.csv", d / "t.csv", true);
+  int status = 0;
+  const std::string args = " --truth " + (d / "t.csv").string() + " --height-known --method all --json";
+  const std::string out = run((d / "r.csv").string() + args, status);
+  ASSERT_EQ(status, 0) << out;
+  const nlohmann::json j = nlohmann::json::parse(out);
+  ASSERT_EQ(j["results"].size(), 6u);
+  for (const auto& r : j["results"]) {
+    ASSERT_EQ(r["status"], "ok") << r.dump();
+    EXPECT_LT(r["error_m"].get<double>(), 0.005) << r.dump();
+    EXPECT_TRUE(r.contains("time_ms"));
+  }
+  for (const char* m : {"hyperbolic", "nlls", "sar"}) {
+    EXPECT_EQ(j["summary"][m]["failed"], 0);
+    EXPECT_LT(j["summary"][m]["max_error_m"].get<double>(), 0.005);
+    EXPECT_LE(j["summary"][m]["median_error_m"].get<double>(), j["summary"][m]["max_error_m"].get<double>());
+  }
+  // The dist column is ground truth: scrambling it must not change a single estimate.
+  const std::string scrambled = run((d / "r_scrambled.csv").string() + args, status);
+  ASSERT_EQ(status, 0) << scrambled;
+  EXPECT_EQ(without_times(j), without_times(nlohmann::json::parse(scrambled)));
+}
+
+TEST(LocalizeCli, MalformedCsvExitsNonZeroWithLine) {
+  const fs::path p = temp_dir() / "broken.csv";
+  write(p, kHeader + "\n0,0,0,0,0,0,0,1,t,1,0.5,-50\n0,0,0,0,0,0,0,1,t,1,zero,-50\n");
+  int status = 0;
+  const std::string out = run(p.string(), status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(out.find("broken.csv:3:"), std::string::npos) << out;
+}
+
+TEST(LocalizeCli, HeightKnownNeedsTruth) {
+  const fs::path d = temp_dir();
+  write_scenario(d / "r2.csv", d / "t2.csv", false);
+  int status = 0;
+  const std::string out = run((d / "r2.csv").string() + " --height-known", status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(out.find("--height-known"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace rfidray::cli
