@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "core/error.h"
 #include "core/units.h"
@@ -22,15 +23,30 @@ std::pair<size_t, double> bracket(const std::vector<double>& v, double x) {
   return {i, (x - v[i]) / (v[i + 1] - v[i])};
 }
 
+// Azimuth columns (ia0, ia1) and weight of ia1. Azimuth is periodic: between the last and the first column
+// the gap across ±180° (last → first + 360°) is interpolated too, unless the grid already spans 360°.
+std::tuple<size_t, size_t, double> azimuth_bracket(const std::vector<double>& az, double x) {
+  const size_t n = az.size();
+  if (n == 1) return {0, 0, 0.0};
+  if (x >= az.front() && x <= az.back()) {
+    const auto [i, w] = bracket(az, x);
+    return {i, i + 1, w};
+  }
+  const double gap = az.front() + 360.0 - az.back();
+  if (gap <= 0.0) return x < az.front() ? std::tuple{size_t{0}, size_t{0}, 0.0} : std::tuple{n - 1, n - 1, 0.0};
+  const double past_last = x > az.back() ? x - az.back() : x + 360.0 - az.back();
+  return {n - 1, 0, past_last / gap};
+}
+
+// Bilinear in (azimuth, elevation), interpolating the dBi values; elevation clamps at the table's edges.
 double table_gain_dbi(const PatternTable& t, const Vec3& d) {
   const double az = std::atan2(d.y(), d.x()) * 180.0 / kPi;
   const double el = std::atan2(d.z(), std::hypot(d.x(), d.y())) * 180.0 / kPi;
   const size_t naz = t.azimuth_deg.size();
   auto at = [&](size_t ie, size_t ia) { return t.gain_dbi[ie * naz + ia]; };
   const auto [ie, we] = bracket(t.elevation_deg, el);
-  const auto [ia, wa] = bracket(t.azimuth_deg, az);
+  const auto [ia, ia1, wa] = azimuth_bracket(t.azimuth_deg, az);
   const size_t ie1 = std::min(ie + 1, t.elevation_deg.size() - 1);
-  const size_t ia1 = std::min(ia + 1, naz - 1);
   const double g0 = at(ie, ia) * (1 - wa) + at(ie, ia1) * wa;
   const double g1 = at(ie1, ia) * (1 - wa) + at(ie1, ia1) * wa;
   return g0 * (1 - we) + g1 * we;
@@ -79,6 +95,8 @@ void AntennaPattern::validate(const std::string& field) const {
       throw field_error(field + ".beamwidth_deg", "must be in [0, 180) degrees");
     if (beamwidth_deg == 0.0 && peak_gain_dbi <= linear_to_db(2.0))
       throw field_error(field + ".gain_dbi", "a patch without beamwidth needs a gain above 3 dBi");
+    if (!(std::isfinite(front_to_back_db) && front_to_back_db >= 0.0))
+      throw field_error(field + ".front_to_back_db", "must be finite and >= 0 dB");
   }
   if (kind == PatternKind::kTable) {
     if (!table) throw field_error(field + ".table", "a table pattern needs a table");
@@ -91,6 +109,9 @@ void AntennaPattern::validate(const std::string& field) const {
     };
     if (!increasing(t.azimuth_deg) || !increasing(t.elevation_deg))
       throw field_error(field + ".table", "azimuth and elevation must be strictly increasing");
+    if (t.azimuth_deg.front() < -180.0 || t.azimuth_deg.back() > 180.0 || t.elevation_deg.front() < -90.0 ||
+        t.elevation_deg.back() > 90.0)
+      throw field_error(field + ".table", "azimuth must lie in [-180, 180] and elevation in [-90, 90] degrees");
     for (double g : t.gain_dbi)
       if (!std::isfinite(g)) throw field_error(field + ".table", "gains must be finite");
   }

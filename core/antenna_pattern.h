@@ -12,7 +12,8 @@ namespace rfidray {
 enum class PatternKind { kIsotropic, kDipole, kPatch, kTable };
 
 // Azimuth × elevation gain table in dBi. Azimuth is measured in the local XY plane from +X towards +Y,
-// elevation from the XY plane towards +Z, both in degrees; bilinear interpolation, azimuth wraps.
+// elevation from the XY plane towards +Z, both in degrees; bilinear interpolation of the dBi values,
+// azimuth wraps across ±180° (a grid not spanning 360° is interpolated across the gap), elevation clamps.
 struct PatternTable {
   std::vector<double> azimuth_deg;    // strictly increasing, within [-180, 180]
   std::vector<double> elevation_deg;  // strictly increasing, within [-90, 90]

@@ -7,6 +7,8 @@ namespace rfidray {
 namespace {
 
 Path line_of_sight(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) {
+  if (!(std::isfinite(frequency_hz) && frequency_hz > 0.0))
+    throw InputError("link: frequency must be finite and > 0 Hz (got " + std::to_string(frequency_hz) + ")");
   const Vec3 d = tag.pose.position - antenna.pose.position;
   const double length = d.norm();
   if (!(length > 0.0) || !std::isfinite(length))

@@ -1,7 +1,10 @@
 #pragma once
-// Radio materials. ITU-R P.2040 model: ε' = a·f^b, σ = c·f^d (f in GHz, σ in S/m), complex relative
-// permittivity η = ε' − j σ/(ω ε0). Several P.2040 entries are specified from 1 GHz; at 860–960 MHz we
-// extrapolate the same power laws (documented; a warning is emitted once per material).
+// Radio materials. ITU-R P.2040 (Table 3) model: ε' = a·f^b, σ = c·f^d (f in GHz, σ in S/m), complex relative
+// permittivity η = ε' − j σ/(ω ε0) (time dependence e^{jωt}). Table 3 gives each fit a frequency range:
+// concrete 1–100 GHz, brick 1–40 GHz, plasterboard 1–100 GHz, wood 0.001–100 GHz, glass 0.1–100 GHz,
+// metal 1–100 GHz. So at UHF RFID frequencies (860–960 MHz) concrete, brick and plasterboard are
+// extrapolated (same power laws; `extrapolated()` says so, the caller warns once per material), while wood
+// and glass are inside their ranges. Metal is treated as a perfect conductor, which does not use the fit.
 #include <complex>
 #include <optional>
 #include <string>
@@ -15,17 +18,22 @@ struct RadioMaterial {
   double thickness_m = 0.0;   // > 0: slab model (reflection and transmission through a layer of this thickness)
   bool perfect_conductor = false;  // metal: Γ = −1 (TE), opaque
   double min_valid_ghz = 0.0;      // below this the P.2040 fit is extrapolated
+  double max_valid_ghz = 1e300;    // above this too
 
   double relative_permittivity(double frequency_hz) const;      // ε'
   double conductivity_s_m(double frequency_hz) const;           // σ
   std::complex<double> complex_permittivity(double frequency_hz) const;  // η = ε' − jσ/(ωε0)
-  bool extrapolated(double frequency_hz) const { return frequency_hz / 1e9 < min_valid_ghz; }
+  // True when the P.2040 fit is used outside its frequency range (never for a perfect conductor).
+  bool extrapolated(double frequency_hz) const {
+    return !perfect_conductor && (frequency_hz / 1e9 < min_valid_ghz || frequency_hz / 1e9 > max_valid_ghz);
+  }
 };
 
 // concrete, brick, plasterboard, wood, glass, metal (P.2040 Table 3). nullopt if unknown.
 std::optional<RadioMaterial> builtin_material(const std::string& name);
 std::vector<std::string> builtin_material_names();
-// A user-defined material with fixed ε' and σ (S/m), optional thickness.
+// A user-defined material with fixed ε' and σ (S/m), optional thickness (0: half-space).
+// Throws InputError naming the material when ε' is not ≥ 1, σ < 0 or thickness < 0, or any is not finite.
 RadioMaterial user_material(const std::string& name, double eps_r, double sigma_s_m, double thickness_m);
 
 }  // namespace rfidray

@@ -1,8 +1,8 @@
 #pragma once
 // Antenna polarization as a unit complex field vector (Jones vector in 3-D), world frame.
 // Linear: along a local axis, projected transverse to the propagation direction.
-// Circular: (u ± j v)/√2 in the transverse plane; right-hand (RHCP) rotates counter-clockwise
-// looking along the propagation direction (IEEE convention).
+// Circular: (u ∓ j v)/√2 in the transverse plane, v = k̂ × u, e^{jωt}; right-hand (RHCP, u − j v) rotates
+// right-handed about the propagation direction k̂, i.e. clockwise seen looking along k̂ (IEEE convention).
 #include <complex>
 #include <string>
 
