@@ -94,6 +94,9 @@ int run(const SimulateOptions& o) {
     }
     if (line.size() > 3) std::printf("%s\n", line.c_str());
   }
+  if (result.channel_evaluations > 0)
+    std::printf("  channel %s: %llu link evaluations (unchanged links reuse their last value)\n",
+                scenario.channel.c_str(), static_cast<unsigned long long>(result.channel_evaluations));
   std::printf("  ground truth -> %s%s\n", (dir / "tags.csv").string().c_str(),
               moving ? (", " + (dir / "tags_trajectory.csv").string()).c_str() : "");
   std::printf("  wall time %.3f s (%d thread%s)\n", wall_s, threads, threads == 1 ? "" : "s");

@@ -1,5 +1,7 @@
 #include "cli/readings_csv.h"
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -10,20 +12,15 @@
 namespace rfidray::cli {
 namespace {
 
-// Fixed-point text; values that print as zero print as "0.…" (never "-0.…").
+// Fixed-point text, correctly rounded (std::to_chars: same digits as printf "%.*f", several times faster);
+// values that print as zero print as "0.…" (never "-0.…").
 void put(std::ostream& out, double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  if (buf[0] == '-') {
-    bool zero = true;
-    for (const char* c = buf + 1; *c; ++c)
-      if (*c >= '1' && *c <= '9') zero = false;
-    if (zero) {
-      out << (buf + 1);
-      return;
-    }
-  }
-  out << buf;
+  char buf[400];  // fixed notation of the largest double: 309 digits + decimals
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
+  if (ec != std::errc()) throw InputError("readings CSV: cannot format value");
+  const char* first = buf;
+  if (buf[0] == '-' && std::none_of(buf + 1, end, [](char c) { return c >= '1' && c <= '9'; })) ++first;
+  out.write(first, end - first);
 }
 
 }  // namespace

@@ -135,6 +135,12 @@ SimulationResult simulate(const Scenario& scenario, const Channel& channel, cons
                        "': one phase offset per channel frequency needed");
   }
 
+  for (size_t i = 0; i < n_tags; ++i)
+    located(scenario, scenario.tags[i].source_line, [&] {
+      validate(scenario.tags[i].tag, "tags[" + std::to_string(i) + "]");
+      return 0;
+    });
+
   auto antenna_endpoint = [&](size_t a, const Pose& pose) {
     const ReaderParams& r = scenario.antennas[a].reader;
     return Endpoint{pose, r.pattern, r.polarization};

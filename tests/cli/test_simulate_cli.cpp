@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -159,30 +158,31 @@ TEST_F(SimulateCli, HelpListsOptionsAndColumns) {
 
 struct BadInput {
   std::string args;
-  std::vector<std::string> expected;  // regexes the message must match
+  std::vector<std::string> expected;  // substrings the message must contain
 };
 
 TEST_F(SimulateCli, BadInputsExitNonZeroNamingFileLineAndField) {
   const std::string t = kSource + "/scenes/tests/";
   const std::vector<BadInput> cases = {
-      {"simulate " + t + "does_not_exist.yaml", {R"(does_not_exist\.yaml: cannot open scenario file)"}},
-      {"simulate " + t + "bad_malformed.yaml", {R"(bad_malformed\.yaml:[67]:[0-9]+: malformed YAML)"}},
+      {"simulate " + t + "does_not_exist.yaml", {"does_not_exist.yaml: cannot open scenario file"}},
+      // The flow sequence opened on line 6 is unterminated; yaml-cpp reports where it notices (line 7).
+      {"simulate " + t + "bad_malformed.yaml", {"bad_malformed.yaml:7:", "malformed YAML"}},
       {"simulate " + t + "bad_unknown_distribution.yaml",
-       {R"(bad_unknown_distribution\.yaml:7: field 'antennas\[0\]\.optional_distribution': unknown distribution 'gaussian')"}},
+       {"bad_unknown_distribution.yaml:7: field 'antennas[0].optional_distribution': unknown distribution 'gaussian'"}},
       {"simulate " + t + "bad_negative_frequency.yaml",
-       {R"(bad_negative_frequency\.yaml:6: field 'antennas\[0\]\.frequency': must be > 0 \(got -1\))"}},
-      {"simulate " + t + "bad_tag_at_antenna.yaml", {R"(bad_tag_at_antenna\.yaml:9: tag 't1' is at antenna 'reader')"}},
+       {"bad_negative_frequency.yaml:6: field 'antennas[0].frequency': must be > 0 (got -1)"}},
+      {"simulate " + t + "bad_tag_at_antenna.yaml", {"bad_tag_at_antenna.yaml:9: tag 't1' is at antenna 'reader'"}},
       {"simulate " + t + "bad_unknown_key.yaml",
-       {R"(bad_unknown_key\.yaml:6: field 'antennas\[0\]\.noisepih': unknown key 'noisepih' \(did you mean 'noisephi'\?\))"}},
+       {"bad_unknown_key.yaml:6: field 'antennas[0].noisepih': unknown key 'noisepih' (did you mean 'noisephi'?)"}},
       {"simulate " + kSource + "/scenes/paper_warehouse.yaml --channel nonsense",
-       {R"(field '--channel': unknown channel 'nonsense')"}},
+       {"field '--channel': unknown channel 'nonsense'"}},
   };
   for (const BadInput& c : cases) {
     const RunResult r = run(c.args + " -o " + dir_.string());
     EXPECT_NE(r.status, 0) << c.args;
     EXPECT_NE(r.status, -1) << c.args << ": crashed";
-    for (const std::string& re : c.expected)
-      EXPECT_TRUE(std::regex_search(r.output, std::regex(re))) << c.args << "\n  expected /" << re << "/\n  got: " << r.output;
+    for (const std::string& e : c.expected)
+      EXPECT_NE(r.output.find(e), std::string::npos) << c.args << "\n  expected: " << e << "\n  got: " << r.output;
     EXPECT_EQ(r.output.find("nan"), std::string::npos) << r.output;
   }
 }

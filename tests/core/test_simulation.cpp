@@ -118,16 +118,19 @@ TEST(Simulation, TicksOrderAndDistancesOnAStaticScene) {
 }
 
 TEST(Simulation, IdenticalAtAnyThreadCountAndBlockSize) {
-  const Scenario s = robot_scene();
-  const SimulationResult one = simulate(s, IdealChannel{}, {1, 64});
-  const SimulationResult two = simulate(s, IdealChannel{}, {2, 64});
-  const SimulationResult small_blocks = simulate(s, IdealChannel{}, {2, 7});
-  ASSERT_GT(one.antennas[0].reads.size(), 100u);
-  EXPECT_TRUE(same(one, two));
-  EXPECT_TRUE(same(one, small_blocks));
-  Scenario other_seed = s;
-  other_seed.seed = 2;
-  EXPECT_FALSE(same(one, simulate(other_seed, IdealChannel{}, {2, 64})));
+  for (ReaderModelKind model : {ReaderModelKind::kPaper, ReaderModelKind::kPhysical}) {
+    Scenario s = robot_scene();
+    for (AntennaSpec& a : s.antennas) a.reader.model = model;
+    const SimulationResult one = simulate(s, IdealChannel{}, {1, 64});
+    const SimulationResult two = simulate(s, IdealChannel{}, {2, 64});
+    const SimulationResult small_blocks = simulate(s, IdealChannel{}, {2, 7});
+    ASSERT_GT(one.antennas[0].reads.size(), 100u);
+    EXPECT_TRUE(same(one, two));
+    EXPECT_TRUE(same(one, small_blocks));
+    Scenario other_seed = s;
+    other_seed.seed = 2;
+    EXPECT_FALSE(same(one, simulate(other_seed, IdealChannel{}, {2, 64})));
+  }
 }
 
 TEST(Simulation, DurationDefaultsToRobotEndAndHoppingFollowsDwell) {
