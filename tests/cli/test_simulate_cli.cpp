@@ -187,5 +187,28 @@ TEST_F(SimulateCli, BadInputsExitNonZeroNamingFileLineAndField) {
   }
 }
 
+// A traced channel only matters to the physical reader model: with the paper model the run must say so,
+// and --model physical must make the channel change the readings.
+TEST_F(SimulateCli, TracedChannelNeedsPhysicalModel) {
+  const std::string scenario = kSource + "/scenes/paper_warehouse.yaml";
+  const RunResult paper = run("simulate " + scenario + " --channel single-bounce -o " + (dir_ / "paper").string());
+  ASSERT_EQ(paper.status, 0) << paper.output;
+  EXPECT_NE(paper.output.find("has no effect"), std::string::npos) << paper.output;
+
+  const RunResult ideal =
+      run("simulate " + scenario + " --model physical -o " + (dir_ / "ideal").string());
+  const RunResult traced =
+      run("simulate " + scenario + " --model physical --channel single-bounce -o " + (dir_ / "traced").string());
+  ASSERT_EQ(ideal.status, 0) << ideal.output;
+  ASSERT_EQ(traced.status, 0) << traced.output;
+  EXPECT_EQ(traced.output.find("has no effect"), std::string::npos);
+  EXPECT_NE(traced.output.find("physical model"), std::string::npos);
+  EXPECT_NE(slurp(dir_ / "ideal" / "mobile.csv"), slurp(dir_ / "traced" / "mobile.csv"));
+
+  const RunResult bad = run("simulate " + scenario + " --model optical -o " + (dir_ / "bad").string());
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.output.find("--model"), std::string::npos) << bad.output;
+}
+
 }  // namespace
 }  // namespace rfidray::cli
