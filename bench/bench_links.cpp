@@ -21,7 +21,7 @@ using namespace rfidray;
 namespace {
 
 struct Args {
-  int threads = 2, runs = 5, tags = 2000, poses = 20;
+  int threads = 2, runs = 5, tags = 2000, poses = 20, candidate_rays = 0;
   WarehouseParams big{.rows = 20, .racks_per_row = 60, .shelves = 5, .tessellation = 3};
 };
 
@@ -80,6 +80,7 @@ void run_scene(const char* name, std::vector<TriangleMesh> meshes, const Workloa
   for (auto level : {ChannelLevel::kLos, ChannelLevel::kLosBlocked, ChannelLevel::kSingleBounce}) {
     TraceOptions o;
     o.level = level;
+    o.candidate_rays = a.candidate_rays;
     const RaytracedChannel ch(scene, o);
     std::vector<std::complex<double>> h(w.tags.size());
     std::vector<double> rates;
@@ -110,6 +111,7 @@ int main(int argc, char** argv) {
     else if (k == "--runs") a.runs = v;
     else if (k == "--tags") a.tags = v;
     else if (k == "--poses") a.poses = v;
+    else if (k == "--candidate-rays") a.candidate_rays = v;
     else if (k == "--rows") a.big.rows = v;
     else if (k == "--racks") a.big.racks_per_row = v;
     else if (k == "--shelves") a.big.shelves = v;

@@ -5,6 +5,8 @@
 #include <map>
 #include <tuple>
 
+#include <omp.h>
+
 #include "core/error.h"
 #include "core/fresnel.h"
 #include "core/units.h"
@@ -54,6 +56,8 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
   if (!(options_.endpoint_epsilon_m > 0.0) || !(options_.surface_epsilon_m > 0.0))
     throw field_error("epsilon", "ray epsilons must be > 0");
   if (options_.candidate_rays < 0) throw field_error("candidate_rays", "must be ≥ 0");
+  if (!(options_.candidate_spread > 0.0)) throw field_error("candidate_spread", "must be > 0");
+  drop_power_ratio_ = db_to_linear(-options_.drop_below_db);
   // Plane groups of the fast mode.
   const auto& facets = scene_->facets();
   std::map<std::tuple<int64_t, int64_t, int64_t, int64_t>, uint32_t> group_of_key;
@@ -110,29 +114,72 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
     candidate_directions_.emplace_back(r * std::cos(golden * i), r * std::sin(golden * i), z);
   }
+  if (n > 0) candidate_spacing_rad_ = std::sqrt(4.0 * kPi / n);
+}
+
+size_t PathFinder::cell_bit(const PlaneGroup& g, const Vec3& p) const {
+  const double fu = (p[g.axis_u] - g.u0) * g.inv_du, fv = (p[g.axis_v] - g.v0) * g.inv_dv;
+  if (!(fu >= 0.0 && fv >= 0.0 && fu < g.nu && fv < g.nv)) return SIZE_MAX;
+  return g.bit_offset + static_cast<size_t>(fv) * g.nu + static_cast<size_t>(fu);
 }
 
 bool PathFinder::occupied(const PlaneGroup& g, const Vec3& p) const {
-  const double fu = (p[g.axis_u] - g.u0) * g.inv_du, fv = (p[g.axis_v] - g.v0) * g.inv_dv;
-  if (!(fu >= 0.0 && fv >= 0.0 && fu < g.nu && fv < g.nv)) return false;
-  const size_t bit = g.bit_offset + static_cast<size_t>(fv) * g.nu + static_cast<size_t>(fu);
-  return (occupancy_[bit / 64] >> (bit % 64)) & 1u;
+  const size_t bit = cell_bit(g, p);
+  return bit != SIZE_MAX && ((occupancy_[bit / 64] >> (bit % 64)) & 1u);
+}
+
+void PathFinder::mark_seen(const PlaneGroup& g, const Vec3& p, double radius_m, PoseCandidates& out) const {
+  const auto range = [](double x, double r, double x0, double inv, int n) {
+    return std::pair{std::clamp(static_cast<int>(std::floor((x - r - x0) * inv)), 0, n - 1),
+                     std::clamp(static_cast<int>(std::floor((x + r - x0) * inv)), 0, n - 1)};
+  };
+  const auto [iu0, iu1] = range(p[g.axis_u], radius_m, g.u0, g.inv_du, g.nu);
+  const auto [iv0, iv1] = range(p[g.axis_v], radius_m, g.v0, g.inv_dv, g.nv);
+  for (int iv = iv0; iv <= iv1; ++iv)
+    for (int iu = iu0; iu <= iu1; ++iu) {
+      const size_t bit = g.bit_offset + static_cast<size_t>(iv) * g.nu + iu;
+      uint64_t& word = out.seen_cells[bit / 64];
+      if (word == 0) out.touched_words.push_back(static_cast<uint32_t>(bit / 64));
+      word |= uint64_t{1} << (bit % 64);
+    }
 }
 
 void PathFinder::prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const {
   out.planes.clear();
   out.all = options_.candidates != CandidateMode::kFast || candidate_directions_.empty();
   if (out.all) return;
-  std::vector<char> seen(planes_.size(), 0);
-  const EmbreeScene& bvh = scene_->bvh();
-  for (const Vec3& d : candidate_directions_) {
-    const RayHit h = bvh.intersect(antenna_position, d, options_.endpoint_epsilon_m, 1e30);
-    if (!h.hit) continue;
-    const uint32_t f = scene_->facet_of(scene_->triangle_id(h.geom, h.prim));
-    if (f != kNoFacet) seen[plane_of_facet_[f]] = 1;
+  if (out.seen_cells.size() != occupancy_.size()) {
+    out.seen_cells.assign(occupancy_.size(), 0);
+    out.touched_words.clear();
   }
-  for (size_t g = 0; g < seen.size(); ++g)
-    if (seen[g]) out.planes.push_back(static_cast<uint32_t>(g));
+  for (uint32_t w : out.touched_words) out.seen_cells[w] = 0;
+  out.touched_words.clear();
+  // The rays are the expensive part: in parallel unless the caller already is (simulate runs antennas in
+  // parallel); the marking after them is serial and in ray order, so the result never depends on threads.
+  const EmbreeScene& bvh = scene_->bvh();
+  const auto n = static_cast<std::ptrdiff_t>(candidate_directions_.size());
+  out.hits.resize(candidate_directions_.size());
+#pragma omp parallel for schedule(static) if (n >= 2048 && !omp_in_parallel())
+  for (std::ptrdiff_t i = 0; i < n; ++i)
+    out.hits[i] = bvh.intersect(antenna_position, candidate_directions_[i], options_.endpoint_epsilon_m, 1e30);
+  std::vector<char> plane_seen(planes_.size(), 0);
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const RayHit& h = out.hits[i];
+    if (!h.hit) continue;
+    const uint32_t tri = scene_->triangle_id(h.geom, h.prim);
+    const uint32_t f = scene_->facet_of(tri);
+    if (f == kNoFacet) continue;
+    const uint32_t gi = plane_of_facet_[f];
+    const PlaneGroup& g = planes_[gi];
+    plane_seen[gi] = 1;
+    // The ray's footprint: the distance to the neighbouring rays (so footprints overlap), stretched by the
+    // incidence (capped at 80° so grazing hits do not flood a plane), times the spread factor.
+    const double cos_inc = std::max(std::abs(candidate_directions_[i].dot(g.normal)), 0.17);
+    const double radius = options_.candidate_spread * h.t * candidate_spacing_rad_ / cos_inc;
+    mark_seen(g, antenna_position + h.t * candidate_directions_[i], radius, out);
+  }
+  for (size_t gi = 0; gi < plane_seen.size(); ++gi)
+    if (plane_seen[gi]) out.planes.push_back(static_cast<uint32_t>(gi));
 }
 
 void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
@@ -156,10 +203,11 @@ void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double freq
       return std::tie(x.length_m, x.facet) < std::tie(y.length_m, y.facet);
     });
   }
-  // Drop paths far below the strongest (power ratio).
+  // Drop paths far below the strongest (power ratio); a lone path is the strongest.
+  if (out.size() < 2) return;
   double strongest = 0.0;
   for (const TracedPath& p : out) strongest = std::max(strongest, std::norm(p.contribution));
-  const double floor = strongest * db_to_linear(-options_.drop_below_db);
+  const double floor = strongest * drop_power_ratio_;
   std::erase_if(out, [&](const TracedPath& p) { return std::norm(p.contribution) < floor; });
 }
 
@@ -170,14 +218,16 @@ void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f,
   const Vec3 dir = delta / length;
   const double eps = std::min(options_.endpoint_epsilon_m, 0.25 * length);
   const EmbreeScene& bvh = scene_->bvh();
+  // Visibility first: at level `los` an occluded link costs one ray and nothing else.
+  const bool occluded = !scene_->empty() && bvh.occluded(a, dir, eps, length - eps);
+  if (occluded && options_.level == ChannelLevel::kLos) return;
   const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, dir) *
                                 tag.pattern.gain_linear_world(tag.pose.orientation, -dir));
   CVec3 field = ant.polarization.field(ant.pose.orientation, dir);
   TracedPath p;
   p.length_m = length;
   p.point = a;
-  if (!scene_->empty() && bvh.occluded(a, dir, eps, length - eps)) {
-    if (options_.level == ChannelLevel::kLos) return;
+  if (occluded) {
     // Walk the segment surface by surface.
     p.kind = PathKind::kBlocked;
     double tnear = eps;
@@ -236,19 +286,23 @@ void PathFinder::reflections_exhaustive(const Endpoint& ant, const Endpoint& tag
 void PathFinder::reflections_fast(const Endpoint& ant, const Endpoint& tag, double f, const PoseCandidates& c,
                                   std::vector<TracedPath>& out) const {
   if (c.all) {
-    for (uint32_t g = 0; g < planes_.size(); ++g) try_plane(g, ant, tag, f, out);
+    for (uint32_t g = 0; g < planes_.size(); ++g) try_plane(g, ant, tag, f, c, out);
   } else {
-    for (uint32_t g : c.planes) try_plane(g, ant, tag, f, out);
+    for (uint32_t g : c.planes) try_plane(g, ant, tag, f, c, out);
   }
 }
 
 void PathFinder::try_plane(uint32_t group, const Endpoint& ant, const Endpoint& tag, double f,
-                           std::vector<TracedPath>& out) const {
+                           const PoseCandidates& c, std::vector<TracedPath>& out) const {
   const PlaneGroup& g = planes_[group];
   const Vec3& a = ant.pose.position;
   Vec3 image, p;
   if (!image_point(g.normal, g.offset_m, a, tag.pose.position, options_.surface_epsilon_m, image, p)) return;
   if (!occupied(g, p)) return;
+  if (!c.all) {  // a point no candidate ray saw is taken as hidden from the antenna
+    const size_t bit = cell_bit(g, p);
+    if (!((c.seen_cells[bit / 64] >> (bit % 64)) & 1u)) return;
+  }
   // One ray A→P answers both "is leg 1 clear" and "which facet of this plane is at P": the first thing hit
   // must be a facet of this plane.
   const Vec3 d1 = p - a;

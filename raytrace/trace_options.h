@@ -19,9 +19,13 @@ enum class CandidateMode {
 struct TraceOptions {
   ChannelLevel level = ChannelLevel::kSingleBounce;
   CandidateMode candidates = CandidateMode::kFast;
-  // Fast mode, optional: shoot this many rays (spherical Fibonacci) from each antenna pose and test only
-  // the planes they hit. 0 = off (exact: every plane is tested). Small reflectors can be missed when > 0.
+  // Fast mode, optional: shoot this many rays (spherical Fibonacci) from each antenna pose and test only the
+  // parts of planes they hit. 0 = off (exact: every plane is tested). Reflections off regions the rays
+  // missed (small or distant reflectors, slivers behind occluders) are lost when > 0.
   int candidate_rays = 0;
+  // Footprint of each candidate ray on the surface it hits, in units of the ray spacing: the cells it covers
+  // count as seen from the antenna (path_finder.h, PoseCandidates). Larger = fewer missed reflections, slower.
+  double candidate_spread = 1.0;
   // Paths whose power is more than this many dB below the strongest path of the link are dropped.
   double drop_below_db = 40.0;
   // Rays stop this short of an antenna or tag, so a tag mounted on a surface is not occluded by it.
