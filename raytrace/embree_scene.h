@@ -18,6 +18,9 @@
 
 namespace rfidray {
 
+// Rays traced by the calling thread through any EmbreeScene (deterministic cost measure for `channel: auto`).
+inline thread_local uint64_t tl_rays_traced = 0;
+
 struct RayHit {
   bool hit = false;
   double t = std::numeric_limits<double>::infinity();  // distance along the (unit) direction, metres
@@ -35,6 +38,7 @@ class EmbreeScene {
 
   // Closest hit on origin + t·dir for t in [tnear, tfar]; `dir` must be unit length.
   RayHit intersect(const Vec3& origin, const Vec3& dir, double tnear, double tfar) const {
+    ++tl_rays_traced;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh;
@@ -55,6 +59,7 @@ class EmbreeScene {
   // True if anything lies on origin + t·dir for t in [tnear, tfar].
   bool occluded(const Vec3& origin, const Vec3& dir, double tnear, double tfar) const {
     if (!(tfar > tnear)) return false;
+    ++tl_rays_traced;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay ray;

@@ -53,11 +53,13 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     : scene_(std::move(scene)), options_(options) {
   if (!scene_) throw InputError("ray-traced channel: no scene");
   if (!(options_.drop_below_db >= 0.0)) throw field_error("drop_below_db", "must be ≥ 0 dB");
+  if (!(options_.max_path_length_m > 0.0)) throw field_error("max_path_length_m", "must be > 0 m");
   if (!(options_.endpoint_epsilon_m > 0.0) || !(options_.surface_epsilon_m > 0.0))
     throw field_error("epsilon", "ray epsilons must be > 0");
   if (options_.candidate_rays < 0) throw field_error("candidate_rays", "must be ≥ 0");
   if (!(options_.candidate_spread > 0.0)) throw field_error("candidate_spread", "must be > 0");
   drop_power_ratio_ = db_to_linear(-options_.drop_below_db);
+  max_length2_ = options_.max_path_length_m * options_.max_path_length_m;
   // Plane groups of the fast mode.
   const auto& facets = scene_->facets();
   std::map<std::tuple<int64_t, int64_t, int64_t, int64_t>, uint32_t> group_of_key;
@@ -215,6 +217,7 @@ void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f,
   const Vec3& a = ant.pose.position;
   const Vec3 delta = tag.pose.position - a;
   const double length = delta.norm();
+  if (length > options_.max_path_length_m) return;
   const Vec3 dir = delta / length;
   const double eps = std::min(options_.endpoint_epsilon_m, 0.25 * length);
   const EmbreeScene& bvh = scene_->bvh();
@@ -278,6 +281,7 @@ void PathFinder::reflections_exhaustive(const Endpoint& ant, const Endpoint& tag
     const Facet& fc = facets[i];
     if (!image_point(fc.normal, fc.offset_m, ant.pose.position, tag.pose.position, options_.surface_epsilon_m, image, p))
       continue;
+    if ((image - ant.pose.position).squaredNorm() > max_length2_) continue;
     if (!inside_box(p, fc.lo, fc.hi, 1e-6) || !point_on_facet(fc, p)) continue;
     add_reflection(static_cast<uint32_t>(i), image, p, ant, tag, f, /*check_leg1=*/true, out);
   }
@@ -298,6 +302,7 @@ void PathFinder::try_plane(uint32_t group, const Endpoint& ant, const Endpoint& 
   const Vec3& a = ant.pose.position;
   Vec3 image, p;
   if (!image_point(g.normal, g.offset_m, a, tag.pose.position, options_.surface_epsilon_m, image, p)) return;
+  if ((image - a).squaredNorm() > max_length2_) return;  // longer than max_path_length_m
   if (!occupied(g, p)) return;
   if (!c.all) {  // a point no candidate ray saw is taken as hidden from the antenna
     const size_t bit = cell_bit(g, p);

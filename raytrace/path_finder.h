@@ -108,6 +108,7 @@ class PathFinder {
   std::shared_ptr<const Scene> scene_;
   TraceOptions options_;
   double drop_power_ratio_ = 0.0;  // db_to_linear(-drop_below_db)
+  double max_length2_ = 0.0;       // max_path_length_m²
   std::vector<PlaneGroup> planes_;
   std::vector<uint32_t> plane_of_facet_;
   std::vector<uint64_t> occupancy_;

@@ -1,5 +1,6 @@
 #pragma once
 // Settings of the ray-traced channel (raytrace/raytraced_channel.h).
+#include <limits>
 #include <string>
 
 namespace rfidray {
@@ -28,6 +29,10 @@ struct TraceOptions {
   double candidate_spread = 1.0;
   // Paths whose power is more than this many dB below the strongest path of the link are dropped.
   double drop_below_db = 40.0;
+  // Paths longer than this (unfolded length) are not modelled; a direct path longer than it leaves the link
+  // with no path (h = 0). Culls by range before any ray is shot (a reflection's length is known from its
+  // image point). Infinite = off (exact).
+  double max_path_length_m = std::numeric_limits<double>::infinity();
   // Rays stop this short of an antenna or tag, so a tag mounted on a surface is not occluded by it.
   double endpoint_epsilon_m = 1e-3;
   // Reflection legs are tested from this height above the reflecting plane (float-precision margin of
