@@ -111,7 +111,8 @@ void occluded1_raw(benchmark::State& state, Prepared* p) {
   }
   benchmark::DoNotOptimize(blocked);
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (e - b)));
-  state.counters["blocked_fraction"] = double(blocked) / double(std::max<size_t>(1, state.iterations() * (e - b)));
+  state.counters["blocked_fraction"] = benchmark::Counter(
+      double(blocked) / double(std::max<size_t>(1, state.iterations() * (e - b))), benchmark::Counter::kAvgThreads);
 }
 
 void occluded16_raw(benchmark::State& state, Prepared* p) {
@@ -140,7 +141,8 @@ void occluded16_raw(benchmark::State& state, Prepared* p) {
   }
   benchmark::DoNotOptimize(blocked);
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (e - b)));
-  state.counters["blocked_fraction"] = double(blocked) / double(std::max<size_t>(1, state.iterations() * (e - b)));
+  state.counters["blocked_fraction"] = benchmark::Counter(
+      double(blocked) / double(std::max<size_t>(1, state.iterations() * (e - b))), benchmark::Counter::kAvgThreads);
 }
 
 void occluded1_ours(benchmark::State& state, Prepared* p) {
@@ -157,7 +159,8 @@ void occluded1_ours(benchmark::State& state, Prepared* p) {
   }
   benchmark::DoNotOptimize(blocked);
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (e - b)));
-  state.counters["blocked_fraction"] = double(blocked) / double(std::max<size_t>(1, state.iterations() * (e - b)));
+  state.counters["blocked_fraction"] = benchmark::Counter(
+      double(blocked) / double(std::max<size_t>(1, state.iterations() * (e - b))), benchmark::Counter::kAvgThreads);
 }
 
 void intersect1_raw(benchmark::State& state, Prepared* p) {
@@ -200,6 +203,7 @@ void intersect1_ours(benchmark::State& state, Prepared* p) {
   }
   benchmark::DoNotOptimize(planes);
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (e - b) * n_dir));
+  state.counters["planes_per_pose"] = benchmark::Counter(double(planes) / double(std::max<size_t>(1, state.iterations() * (e - b))), benchmark::Counter::kAvgThreads);
 }
 
 std::vector<std::string> split(const std::string& s) {

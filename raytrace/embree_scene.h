@@ -6,6 +6,8 @@
 //
 // Embree works in float: hit distances are good to ~1e-7 relative. The image method itself stays in double
 // (raytrace/path_finder.cpp); Embree only answers visibility and "which triangle is there".
+#include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -70,6 +72,8 @@ class EmbreeScene {
 
   RTCScene handle() const { return scene_; }  // for raw-Embree baselines in bench/
   size_t triangle_count() const { return triangle_count_; }
+  // Bytes Embree holds for this scene (geometry buffers and BVH), from its memory monitor.
+  size_t embree_bytes() const { return static_cast<size_t>(std::max<int64_t>(0, embree_bytes_.load())); }
 
  private:
   static void fill_ray(RTCRay& r, const Vec3& o, const Vec3& d, double tnear, double tfar) {
@@ -87,6 +91,7 @@ class EmbreeScene {
     r.flags = 0;
   }
 
+  std::atomic<int64_t> embree_bytes_{0};  // updated by Embree's build threads
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   size_t triangle_count_ = 0;

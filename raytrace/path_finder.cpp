@@ -16,7 +16,7 @@ namespace {
 
 // Mirror image of t in the plane n·x = c and the point where a→image meets the plane; false unless a and t
 // are strictly on the same side (at least `eps` away from it).
-bool image_point(const Vec3& n, double c, const Vec3& a, const Vec3& t, double eps, Vec3& image, Vec3& p) {
+inline bool image_point(const Vec3& n, double c, const Vec3& a, const Vec3& t, double eps, Vec3& image, Vec3& p) {
   const double da = n.dot(a) - c;
   const double dt = n.dot(t) - c;
   if (da * dt <= 0.0 || std::abs(da) < eps || std::abs(dt) < eps) return false;
@@ -125,11 +125,6 @@ size_t PathFinder::cell_bit(const PlaneGroup& g, const Vec3& p) const {
   return g.bit_offset + static_cast<size_t>(fv) * g.nu + static_cast<size_t>(fu);
 }
 
-bool PathFinder::occupied(const PlaneGroup& g, const Vec3& p) const {
-  const size_t bit = cell_bit(g, p);
-  return bit != SIZE_MAX && ((occupancy_[bit / 64] >> (bit % 64)) & 1u);
-}
-
 void PathFinder::mark_seen(const PlaneGroup& g, const Vec3& p, double radius_m, PoseCandidates& out) const {
   const auto range = [](double x, double r, double x0, double inv, int n) {
     return std::pair{std::clamp(static_cast<int>(std::floor((x - r - x0) * inv)), 0, n - 1),
@@ -140,16 +135,19 @@ void PathFinder::mark_seen(const PlaneGroup& g, const Vec3& p, double radius_m, 
   for (int iv = iv0; iv <= iv1; ++iv)
     for (int iu = iu0; iu <= iu1; ++iu) {
       const size_t bit = g.bit_offset + static_cast<size_t>(iv) * g.nu + iu;
+      // Only occupied cells are marked, so one lookup in try_plane answers "a facet is there and was seen".
+      const uint64_t mask = (uint64_t{1} << (bit % 64)) & occupancy_[bit / 64];
+      if (!mask) continue;
       uint64_t& word = out.seen_cells[bit / 64];
       if (word == 0) out.touched_words.push_back(static_cast<uint32_t>(bit / 64));
-      word |= uint64_t{1} << (bit % 64);
+      word |= mask;
     }
 }
 
 void PathFinder::prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const {
   out.planes.clear();
   out.all = options_.candidates != CandidateMode::kFast || candidate_directions_.empty();
-  if (out.all) return;
+  if (out.all || options_.level != ChannelLevel::kSingleBounce) return;  // nothing to search for
   if (out.seen_cells.size() != occupancy_.size()) {
     out.seen_cells.assign(occupancy_.size(), 0);
     out.touched_words.clear();
@@ -221,34 +219,36 @@ void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f,
   const Vec3 dir = delta / length;
   const double eps = std::min(options_.endpoint_epsilon_m, 0.25 * length);
   const EmbreeScene& bvh = scene_->bvh();
-  // Visibility first: at level `los` an occluded link costs one ray and nothing else.
-  const bool occluded = !scene_->empty() && bvh.occluded(a, dir, eps, length - eps);
-  if (occluded && options_.level == ChannelLevel::kLos) return;
+  // At level `los` visibility is all that matters: one occlusion ray, and nothing more for an occluded link.
+  // Above it the first hit is needed anyway, so the segment is walked with closest-hit rays from the start.
+  RayHit hit;
+  if (!scene_->empty()) {
+    if (options_.level == ChannelLevel::kLos) {
+      if (bvh.occluded(a, dir, eps, length - eps)) return;
+    } else {
+      hit = bvh.intersect(a, dir, eps, length - eps);
+    }
+  }
   const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, dir) *
                                 tag.pattern.gain_linear_world(tag.pose.orientation, -dir));
   CVec3 field = ant.polarization.field(ant.pose.orientation, dir);
   TracedPath p;
   p.length_m = length;
   p.point = a;
-  if (occluded) {
-    // Walk the segment surface by surface.
+  // Walk the segment surface by surface.
+  while (hit.hit) {
     p.kind = PathKind::kBlocked;
-    double tnear = eps;
-    for (;;) {
-      const RayHit h = bvh.intersect(a, dir, tnear, length - eps);
-      if (!h.hit) break;
-      const uint32_t tri = scene_->triangle_id(h.geom, h.prim);
-      const RadioMaterial& m = scene_->materials()[scene_->material_of(tri)];
-      if (m.perfect_conductor || ++p.crossings > options_.max_crossings) return;  // opaque
-      const Vec3& n = scene_->normal_of(tri);
-      const double cos_theta = std::abs(dir.dot(n));
-      field = transmit_field(field, dir, n, material_transmission(m, f, cos_theta));
-      if (p.crossings == 1) {
-        p.point = a + h.t * dir;
-        p.material = scene_->material_of(tri);
-      }
-      tnear = h.t + options_.surface_epsilon_m;
+    const uint32_t tri = scene_->triangle_id(hit.geom, hit.prim);
+    const RadioMaterial& m = scene_->materials()[scene_->material_of(tri)];
+    if (m.perfect_conductor || ++p.crossings > options_.max_crossings) return;  // opaque
+    const Vec3& n = scene_->normal_of(tri);
+    const double cos_theta = std::abs(dir.dot(n));
+    field = transmit_field(field, dir, n, material_transmission(m, f, cos_theta));
+    if (p.crossings == 1) {
+      p.point = a + hit.t * dir;
+      p.material = scene_->material_of(tri);
     }
+    hit = bvh.intersect(a, dir, hit.t + options_.surface_epsilon_m, length - eps);
   }
   p.coefficient = gain * polarization_match(field, tag.polarization, tag.pose.orientation, dir);
   p.contribution = path_contribution(length, p.coefficient, f);
@@ -303,9 +303,12 @@ void PathFinder::try_plane(uint32_t group, const Endpoint& ant, const Endpoint& 
   Vec3 image, p;
   if (!image_point(g.normal, g.offset_m, a, tag.pose.position, options_.surface_epsilon_m, image, p)) return;
   if ((image - a).squaredNorm() > max_length2_) return;  // longer than max_path_length_m
-  if (!occupied(g, p)) return;
-  if (!c.all) {  // a point no candidate ray saw is taken as hidden from the antenna
-    const size_t bit = cell_bit(g, p);
+  const size_t bit = cell_bit(g, p);
+  if (bit == SIZE_MAX) return;
+  if (c.all) {
+    if (!((occupancy_[bit / 64] >> (bit % 64)) & 1u)) return;  // no facet near p
+  } else {
+    // A point no candidate ray saw is taken as hidden from the antenna (seen cells are occupied ones).
     if (!((c.seen_cells[bit / 64] >> (bit % 64)) & 1u)) return;
   }
   // One ray A→P answers both "is leg 1 clear" and "which facet of this plane is at P": the first thing hit

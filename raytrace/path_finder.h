@@ -88,7 +88,6 @@ class PathFinder {
     int nu = 1, nv = 1;
     size_t bit_offset = 0;  // into occupancy_
   };
-  bool occupied(const PlaneGroup& g, const Vec3& p) const;
   // Bit index of p's cell in g's grid, or SIZE_MAX when p is outside the grid.
   size_t cell_bit(const PlaneGroup& g, const Vec3& p) const;
   // Marks the cells of g within radius_m of p (in the plane's two projected coordinates) as seen.
