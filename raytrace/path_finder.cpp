@@ -71,6 +71,7 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     PlaneGroup& g = planes_[it->second];
     g.lo = g.lo.cwiseMin(fc.lo);
     g.hi = g.hi.cwiseMax(fc.hi);
+    g.flatness_m = std::max(g.flatness_m, fc.flatness_m);
     plane_of_facet_[f] = it->second;
   }
   // Occupancy bitmaps: ~64 cells per facet (at most 2^18 per plane), shaped like the plane's extent.
@@ -316,7 +317,7 @@ void PathFinder::try_plane(uint32_t group, const Endpoint& ant, const Endpoint& 
   const Vec3 d1 = p - a;
   const double l1 = d1.norm();
   const Vec3 dir1 = d1 / l1;
-  const double margin = plane_margin(options_.surface_epsilon_m, std::abs(dir1.dot(g.normal)), l1);
+  const double margin = plane_margin(options_.surface_epsilon_m + g.flatness_m, std::abs(dir1.dot(g.normal)), l1);
   const RayHit h = scene_->bvh().intersect(a, dir1, std::min(options_.endpoint_epsilon_m, 0.25 * l1), l1 + margin);
   if (!h.hit) return;
   const uint32_t facet = scene_->facet_of(scene_->triangle_id(h.geom, h.prim));
@@ -342,13 +343,14 @@ void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p
   if (!(l1 > 0.0) || !(l2 > 0.0)) return;
   const Vec3 dir1 = d1 / l1, dir2 = d2 / l2;
   const double cos_theta = std::abs(dir1.dot(fc.normal));
+  const double clearance = options_.surface_epsilon_m + fc.flatness_m;  // legs stay clear of the facet itself
   const EmbreeScene& bvh = scene_->bvh();
   const double end_eps1 = std::min(options_.endpoint_epsilon_m, 0.25 * l1);
   const double end_eps2 = std::min(options_.endpoint_epsilon_m, 0.25 * l2);
   if (check_leg1 &&
-      bvh.occluded(a, dir1, end_eps1, l1 - plane_margin(options_.surface_epsilon_m, cos_theta, l1)))
+      bvh.occluded(a, dir1, end_eps1, l1 - plane_margin(clearance, cos_theta, l1)))
     return;
-  if (bvh.occluded(p, dir2, plane_margin(options_.surface_epsilon_m, cos_theta, l2), l2 - end_eps2)) return;
+  if (bvh.occluded(p, dir2, plane_margin(clearance, cos_theta, l2), l2 - end_eps2)) return;
 
   const RadioMaterial& m = scene_->materials()[fc.material];
   const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, dir1) *

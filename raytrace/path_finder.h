@@ -83,6 +83,7 @@ class PathFinder {
     Vec3 normal;
     double offset_m;
     Vec3 lo, hi;
+    double flatness_m = 0.0;  // max over its facets
     int axis_u = 0, axis_v = 1;
     double u0 = 0, v0 = 0, inv_du = 0, inv_dv = 0;
     int nu = 1, nv = 1;
