@@ -378,3 +378,38 @@ TEST(PathFinder, CandidateRaysConvergeToTheExhaustiveSearch) {
 
 }  // namespace
 }  // namespace rfidray
+
+namespace rfidray {
+namespace {
+
+// A tessellated ground with ±0.5 mm vertex noise, merged into one facet with a 5 mm tolerance: the reflection
+// legs must keep clear of the facet's real surface (up to its flatness off the fitted plane), or the ray to
+// the reflection point stops short of the surface and the ground reflection is lost.
+TEST(PathFinder, NoisyMergedFacetStillReflects) {
+  TriangleMesh ground = plane_mesh("ground", "concrete", Vec3(-2, -2, 0), Vec3(4, 0, 0), Vec3(0, 4, 0), 4);
+  uint64_t state = 7;
+  for (Vec3& v : ground.vertices) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    v.z() += 0.5e-3 * (double(state >> 11) / double(1ULL << 53) * 2.0 - 1.0);
+  }
+  SceneOptions so;
+  so.facets.distance_tolerance_m = 5e-3;
+  so.facets.angle_tolerance_rad = 5e-3;
+  const auto scene = std::make_shared<const Scene>(std::vector<TriangleMesh>{ground}, MaterialAssignment{}, so);
+  ASSERT_EQ(scene->facets().size(), 1u);
+  EXPECT_GT(scene->facets()[0].flatness_m, 1e-4);
+  for (CandidateMode mode : {CandidateMode::kFast, CandidateMode::kExhaustive}) {
+    TraceOptions o;
+    o.candidates = mode;
+    int found = 0;
+    for (int k = 0; k < 20; ++k) {
+      const Endpoint a = endpoint(Vec3(-1.5 + 0.05 * k, -1.0, 1.0), Vec3::UnitZ());
+      const Endpoint t = endpoint(Vec3(1.5, 0.5 + 0.05 * k, 1.5), Vec3::UnitZ());
+      for (const Path& p : RaytracedChannel(scene, o).paths(a, t, kF)) found += p.kind == PathKind::kReflection;
+    }
+    EXPECT_EQ(found, 20) << to_string(mode);
+  }
+}
+
+}  // namespace
+}  // namespace rfidray
