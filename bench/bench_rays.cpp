@@ -13,6 +13,7 @@
 //   bench_rays [--scenes paper,w10k,...] [--tags N] [--poses N] [--candidate-rays N] [Google Benchmark flags]
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
+#include <omp.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -191,6 +192,7 @@ void intersect1_raw(benchmark::State& state, Prepared* p) {
 }
 
 void intersect1_ours(benchmark::State& state, Prepared* p) {
+  omp_set_num_threads(1);  // prepare_pose would fork its own team: keep the benchmark's thread count
   const size_t n_dir = p->directions.size();
   const auto [b, e] = slice(state, p->work.antennas.size());  // whole poses per thread
   PoseCandidates c;

@@ -126,13 +126,23 @@ size_t PathFinder::cell_bit(const PlaneGroup& g, const Vec3& p) const {
   return g.bit_offset + static_cast<size_t>(fv) * g.nu + static_cast<size_t>(fu);
 }
 
-void PathFinder::mark_seen(const PlaneGroup& g, const Vec3& p, double radius_m, PoseCandidates& out) const {
+void PathFinder::mark_seen(const PlaneGroup& g, const Vec3& p, const Vec3& dir, double radius_m,
+                           PoseCandidates& out) const {
+  // The footprint is an ellipse: radius across the ray, radius / cos θ along the ray's projection on the
+  // plane (θ capped at 80° so grazing hits do not flood a plane). Its bounding box in the plane's (u, v):
+  const double cos_inc = std::max(std::abs(dir.dot(g.normal)), 0.17);
+  const double pu = dir[g.axis_u], pv = dir[g.axis_v], pn = std::sqrt(pu * pu + pv * pv);
+  const double cu = pn > 1e-12 ? pu / pn : 1.0, cv = pn > 1e-12 ? pv / pn : 0.0;  // projected direction
+  const double stretch = 1.0 / cos_inc;
+  // (sqrt, not std::hypot: hypot's overflow care costs more than the rest of the marking here)
+  const double half_u = radius_m * std::sqrt(cu * cu * stretch * stretch + cv * cv);
+  const double half_v = radius_m * std::sqrt(cv * cv * stretch * stretch + cu * cu);
   const auto range = [](double x, double r, double x0, double inv, int n) {
     return std::pair{std::clamp(static_cast<int>(std::floor((x - r - x0) * inv)), 0, n - 1),
                      std::clamp(static_cast<int>(std::floor((x + r - x0) * inv)), 0, n - 1)};
   };
-  const auto [iu0, iu1] = range(p[g.axis_u], radius_m, g.u0, g.inv_du, g.nu);
-  const auto [iv0, iv1] = range(p[g.axis_v], radius_m, g.v0, g.inv_dv, g.nv);
+  const auto [iu0, iu1] = range(p[g.axis_u], half_u, g.u0, g.inv_du, g.nu);
+  const auto [iv0, iv1] = range(p[g.axis_v], half_v, g.v0, g.inv_dv, g.nv);
   for (int iv = iv0; iv <= iv1; ++iv)
     for (int iu = iu0; iu <= iu1; ++iu) {
       const size_t bit = g.bit_offset + static_cast<size_t>(iv) * g.nu + iu;
@@ -173,11 +183,10 @@ void PathFinder::prepare_pose(const Vec3& antenna_position, PoseCandidates& out)
     const uint32_t gi = plane_of_facet_[f];
     const PlaneGroup& g = planes_[gi];
     plane_seen[gi] = 1;
-    // The ray's footprint: the distance to the neighbouring rays (so footprints overlap), stretched by the
-    // incidence (capped at 80° so grazing hits do not flood a plane), times the spread factor.
-    const double cos_inc = std::max(std::abs(candidate_directions_[i].dot(g.normal)), 0.17);
-    const double radius = options_.candidate_spread * h.t * candidate_spacing_rad_ / cos_inc;
-    mark_seen(g, antenna_position + h.t * candidate_directions_[i], radius, out);
+    // The ray's footprint radius: the distance to the neighbouring rays (so footprints overlap) times the
+    // spread factor.
+    const double radius = options_.candidate_spread * h.t * candidate_spacing_rad_;
+    mark_seen(g, antenna_position + h.t * candidate_directions_[i], candidate_directions_[i], radius, out);
   }
   for (size_t gi = 0; gi < plane_seen.size(); ++gi)
     if (plane_seen[gi]) out.planes.push_back(static_cast<uint32_t>(gi));

@@ -91,8 +91,9 @@ class PathFinder {
   };
   // Bit index of p's cell in g's grid, or SIZE_MAX when p is outside the grid.
   size_t cell_bit(const PlaneGroup& g, const Vec3& p) const;
-  // Marks the cells of g within radius_m of p (in the plane's two projected coordinates) as seen.
-  void mark_seen(const PlaneGroup& g, const Vec3& p, double radius_m, PoseCandidates& out) const;
+  // Marks the occupied cells of g under the footprint of a candidate ray (direction dir, footprint radius
+  // radius_m across the ray) that hit at p as seen.
+  void mark_seen(const PlaneGroup& g, const Vec3& p, const Vec3& dir, double radius_m, PoseCandidates& out) const;
 
   void direct_path(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
   void reflections_exhaustive(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;

@@ -1,0 +1,194 @@
+// `rfidray bench [--quick] [-o DIR]`: runs the benchmark programs built beside rfidray (build/bench/) and
+// collects their CSV and PNG output in DIR (default bench/results):
+//   bench_rays      Google Benchmark: our rays vs a raw Embree loop → rays.json, rays.csv, rays_ratio.csv/png
+//   bench_sweep     links/s per level, threads, scene size, tags → links_*.csv/png
+//   bench_accuracy  accuracy vs speed against the exhaustive reference → accuracy_*.csv, accuracy_pareto.png
+//   localize_paper  the paper's localization table, ideal channel and single-bounce → localize_paper_*/
+//   localize_sweeps stability of the localization methods → localize_sweep_*.csv/png
+// and writes DIR/summary.md (machine, date, the headline figures). Timing lives here, never in tests.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli/plot.h"
+#include "core/error.h"
+
+namespace rfidray::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct BenchOptions {
+  bool quick = false;
+  std::string output_dir = "bench/results";
+  std::string only;  // comma-separated subset of the programs
+};
+
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+fs::path bench_dir() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  return (ec ? fs::current_path() : exe.parent_path()) / "bench";
+}
+
+void run_program(const fs::path& program, const std::string& args, const fs::path& log) {
+  if (!fs::exists(program))
+    throw InputError(program.string() + ": benchmark program not found (configure with -DRFIDRAY_BUILD_BENCH=ON and "
+                                        "build; `rfidray bench` runs the programs built beside it)");
+  const std::string cmd = quoted(program.string()) + " " + args + " 2>&1 | tee " + quoted(log.string());
+  std::printf("rfidray bench: %s %s\n", program.filename().c_str(), args.c_str());
+  std::fflush(stdout);
+  const auto t0 = std::chrono::steady_clock::now();
+  // `set -o pipefail` so the program's own exit status survives the tee.
+  const int status = std::system(("bash -c " + quoted("set -o pipefail; " + cmd)).c_str());
+  if (status != 0) throw std::runtime_error(program.filename().string() + " failed (exit status " + std::to_string(status) + ")");
+  std::printf("rfidray bench: %s done in %.0f s\n\n", program.filename().c_str(),
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+}
+
+std::string machine() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line, model = "unknown CPU";
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  return model + ", " + std::to_string(sysconf(_SC_NPROCESSORS_ONLN)) + " hardware threads";
+}
+
+// rays.json (Google Benchmark) → rays.csv and the ours/raw ratios per scene and thread count.
+std::vector<std::string> ray_ratios(const fs::path& dir) {
+  std::ifstream in(dir / "rays.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  std::map<std::pair<std::string, int>, std::map<std::string, double>> rate;  // (scene, threads) → bench → rays/s
+  std::ofstream csv(dir / "rays.csv");
+  csv << "benchmark,scene,threads,rays_per_s\n";
+  std::vector<std::string> scenes;
+  for (const auto& b : j.at("benchmarks")) {
+    // Repetitions give aggregates: keep the median (plain runs have no aggregate_name).
+    if (b.value("run_type", "") == "aggregate" && b.value("aggregate_name", "") != "median") continue;
+    // name: "<bench>/<scene>/real_time/threads:<n>[_median]"
+    const std::string name = b.at("name");
+    const auto s1 = name.find('/'), s2 = name.find('/', s1 + 1);
+    const std::string what = name.substr(0, s1), scene = name.substr(s1 + 1, s2 - s1 - 1);
+    const int threads = std::stoi(name.substr(name.rfind(':') + 1));
+    const double r = b.at("items_per_second");
+    rate[{scene, threads}][what] = r;
+    csv << what << "," << scene << "," << threads << "," << r << "\n";
+    if (std::find(scenes.begin(), scenes.end(), scene) == scenes.end()) scenes.push_back(scene);
+  }
+  std::ofstream ratio(dir / "rays_ratio.csv");
+  ratio << "scene,threads,occluded_ours_over_raw,intersect_ours_over_raw,occluded16_over_occluded1,raw_occluded1_rays_per_s\n";
+  std::vector<std::string> lines;
+  Series occ1{"occluded: ours / raw rtcOccluded1 (1 thread)", {}, {}, "linespoints"},
+      occ2{"occluded: ours / raw rtcOccluded1 (2 threads)", {}, {}, "linespoints"},
+      int2{"candidate search: ours / raw rtcIntersect1 (2 threads)", {}, {}, "linespoints"},
+      p16{"raw rtcOccluded16 / rtcOccluded1 (2 threads)", {}, {}, "linespoints"};
+  for (size_t si = 0; si < scenes.size(); ++si)
+    for (int threads : {1, 2}) {
+      auto& m = rate[{scenes[si], threads}];
+      if (!m.count("occluded1_raw")) continue;
+      const double occ = m["occluded1_ours"] / m["occluded1_raw"], inter = m["intersect1_ours"] / m["intersect1_raw"],
+                   pk = m["occluded16_raw"] / m["occluded1_raw"];
+      ratio << scenes[si] << "," << threads << "," << occ << "," << inter << "," << pk << "," << m["occluded1_raw"] << "\n";
+      char buf[256];
+      std::snprintf(buf, sizeof buf, "| %s | %d | %.2f | %.2f | %.2f | %.2f M |", scenes[si].c_str(), threads, occ,
+                    inter, pk, m["occluded1_raw"] / 1e6);
+      lines.push_back(buf);
+      (threads == 1 ? occ1 : occ2).x.push_back(double(si)), (threads == 1 ? occ1 : occ2).y.push_back(occ);
+      if (threads == 2) int2.x.push_back(double(si)), int2.y.push_back(inter), p16.x.push_back(double(si)), p16.y.push_back(pk);
+    }
+  std::string xlabel = "scene:";
+  for (size_t si = 0; si < scenes.size(); ++si) xlabel += " " + std::to_string(si) + "=" + scenes[si];
+  write_png(dir / "rays_ratio.png", {Panel{"Ray throughput relative to a raw Embree loop on the same rays", xlabel,
+                                           "ratio", {occ1, occ2, int2, p16}}});
+  return lines;
+}
+
+int run_bench(const BenchOptions& o) {
+  const fs::path dir = fs::absolute(o.output_dir);
+  fs::create_directories(dir);
+  const fs::path progs = bench_dir();
+  const auto wanted = [&](const std::string& name) { return o.only.empty() || ("," + o.only + ",").find("," + name + ",") != std::string::npos; };
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::string> ratio_lines;
+  if (wanted("bench_rays")) {
+    const std::string args = std::string(o.quick ? "--scenes paper,w10k,w100k --benchmark_min_time=0.1 "
+                                                 : "--benchmark_min_time=0.5 --benchmark_repetitions=3 "
+                                                   "--benchmark_report_aggregates_only=true ") +
+                             "--benchmark_out_format=json --benchmark_out=" + quoted((dir / "rays.json").string());
+    run_program(progs / "bench_rays", args, dir / "bench_rays.log");
+    ratio_lines = ray_ratios(dir);
+  }
+  const std::string quick = o.quick ? " --quick" : "";
+  if (wanted("bench_sweep")) run_program(progs / "bench_sweep", "--out " + quoted(dir.string()) + quick, dir / "bench_sweep.log");
+  if (wanted("bench_accuracy"))
+    run_program(progs / "bench_accuracy", "--out " + quoted(dir.string()) + quick, dir / "bench_accuracy.log");
+  if (wanted("localize_paper")) {
+    const std::string seeds = o.quick ? " --seeds 1" : " --seeds 5";
+    run_program(progs / "localize_paper", "--out " + quoted((dir / "localize_paper_ideal").string()) + seeds,
+                dir / "localize_paper_ideal.log");
+    run_program(progs / "localize_paper",
+                "--channel single-bounce --model physical --out " +
+                    quoted((dir / "localize_paper_multipath").string()) + seeds,
+                dir / "localize_paper_multipath.log");
+  }
+  if (wanted("localize_sweeps"))
+    run_program(progs / "localize_sweeps", "--out " + quoted(dir.string()) + (o.quick ? " --trials 3" : ""),
+                dir / "localize_sweeps.log");
+
+  std::ofstream md(dir / "summary.md");
+  const std::time_t now = std::time(nullptr);
+  char date[64];
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+  md << "# rfidray bench" << (o.quick ? " --quick" : "") << "\n\nMachine: " << machine() << ". Date: " << date
+     << ". Total " << static_cast<int>(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count())
+     << " s.\n\n";
+  if (!ratio_lines.empty()) {
+    md << "## Ray throughput vs raw Embree (same rays, same process)\n\n"
+       << "| scene | threads | occluded ours/raw | candidate search ours/raw | rtcOccluded16/rtcOccluded1 | raw rays/s |\n"
+       << "|---|---|---|---|---|---|\n";
+    for (const auto& l : ratio_lines) md << l << "\n";
+    md << "\n";
+  }
+  md << "Logs of every program are beside this file (`*.log`); CSV and PNG files hold the figures.\n";
+  std::printf("rfidray bench: results in %s (summary.md)\n", dir.c_str());
+  return 0;
+}
+
+}  // namespace
+
+std::function<int()> setup_bench(CLI::App& app) {
+  auto opts = std::make_shared<BenchOptions>();
+  CLI::App* cmd = app.add_subcommand("bench", "Run the speed and accuracy benchmarks; write CSV, PNG and summary.md");
+  cmd->footer(
+      "Runs the programs of bench/ built beside this rfidray (cmake -DRFIDRAY_BUILD_BENCH=ON, the default):\n"
+      "  bench_rays       rays/s of our path finder vs a raw Embree loop on the same segments (ratio)\n"
+      "  bench_sweep      links/s per channel level at 1 and 2 threads, vs triangles and vs tags; BVH build\n"
+      "                   time and bytes per triangle\n"
+      "  bench_accuracy   error vs time of each faster setting against the exhaustive image method, Pareto\n"
+      "                   front, localization error it causes on the paper scenario\n"
+      "  localize_paper   the paper's localization table (ideal channel and single-bounce multipath)\n"
+      "  localize_sweeps  localization error and failure rate vs noise, sample spacing, aperture, distance\n"
+      "The full run takes several minutes on 2 cores; --quick takes about a minute. Measure on an idle machine.");
+  cmd->add_flag("--quick", opts->quick, "Smaller scenes, fewer runs and settings");
+  cmd->add_option("-o,--output", opts->output_dir, "Output directory")->capture_default_str();
+  cmd->add_option("--only", opts->only,
+                  "Comma-separated subset: bench_rays,bench_sweep,bench_accuracy,localize_paper,localize_sweeps");
+  return [opts] { return run_bench(*opts); };
+}
+
+}  // namespace rfidray::cli
