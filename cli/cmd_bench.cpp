@@ -120,9 +120,18 @@ std::vector<std::string> ray_ratios(const fs::path& dir) {
 
 int run_bench(const BenchOptions& o) {
   const fs::path dir = fs::absolute(o.output_dir);
-  fs::create_directories(dir);
   const fs::path progs = bench_dir();
-  const auto wanted = [&](const std::string& name) { return o.only.empty() || ("," + o.only + ",").find("," + name + ",") != std::string::npos; };
+  const std::vector<std::string> programs{"bench_rays", "bench_sweep", "bench_accuracy", "localize_paper",
+                                          "localize_sweeps"};
+  std::stringstream only(o.only);
+  for (std::string item; std::getline(only, item, ',');)
+    if (std::find(programs.begin(), programs.end(), item) == programs.end())
+      throw InputError("option --only: unknown program '" + item +
+                       "' (bench_rays, bench_sweep, bench_accuracy, localize_paper, localize_sweeps)");
+  const auto wanted = [&](const std::string& name) {
+    return o.only.empty() || ("," + o.only + ",").find("," + name + ",") != std::string::npos;
+  };
+  fs::create_directories(dir);
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::string> ratio_lines;
   if (wanted("bench_rays")) {

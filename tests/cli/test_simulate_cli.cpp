@@ -226,3 +226,20 @@ TEST_F(SimulateCli, AutoChannelPrintsItsChoiceAndMatchesThatLevel) {
 
 }  // namespace
 }  // namespace rfidray::cli
+
+namespace rfidray::cli {
+namespace {
+
+TEST(BenchCli, HelpListsTheProgramsAndUnknownProgramIsAnError) {
+  const RunResult help = run("bench --help");
+  ASSERT_EQ(help.status, 0) << help.output;
+  for (const char* p : {"bench_rays", "bench_sweep", "bench_accuracy", "localize_paper", "localize_sweeps", "--quick"})
+    EXPECT_NE(help.output.find(p), std::string::npos) << p;
+  const RunResult bad = run("bench --only bench_rayz -o /tmp/rfidray_bench_cli_test");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("unknown program 'bench_rayz'"), std::string::npos) << bad.output;
+  EXPECT_FALSE(std::filesystem::exists("/tmp/rfidray_bench_cli_test"));  // nothing written on bad input
+}
+
+}  // namespace
+}  // namespace rfidray::cli
