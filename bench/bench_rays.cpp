@@ -5,6 +5,7 @@
 //   occluded1_ours   PathFinder::trace at level `los` on the same links: exactly one rtcOccluded1 per link,
 //                    plus everything the tracer does around it (checks, pattern gains, polarization, the path)
 //   occluded16_raw   the same segments as rtcOccluded16 packets (16 tags of one antenna pose per packet)
+// Tags are in Morton order (as RaytracedChannel::one_way traces them), so a packet's rays are coherent.
 //   intersect1_raw   rtcIntersect1 on the candidate-search directions (spherical Fibonacci) of every pose
 //   intersect1_ours  PathFinder::prepare_pose with the same number of candidate rays
 // items_per_second = rays per second (real time, all threads). The `rfidray bench` driver turns the JSON
@@ -25,6 +26,7 @@
 #include <vector>
 
 #include "bench/workload.h"
+#include "raytrace/morton.h"
 #include "raytrace/path_finder.h"
 #include "raytrace/scene.h"
 
@@ -59,6 +61,10 @@ Prepared& prepare(const std::string& name, const Config& c) {
   const bench::BenchScene bs = bench::find_bench_scene(name);
   p.scene = std::make_shared<const Scene>(bench::scene_meshes(bs), MaterialAssignment{});
   p.work = bench::scene_workload(bs, c.tags, c.poses);
+  // Tags in Morton order, as RaytracedChannel::one_way traces them.
+  std::stable_sort(p.work.tags.begin(), p.work.tags.end(), [](const Endpoint& x, const Endpoint& y) {
+    return morton_key(x.pose.position) < morton_key(y.pose.position);
+  });
   const double eps = TraceOptions{}.endpoint_epsilon_m;
   for (const Endpoint& a : p.work.antennas)
     for (const Endpoint& t : p.work.tags) {

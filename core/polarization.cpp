@@ -13,7 +13,8 @@ Vec3 transverse(const Vec3& a, const Vec3& dir) { return a - a.dot(dir) * dir; }
 
 CVec3 Polarization::field(const Quat& orientation, const Vec3& dir) const {
   using C = std::complex<double>;
-  const Vec3 axis = orientation * axis_local;
+  // Unrotated antennas are common (tags, test setups): skip the quaternion product.
+  const Vec3 axis = orientation.w() == 1.0 ? axis_local : Vec3(orientation * axis_local);
   Vec3 u = transverse(axis, dir);
   if (kind == PolarizationKind::kLinear) {
     const double n = u.norm();
@@ -32,6 +33,15 @@ CVec3 Polarization::field(const Quat& orientation, const Vec3& dir) const {
 
 std::complex<double> polarization_match(const CVec3& incoming_field, const Polarization& rx,
                                         const Quat& rx_orientation, const Vec3& arrival_direction_world) {
+  if (rx.kind == PolarizationKind::kLinear) {
+    // A real field vector: real × complex products, once per path in the tracer's inner loop.
+    const Vec3 dir = -arrival_direction_world;
+    const Vec3 axis = rx_orientation.w() == 1.0 ? rx.axis_local : Vec3(rx_orientation * rx.axis_local);
+    const Vec3 u = transverse(axis, dir);
+    const double n = u.norm();
+    if (n < 1e-12) return 0.0;
+    return (u.x() * incoming_field.x() + u.y() * incoming_field.y() + u.z() * incoming_field.z()) / n;
+  }
   const CVec3 e_rx = rx.field(rx_orientation, -arrival_direction_world);
   return e_rx.transpose() * incoming_field;
 }
