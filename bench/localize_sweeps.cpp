@@ -1,8 +1,10 @@
 // Stability sweeps of the three localization methods on synthetic histories (paper eq. 4 phase model,
 // ideal channel: φ = φ0 + 4πD/λ + n mod 2π, 12-bit quantization), one parameter at a time around a base case:
 // L-shaped path at 1.68 m (6 m along +Y then 3 m along +X, so no mirror ambiguity), 15 Hz, 0.35 m/s,
-// σφ = 0.1 rad, tag 2 m from the first leg at 2.05 m, tag height known.
-//   localize_sweeps [--trials N] [--out DIR] [--only noise|spacing|aperture|distance]
+// σφ = 0.1 rad, tag 2 m from the first leg at 2.05 m, tag height known. The multipath sweep adds a metal wall
+// behind the tag: every read's phase moves by the ray-traced round trip's difference from free space (the LoS
+// path plus the wall's specular reflection), then is quantized again.
+//   localize_sweeps [--trials N] [--out DIR] [--only noise|spacing|aperture|distance|multipath]
 // Writes DIR/localize_sweep_<name>.csv and .png: median error and failure rate per method vs the parameter.
 #include <CLI/CLI.hpp>
 #include <filesystem>
@@ -11,6 +13,9 @@
 #include <iostream>
 
 #include "bench/localize_common.h"
+#include "core/reader_model.h"
+#include "raytrace/raytraced_channel.h"
+#include "raytrace/warehouse.h"
 #include "cli/plot.h"
 #include "core/localization/summary.h"
 #include "core/localization/synthetic.h"
@@ -21,6 +26,7 @@ using namespace rfidray;
 namespace {
 
 struct Case {
+  double wall_m = 0.0;  // > 0: a metal wall parallel to the first leg, this far behind the tag (multipath)
   double noise_rad = 0.1;
   double spacing_fraction = 0.35 / 15.0 / wavelength_m(865.7e6);  // antenna move per read / λ
   double path_length_m = 9.0;
@@ -35,6 +41,30 @@ struct Sweep {
 };
 
 const double kLambda = wavelength_m(865.7e6);
+
+// Multipath of a metal wall (x = tag.x + wall, 4 m high, as long as the path plus 10 m) on every read: the
+// phase moves by arg of the ray-traced round trip against the free-space one, −arg(h²) − 4πD/λ.
+void add_wall_multipath(std::vector<loc::TagReads>& trials, const Vec3& tag, double wall_m, double path_m) {
+  TriangleMesh wall;
+  wall.name = "wall";
+  wall.material_names = {"metal"};
+  add_quad(wall, Vec3(tag.x() + wall_m, tag.y() - path_m - 5.0, 0.0), Vec3(0, 0, 4.0), Vec3(0, 2 * path_m + 10.0, 0), 0);
+  const auto scene = std::make_shared<const Scene>(std::vector<TriangleMesh>{wall}, MaterialAssignment{});
+  const RaytracedChannel traced(scene);
+  const IdealChannel ideal;
+  Endpoint t;
+  t.pose.position = tag;
+  for (loc::TagReads& r : trials)
+    for (loc::ReadGroup& g : r.groups)
+      for (loc::PhaseRead& p : g.reads) {
+        Endpoint a;
+        a.pose.position = p.antenna_m;
+        std::complex<double> hm, hi;
+        traced.one_way(a, std::span(&t, 1), g.frequency_hz, std::span(&hm, 1));
+        ideal.one_way(a, std::span(&t, 1), g.frequency_hz, std::span(&hi, 1));
+        p.phase_rad = quantize_phase(std::fmod(p.phase_rad - std::arg(hm * hm) + std::arg(hi * hi) + 4 * kPi, 2 * kPi), 12);
+      }
+}
 
 std::vector<loc::TagReads> make_trials(const Case& c, int trials, Vec3& tag) {
   // First leg 2/3 of the path along +Y centred on the tag's y, second leg 1/3 along +X.
@@ -54,18 +84,19 @@ std::vector<loc::TagReads> make_trials(const Case& c, int trials, Vec3& tag) {
     s.stream = static_cast<uint64_t>(t);
     out.push_back(loc::synthesize("trial" + std::to_string(t), tag, path, s));
   }
+  if (c.wall_m > 0.0) add_wall_multipath(out, tag, c.wall_m, c.path_length_m);
   return out;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Localization stability sweeps (synthetic, ideal channel)"};
+  CLI::App app{"Localization stability sweeps (synthetic; ideal channel, and a metal wall for multipath)"};
   int trials = 5;
   std::string out_dir = "localize_sweeps_out", only;
   app.add_option("--trials", trials, "noise realisations per point")->capture_default_str();
   app.add_option("--out", out_dir, "output directory")->capture_default_str();
-  app.add_option("--only", only, "run one sweep: noise | spacing | aperture | distance");
+  app.add_option("--only", only, "run one sweep: noise | spacing | aperture | distance | multipath");
   CLI11_PARSE(app, argc, argv);
   std::filesystem::create_directories(out_dir);
 
@@ -78,6 +109,8 @@ int main(int argc, char** argv) {
        [](Case& c, double v) { c.path_length_m = v; }},
       {"distance", "tag distance from the path (m)", {0.5, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0}, false,
        [](Case& c, double v) { c.distance_m = v; }},
+      {"multipath", "metal wall behind the tag, distance (m)", {0.05, 0.1, 0.2, 0.35, 0.5, 1.0, 2.0, 4.0, 8.0}, true,
+       [](Case& c, double v) { c.wall_m = v; }},
   };
   const std::vector<loc::Method> methods{loc::Method::kHyperbolic, loc::Method::kNlls, loc::Method::kSar};
 
