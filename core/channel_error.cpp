@@ -28,7 +28,7 @@ ChannelErrorStats channel_errors(std::span<const std::complex<double>> reference
   if (reference.size() != test.size() || reference.size() != min_readable_h2.size())
     throw std::invalid_argument("channel_errors: spans of different lengths");
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::vector<double> phase, rssi, magnitude;
+  std::vector<double> phase, rssi, magnitude, phase_both, rssi_both;
   ChannelErrorStats s;
   for (size_t i = 0; i < reference.size(); ++i) {
     const double r2 = std::norm(reference[i]), t2 = std::norm(test[i]);
@@ -45,8 +45,11 @@ ChannelErrorStats channel_errors(std::span<const std::complex<double>> reference
     phase.push_back(wrap_abs(std::arg(test[i] * test[i]) - std::arg(reference[i] * reference[i])));
     rssi.push_back(std::abs(10.0 * std::log10(t2 / r2)) * 2.0);  // 40·log10|h| = 20·log10|h|²
     magnitude.push_back(std::abs(std::sqrt(t2 / r2) - 1.0));
+    phase_both.push_back(phase.back());
+    rssi_both.push_back(rssi.back());
   }
-  for (auto* v : {&phase, &rssi, &magnitude}) std::sort(v->begin(), v->end());
+  for (auto* v : {&phase, &rssi, &magnitude, &phase_both, &rssi_both}) std::sort(v->begin(), v->end());
+  s.phase_p95_both_rad = percentile(phase_both, 95), s.rssi_p95_both_db = percentile(rssi_both, 95);
   s.phase_p50_rad = percentile(phase, 50), s.phase_p95_rad = percentile(phase, 95);
   s.phase_max_rad = phase.empty() ? 0.0 : phase.back();
   s.rssi_p50_db = percentile(rssi, 50), s.rssi_p95_db = percentile(rssi, 95);

@@ -16,6 +16,8 @@ struct ChannelErrorStats {
   double rssi_p50_db = 0.0, rssi_p95_db = 0.0, rssi_max_db = 0.0;
   // ||h_test| / |h_ref| − 1|
   double magnitude_p50 = 0.0, magnitude_p95 = 0.0;
+  // The same p95s over the links readable in both (status mismatches left out), for charts.
+  double phase_p95_both_rad = 0.0, rssi_p95_both_db = 0.0;
 };
 
 // `min_readable_h2[i]`: the |h|² below which link i cannot be read (min_readable_h2 in core/reader_model.h).

@@ -45,6 +45,7 @@ TEST(ChannelError, PhaseWrapsAndUnreadableLinksAreMismatchesOrIgnored) {
   EXPECT_NEAR(s.phase_p50_rad, kTwoPi - 6.0, 1e-12);
   EXPECT_TRUE(std::isinf(s.phase_p95_rad));
   EXPECT_TRUE(std::isinf(s.rssi_max_db));
+  EXPECT_NEAR(s.phase_p95_both_rad, kTwoPi - 6.0, 1e-12);  // mismatches left out: 0, 0, 0.283
   EXPECT_THROW(channel_errors(ref, std::vector<C>(3), min_h2), std::invalid_argument);
 }
 
