@@ -32,9 +32,15 @@ std::vector<LinkBatch> sample_link_batches(const Scenario& scenario, size_t max_
       b.time_s = t;
       b.frequency_hz = reader.frequencies_hz[hop_channel_index(reader, t)];
       b.antenna_end = Endpoint{motion.antennas[a]->pose_at(t), reader.pattern, reader.polarization};
-      for (size_t i = 0; i < n_tags; ++i) {
+      std::vector<size_t> present;
+      for (size_t i = 0; i < n_tags; ++i)
+        if (t >= scenario.tags[i].start_s) present.push_back(i);
+      b.tags_present = present.size();
+      const size_t cap = std::max<size_t>(1, max_links / n_ant);
+      const size_t stride = (present.size() + cap - 1) / cap;
+      for (size_t k = 0; k < present.size(); k += std::max<size_t>(1, stride)) {
+        const size_t i = present[k];
         const TagSpec& tag = scenario.tags[i];
-        if (t < tag.start_s) continue;
         const Pose p = motion.tags[i]->pose_at(t);
         if (!((p.position - b.antenna_end.pose.position).norm() >= kMinLinkDistance_m)) continue;
         b.tags.push_back(i);

@@ -15,7 +15,8 @@ namespace {
 // One rung's one-way channels on every sampled link (batch order), and the rays it took.
 struct RungValues {
   std::vector<std::complex<double>> h;
-  uint64_t rays = 0;
+  uint64_t rays = 0;                // traced for the sampled links
+  double pose_rays_per_link = 0.0;  // per-pose candidate rays, shared out over the present tags (summed)
 };
 
 RungValues evaluate(const std::shared_ptr<const Scene>& scene, const FidelityRung& rung,
@@ -35,7 +36,11 @@ RungValues evaluate(const std::shared_ptr<const Scene>& scene, const FidelityRun
   PoseCandidates candidates;
   for (const LinkBatch& b : batches) {
     finder.prepare_pose(b.antenna_end.pose.position, candidates);
-    if (!candidates.all) v.rays += static_cast<uint64_t>(rung.options.candidate_rays);
+    // The pose's candidate rays serve all its present tags, not only the sampled ones.
+    if (!candidates.all)
+      v.pose_rays_per_link += static_cast<double>(rung.options.candidate_rays) /
+                              static_cast<double>(std::max<size_t>(1, b.tags_present)) *
+                              static_cast<double>(b.tag_ends.size());
     const size_t first = v.h.size();
     v.h.resize(first + b.tag_ends.size());
     const auto n = static_cast<std::ptrdiff_t>(b.tag_ends.size());
@@ -74,7 +79,7 @@ std::string fixed(double v, int digits) {
 
 }  // namespace
 
-std::vector<FidelityRung> fidelity_ladder(const TraceOptions& base) {
+std::vector<FidelityRung> fidelity_ladder(const TraceOptions& base, double tags_per_pose) {
   std::vector<FidelityRung> ladder;
   ladder.push_back({"ideal", true, base});
   auto rung = [&](ChannelLevel level, CandidateMode mode, int rays, std::string label) {
@@ -86,9 +91,9 @@ std::vector<FidelityRung> fidelity_ladder(const TraceOptions& base) {
   };
   rung(ChannelLevel::kLos, CandidateMode::kFast, 0, "los");
   rung(ChannelLevel::kLosBlocked, CandidateMode::kFast, 0, "los+blocked");
-  if (base.candidate_rays > 0)
-    rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, base.candidate_rays,
-         "single-bounce rays=" + std::to_string(base.candidate_rays));
+  const int rays = base.candidate_rays > 0 ? base.candidate_rays : tags_per_pose >= 1000.0 ? 4096 : 0;
+  if (rays > 0)
+    rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, rays, "single-bounce rays=" + std::to_string(rays));
   rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, 0, "single-bounce");
   rung(ChannelLevel::kSingleBounce, CandidateMode::kExhaustive, 0, "single-bounce exhaustive");
   return ladder;
@@ -103,7 +108,9 @@ FidelityChoice choose_fidelity(std::shared_ptr<const Scene> scene, const std::ve
   if (choice.links == 0) throw InputError("channel auto: the scenario has no antenna–tag link to sample");
   std::vector<double> min_h2;
   for (const LinkBatch& b : batches) min_h2.insert(min_h2.end(), b.min_readable_h2.begin(), b.min_readable_h2.end());
-  const std::vector<FidelityRung> ladder = fidelity_ladder(base);
+  double present = 0.0;
+  for (const LinkBatch& b : batches) present += static_cast<double>(b.tags_present);
+  const std::vector<FidelityRung> ladder = fidelity_ladder(base, present / static_cast<double>(batches.size()));
   const RungValues reference = evaluate(scene, ladder.back(), batches);
   for (size_t i = 0; i < ladder.size(); ++i) {
     const bool is_reference = i + 1 == ladder.size();
@@ -111,7 +118,7 @@ FidelityChoice choose_fidelity(std::shared_ptr<const Scene> scene, const std::ve
     FidelityRow row;
     row.rung = ladder[i];
     row.errors = channel_errors(reference.h, values.h, min_h2);
-    row.rays_per_link = static_cast<double>(values.rays) / static_cast<double>(choice.links);
+    row.rays_per_link = (static_cast<double>(values.rays) + values.pose_rays_per_link) / static_cast<double>(choice.links);
     row.within = is_reference ||
                  (row.errors.phase_p95_rad <= tolerance.phase_rad && row.errors.rssi_p95_db <= tolerance.rssi_db);
     choice.rows.push_back(row);

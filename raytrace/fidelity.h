@@ -3,8 +3,10 @@
 // (core/link_sample.h) every rung of a ladder of channel settings, cheapest first, is compared with the
 // reference (single-bounce, exhaustive image method); the first rung whose errors on what a reader reports
 // stay within the tolerance is picked:
-//   ideal → los → los+blocked → [single-bounce with the user's candidate rays, if set] → single-bounce (fast,
-//   exact) → single-bounce exhaustive (the reference itself, always within).
+//   ideal → los → los+blocked → [single-bounce with per-pose candidate rays] → single-bounce (fast, exact)
+//   → single-bounce exhaustive (the reference itself, always within).
+// The candidate-ray rung uses the user's candidate_rays when set, else 4096 rays when the scenario has at least
+// 1000 tags per antenna pose (below that the per-pose rays cost more than they save, bench/bench_sweep).
 // The ladder's order is its cost order as measured by bench/bench_sweep (README, "Speed and accuracy").
 // A rung is within tolerance when the 95th percentile of the round-trip phase error and of the RSSI error
 // (core/channel_error.h: links readable in either channel; a link readable in only one counts as infinite
@@ -48,8 +50,9 @@ struct FidelityChoice {
 };
 
 // The ladder for user settings `base` (drop threshold, epsilons, max path length and candidate rays are
-// kept; level and candidate mode vary). The last rung is the reference.
-std::vector<FidelityRung> fidelity_ladder(const TraceOptions& base);
+// kept; level and candidate mode vary) and the mean number of tags per antenna pose. The last rung is the
+// reference.
+std::vector<FidelityRung> fidelity_ladder(const TraceOptions& base, double tags_per_pose = 0.0);
 
 // Evaluates the ladder on `batches` and picks. Throws InputError when the sample is empty.
 FidelityChoice choose_fidelity(std::shared_ptr<const Scene> scene, const std::vector<LinkBatch>& batches,

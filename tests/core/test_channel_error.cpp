@@ -106,3 +106,29 @@ TEST(LinkSample, StaticScenarioGivesOnePoseMovingOneSpreadsOverTheRun) {
 
 }  // namespace
 }  // namespace rfidray
+
+namespace rfidray {
+namespace {
+
+TEST(LinkSample, ManyTagsAreSubsampledButCounted) {
+  Scenario s;
+  AntennaSpec a;
+  a.reader.name = "a";
+  a.motion.pose.position = Vec3(0, 0, 1);
+  s.antennas.push_back(a);
+  for (int i = 0; i < 5000; ++i) {
+    TagSpec t;
+    t.tag.name = "t" + std::to_string(i);
+    t.motion.pose.position = Vec3(1.0 + 0.001 * i, 2.0, 1.0);
+    s.tags.push_back(t);
+  }
+  s.duration_s = 1.0;
+  const auto batches = sample_link_batches(s, 1000);
+  ASSERT_EQ(batches.size(), 1u);
+  EXPECT_EQ(batches[0].tags_present, 5000u);
+  EXPECT_EQ(batches[0].tags.size(), 1000u);  // every 5th
+  EXPECT_EQ(batches[0].tags[1], 5u);
+}
+
+}  // namespace
+}  // namespace rfidray

@@ -156,3 +156,27 @@ TEST(Fidelity, CachedAndRecomputedRaytracedLinksGiveIdenticalReadings) {
 
 }  // namespace
 }  // namespace rfidray
+
+namespace rfidray {
+namespace {
+
+TEST(Fidelity, LadderAddsCandidateRaysOnlyWhereTheyPayOff) {
+  auto labels = [](const std::vector<FidelityRung>& l) {
+    std::vector<std::string> out;
+    for (const auto& r : l) out.push_back(r.label);
+    return out;
+  };
+  const std::vector<std::string> few = labels(fidelity_ladder(TraceOptions{}, 10.0));
+  EXPECT_EQ(few, (std::vector<std::string>{"ideal", "los", "los+blocked", "single-bounce", "single-bounce exhaustive"}));
+  const auto many = fidelity_ladder(TraceOptions{}, 5000.0);
+  ASSERT_EQ(many.size(), 6u);
+  EXPECT_EQ(many[3].label, "single-bounce rays=4096");
+  EXPECT_EQ(many[3].options.candidate_rays, 4096);
+  TraceOptions user;
+  user.candidate_rays = 1000;
+  EXPECT_EQ(fidelity_ladder(user, 10.0)[3].options.candidate_rays, 1000);  // the user's setting, always
+  EXPECT_EQ(fidelity_ladder(user, 10.0).back().options.candidates, CandidateMode::kExhaustive);
+}
+
+}  // namespace
+}  // namespace rfidray
