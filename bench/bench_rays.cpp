@@ -255,7 +255,13 @@ int main(int argc, char** argv) {
       // Interleaved raw/ours so both see the same machine state; one thread count after the other.
       for (int threads : {1, 2}) {
         auto reg = [&](const char* what, void (*fn)(benchmark::State&, Prepared*)) {
-          benchmark::RegisterBenchmark((std::string(what) + "/" + name).c_str(), fn, p)
+          benchmark::RegisterBenchmark((std::string(what) + "/" + name).c_str(),
+                                       [fn](benchmark::State& st, Prepared* pp) {
+                                         fn(st, pp);
+                                         st.counters["triangles"] = benchmark::Counter(
+                                             double(pp->scene->triangle_count()), benchmark::Counter::kAvgThreads);
+                                       },
+                                       p)
               ->Threads(threads)
               ->UseRealTime()
               ->Unit(benchmark::kMillisecond);

@@ -46,20 +46,28 @@ TraceOptions trace_options(const ChannelOptionsSpec& spec) {
 std::unique_ptr<Channel> make_channel(const std::string& name, const Scenario& scenario, const std::string& field,
                                       std::vector<std::string>* report) {
   if (name == "ideal") return std::make_unique<IdealChannel>();
+  const auto names = channel_names();
+  if (std::find(names.begin(), names.end(), name) == names.end()) return make_channel(name, scenario, nullptr, field);
+  return make_channel(name, scenario, scenario_scene(scenario, name), field, report);
+}
+
+std::unique_ptr<Channel> make_channel(const std::string& name, const Scenario& scenario,
+                                      std::shared_ptr<const Scene> scene, const std::string& field,
+                                      std::vector<std::string>* report) {
+  if (name == "ideal") return std::make_unique<IdealChannel>();
   if (name == "los" || name == "los+blocked" || name == "single-bounce") {
     TraceOptions options = trace_options(scenario.channel_options);
     options.level = parse_channel_level(name, field);
-    return std::make_unique<RaytracedChannel>(scenario_scene(scenario, name), options);
+    return std::make_unique<RaytracedChannel>(std::move(scene), options);
   }
   if (name == "auto") {
     const ChannelOptionsSpec& spec = scenario.channel_options;
-    const auto scene = scenario_scene(scenario, name);
     const auto batches = sample_link_batches(scenario, spec.auto_sample_links);
     const FidelityChoice choice = choose_fidelity(
         scene, batches, trace_options(spec), {spec.auto_phase_tolerance_rad, spec.auto_rssi_tolerance_db});
     if (report)
       for (const std::string& line : describe(choice)) report->push_back(line);
-    return make_rung_channel(scene, choice.picked);
+    return make_rung_channel(std::move(scene), choice.picked);
   }
   std::string known;
   for (const std::string& n : channel_names()) known += (known.empty() ? "" : ", ") + n;

@@ -7,6 +7,7 @@
 
 #include "core/channel.h"
 #include "core/scenario.h"
+#include "raytrace/scene.h"
 #include "raytrace/trace_options.h"
 
 namespace rfidray::cli {
@@ -21,6 +22,11 @@ TraceOptions trace_options(const ChannelOptionsSpec& spec);
 // name.
 std::unique_ptr<Channel> make_channel(const std::string& name, const Scenario& scenario,
                                       const std::string& field = "channel",
+                                      std::vector<std::string>* report = nullptr);
+// The same on a scene built elsewhere (e.g. from a Gazebo world); `scenario` supplies the channel options and,
+// for `auto`, the antennas, tags and motion whose links are sampled. scenario.scene is not read.
+std::unique_ptr<Channel> make_channel(const std::string& name, const Scenario& scenario,
+                                      std::shared_ptr<const Scene> scene, const std::string& field = "channel",
                                       std::vector<std::string>* report = nullptr);
 
 }  // namespace rfidray::cli
