@@ -165,9 +165,9 @@ int run_bridge(const BridgeOptions& o) {
   }
 
   Inbox inbox;
-  auto on_poses = [&](const ignition::msgs::Pose_V& m) { inbox.push(m); };
+  std::function<void(const ignition::msgs::Pose_V&)> on_poses = [&](const ignition::msgs::Pose_V& m) { inbox.push(m); };
   for (const std::string& topic : {"/world/" + name + "/pose/info", "/world/" + name + "/dynamic_pose/info"})
-    if (!node.Subscribe(topic, std::function<void(const ignition::msgs::Pose_V&)>(on_poses)))
+    if (!node.Subscribe(topic, on_poses))
       throw InputError("cannot subscribe to '" + topic + "'");
 
   // The first reading after advertising is lost unless the subscribers are known: wait for them, bounded.

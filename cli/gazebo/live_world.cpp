@@ -5,6 +5,7 @@
 
 #include "cli/world_source.h"
 #include "core/error.h"
+#include "core/reader_model.h"
 
 namespace rfidray::cli::gazebo {
 
