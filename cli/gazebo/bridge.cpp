@@ -34,6 +34,12 @@ namespace {
 std::atomic<bool> g_stop{false};
 void on_signal(int) { g_stop = true; }
 
+std::string fmt_s(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 double seconds(const ignition::msgs::Time& t) { return static_cast<double>(t.sec()) + 1e-9 * t.nsec(); }
 void set_time(double t_s, ignition::msgs::Time& out) {
   const double sec = std::floor(t_s);
@@ -133,7 +139,11 @@ int run_bridge(const BridgeOptions& o) {
   if (o.ros) {
     std::vector<std::string> names;
     for (const AntennaSpec& a : scenario.antennas) names.push_back(a.reader.name);
-    ros_pub = std::make_unique<ros_bridge::TagArrayPublisher>(o.ros_node, names);
+    try {
+      ros_pub = std::make_unique<ros_bridge::TagArrayPublisher>(o.ros_node, names);
+    } catch (const std::runtime_error& e) {
+      throw InputError(std::string("option --ros: ") + e.what());
+    }
     say("ROS: publishing rfid_sensor/TagArray on " + ros_pub->topics());
   }
 #else
@@ -155,7 +165,7 @@ int run_bridge(const BridgeOptions& o) {
       }
     }
     if (!got)
-      throw InputError("no answer from " + scene_service + " within " + std::to_string(o.scene_timeout_s) +
+      throw InputError("no answer from " + scene_service + " within " + fmt_s(o.scene_timeout_s) +
                        " s: is Gazebo running world '" + name + "' in partition '" + node_options.Partition() +
                        "' (IGN_PARTITION) and reachable (IGN_IP)?");
     const EntityMap& map = live.entity_map();
@@ -176,6 +186,9 @@ int run_bridge(const BridgeOptions& o) {
     auto all = [&] {
       for (const auto& p : readings_pubs)
         if (!p.HasConnections()) return false;
+#ifdef RFIDRAY_HAVE_ROS
+      if (ros_pub && !ros_pub->all_connected()) return false;
+#endif
       return true;
     };
     while (!all() && !g_stop && std::chrono::steady_clock::now() < until)
@@ -210,7 +223,16 @@ int run_bridge(const BridgeOptions& o) {
       csv[t.antenna]->flush();
     }
 #ifdef RFIDRAY_HAVE_ROS
-    if (ros_pub) ros_pub->publish(t, scenario);
+    if (ros_pub) {
+      std::vector<ros_bridge::TagValue> tags;
+      for (const ReadRecord& r : t.reads)
+        tags.push_back({scenario.tags[r.tag].tag.name, r.distance_m, r.reading.phase_rad, r.reading.rssi_dbm});
+      const Pose& p = t.antenna_pose;
+      ros_pub->publish(t.antenna, t.time_s,
+                       {p.position.x(), p.position.y(), p.position.z(), p.orientation.x(), p.orientation.y(),
+                        p.orientation.z(), p.orientation.w()},
+                       tags);
+    }
 #endif
   };
 
@@ -220,7 +242,7 @@ int run_bridge(const BridgeOptions& o) {
     if (!inbox.pop(msg, std::chrono::milliseconds(100))) {
       const double idle = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_message).count();
       if (idle > o.idle_timeout_s) {
-        say("no pose message for " + std::to_string(o.idle_timeout_s) + " s; stopping");
+        say("no pose message for " + fmt_s(o.idle_timeout_s) + " s; stopping");
         break;
       }
       continue;
@@ -237,7 +259,7 @@ int run_bridge(const BridgeOptions& o) {
     status_pub.Publish(st);
   }
   say(std::to_string(live.ticks()) + " antenna ticks from " + std::to_string(pose_messages) + " pose messages, " +
-      std::to_string(live.scene_builds()) + " scene builds, simulation time " + std::to_string(live.time_s()) + " s");
+      std::to_string(live.scene_builds()) + " scene builds, simulation time " + fmt_s(live.time_s()) + " s");
   return 0;
 }
 
