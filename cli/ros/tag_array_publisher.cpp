@@ -15,10 +15,15 @@ TagArrayPublisher::TagArrayPublisher(const std::string& node_name, const std::ve
   if (!ros::master::check())
     throw std::runtime_error("no ROS master at " + ros::master::getURI() + " (start roscore, or set ROS_MASTER_URI)");
   node_ = std::make_unique<ros::NodeHandle>("~");
-  for (const std::string& a : antennas) publishers_.push_back(node_->advertise<rfid_sensor::TagArray>(a + "/data", 10));
+  // A deep queue: Gazebo running faster than real time gives bursts of ticks, and roscpp drops what does not fit.
+  for (const std::string& a : antennas)
+    publishers_.push_back(node_->advertise<rfid_sensor::TagArray>(a + "/data", 1000));
 }
 
 TagArrayPublisher::~TagArrayPublisher() {
+  // roscpp sends from a background thread and drops what is still queued at shutdown (the last ticks of a
+  // run that ends on --duration): give the queues time to drain. roscpp has no flush to wait on instead.
+  if (!publishers_.empty()) ros::WallDuration(0.5).sleep();
   publishers_.clear();
   node_.reset();
   if (ros::isStarted()) ros::shutdown();
