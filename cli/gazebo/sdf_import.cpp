@@ -170,7 +170,13 @@ class Importer {
         break;
       case sdf::GeometryType::PLANE: {
         const auto n = g->PlaneShape()->Normal();
-        const auto s = g->PlaneShape()->Size();
+        auto s = g->PlaneShape()->Size();
+        // Gazebo collides with planes as if infinite; SDF's <size> (default 1 × 1) is for visuals. We keep
+        // a size the world gives, and make the default one a 1 km square, as a stand-in for infinite.
+        if (s.X() == 1.0 && s.Y() == 1.0) {
+          s.Set(1000.0, 1000.0);
+          w_.notes.push_back(where + ": plane without <size> (infinite in Gazebo): 1 km x 1 km");
+        }
         out.mesh = plane_mesh(Vec3(n.X(), n.Y(), n.Z()), s.X(), s.Y());
         out.geometry = "plane";
         break;

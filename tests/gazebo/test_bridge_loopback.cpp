@@ -47,6 +47,7 @@ TEST(BridgeLoopback, ReadingsArriveAndMatchSimulate) {
   ASSERT_TRUE(play(world, gazebo.poses, status_poses, bridge))
       << "the bridge never acknowledged a pose message; its log:\n" << slurp(dir / "bridge.log");
   ASSERT_EQ(bridge.wait(20000ms), 0) << "bridge log:\n" << slurp(dir / "bridge.log");
+  std::printf("bridge log:\n%s", slurp(dir / "bridge.log").c_str());  // what a user sees (ctest -V)
 
   // The reference: simulate() in each state; ticks before the switch from the first, after from the second.
   Scenario s1, s2;
