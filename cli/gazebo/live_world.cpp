@@ -69,6 +69,11 @@ void LiveWorld::emit_until(double t_s, const TickSink& sink, size_t& emitted) {
 size_t LiveWorld::apply(double t_s, const ignition::msgs::Pose_V& poses, const TickSink& sink) {
   size_t emitted = 0;
   if (!std::isfinite(t_s)) return 0;
+  // Simulation time a second or more back: Gazebo was reset. Ticks start again from there.
+  if (started_ && t_s + 1.0 < time_s_) {
+    started_ = false;
+    time_s_ = t_s;
+  }
   if (!started_) {
     started_ = true;
     for (size_t a = 0; a < next_tick_.size(); ++a)

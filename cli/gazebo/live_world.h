@@ -5,8 +5,8 @@
 //
 // Timing: a tick at t_k uses the latest poses stamped at or before t_k, so it is computed once a message
 // stamped later than t_k arrives (Gazebo publishes poses every step, far faster than readers tick). The first
-// tick is the first one at or after the first message. Moving obstacles rebuild the radio scene before the
-// next tick that traces through it.
+// tick is the first one at or after the first message; a stamp a second or more back (a reset) starts the
+// ticks again from there. Moving obstacles rebuild the radio scene before the next tick that traces through it.
 #include <functional>
 #include <limits>
 #include <memory>
