@@ -32,7 +32,11 @@ void write_png(const std::filesystem::path& png, const std::vector<Panel>& panel
     for (const Panel& p : panels)
       for (const Series& s : p.series) {
         d << "# " << s.title << "\n";
-        for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) d << s.x[i] << ' ' << s.y[i] << '\n';
+        for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
+          d << s.x[i] << ' ' << s.y[i];
+          if (!s.labels.empty()) d << ' ' << quoted(i < s.labels.size() ? s.labels[i] : "");
+          d << '\n';
+        }
         if (s.x.empty()) d << "nan nan\n";  // keep the block so indices stay aligned
         d << "\n\n";
       }
@@ -52,8 +56,12 @@ void write_png(const std::filesystem::path& png, const std::vector<Panel>& panel
     g << "plot ";
     for (size_t i = 0; i < p.series.size(); ++i) {
       if (i) g << ", ";
-      g << quoted(dat.filename().string()) << " index " << block++ << " using 1:2 with " << p.series[i].style
+      g << quoted(dat.filename().string()) << " index " << block << " using 1:2 with " << p.series[i].style
         << " title " << quoted(p.series[i].title);
+      if (!p.series[i].labels.empty())
+        g << ", " << quoted(dat.filename().string()) << " index " << block
+          << " using 1:2:3 with labels offset char 0.6,0.5 left font ',8' notitle";
+      ++block;
     }
     if (p.series.empty()) g << "NaN notitle";
     g << "\n";

@@ -11,6 +11,7 @@ struct Series {
   std::string title;
   std::vector<double> x, y;
   std::string style = "lines";  // gnuplot style: "lines", "points", "linespoints", "steps"
+  std::vector<std::string> labels;  // optional: a text beside each point
 };
 
 struct Panel {

@@ -641,6 +641,37 @@ SceneSpec parse_scene(const Source& src, const YAML::Node& n, const std::filesys
   return s;
 }
 
+ChannelOptionsSpec parse_channel_options(const Source& src, const YAML::Node& node) {
+  Map m(src, node, "channel_options");
+  ChannelOptionsSpec c;
+  c.source_line = src.line(node);
+  if (auto n = m.get("candidates")) {
+    const std::string v = src.scalar(*n, m.field("candidates"));
+    if (v != "fast" && v != "exhaustive")
+      throw src.error(*n, m.field("candidates"), "must be fast or exhaustive (got '" + v + "')");
+    c.candidates = v;
+  }
+  if (auto n = m.get("candidate_rays")) {
+    const long long v = src.integer(*n, m.field("candidate_rays"));
+    if (v < 0 || v > 10'000'000)
+      throw src.error(*n, m.field("candidate_rays"), "must be in 0…10000000 (got " + std::to_string(v) + ")");
+    c.candidate_rays = static_cast<int>(v);
+  }
+  if (m.has("candidate_spread")) c.candidate_spread = m.positive({"candidate_spread"}, 1.0);
+  if (m.has("drop_below_db")) c.drop_below_db = m.non_negative({"drop_below_db"}, 40.0);
+  if (m.has("max_path_length_m")) c.max_path_length_m = m.positive({"max_path_length_m"}, 1.0);
+  c.auto_phase_tolerance_rad = m.non_negative({"auto_phase_tolerance_rad"}, c.auto_phase_tolerance_rad);
+  c.auto_rssi_tolerance_db = m.non_negative({"auto_rssi_tolerance_db"}, c.auto_rssi_tolerance_db);
+  if (auto n = m.get("auto_sample_links")) {
+    const long long v = src.integer(*n, m.field("auto_sample_links"));
+    if (v < 1 || v > 10'000'000)
+      throw src.error(*n, m.field("auto_sample_links"), "must be in 1…10000000 (got " + std::to_string(v) + ")");
+    c.auto_sample_links = static_cast<size_t>(v);
+  }
+  m.finish();
+  return c;
+}
+
 }  // namespace
 
 Scenario parse_scenario(const std::string& text, const std::string& source) {
@@ -675,6 +706,7 @@ Scenario parse_scenario(const std::string& text, const std::string& source) {
       throw src.error(*ch, "channel", "unknown channel '" + s.channel + "' (known: " + known + ")");
     }
   }
+  if (auto co = top.get("channel_options")) s.channel_options = parse_channel_options(src, *co);
   const ReaderModelKind default_model =
       top.has("model") ? parse_model(src, *top.get("model"), "model") : ReaderModelKind::kPaper;
   if (auto scene = top.get("scene")) s.scene = parse_scene(src, *scene, base_dir);

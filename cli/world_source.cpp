@@ -64,6 +64,9 @@ std::unique_ptr<Channel> make_scene_channel(const std::string& name, std::shared
     options.level = parse_channel_level(name, field);
     return std::make_unique<RaytracedChannel>(std::move(scene), options);
   }
+  if (name == "auto")
+    throw field_error(field, "channel 'auto' samples a scenario file's links; with a world choose one of ideal, los, "
+                             "los+blocked, single-bounce");
   throw field_error(field, "unknown channel '" + name + "' (known: ideal, los, los+blocked, single-bounce)");
 }
 

@@ -64,7 +64,8 @@ double AntennaPattern::patch_exponent() const {
 }
 
 double AntennaPattern::gain_linear(const Vec3& d) const {
-  const double peak = db_to_linear(peak_gain_dbi);
+  // 0 dBi is the common case (isotropic test antennas, default tags): no exponential per path.
+  const double peak = peak_gain_dbi == 0.0 ? 1.0 : db_to_linear(peak_gain_dbi);
   switch (kind) {
     case PatternKind::kIsotropic:
       return peak;

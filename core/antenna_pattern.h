@@ -31,6 +31,7 @@ struct AntennaPattern {
   double gain_linear(const Vec3& direction_local) const;
   // Linear power gain in a world direction for an antenna with the given orientation.
   double gain_linear_world(const Quat& orientation, const Vec3& direction_world) const {
+    if (kind == PatternKind::kIsotropic) return gain_linear(direction_world);  // no rotation needed
     return gain_linear(orientation.conjugate() * direction_world);
   }
   // Exponent n of the cos^n patch model (derived from beamwidth, or from the gain when no beamwidth).

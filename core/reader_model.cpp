@@ -1,5 +1,6 @@
 #include "core/reader_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -122,6 +123,12 @@ Reading physical_reading(const ReaderParams& reader, const TagParams& tag, const
   r.phase_rad = quantize_phase(phase, reader.phase_bits);
   r.rssi_dbm = quantize_rssi(watt_to_dbm(p_rx_w) + n_rssi_db, reader.rssi_resolution_db);
   return r;
+}
+
+double min_readable_h2(const ReaderParams& reader, const TagParams& tag) {
+  const double p_tx_w = dbm_to_watt(reader.tx_power_dbm);
+  return std::max(dbm_to_watt(tag.chip_sensitivity_dbm) / p_tx_w,
+                  std::sqrt(dbm_to_watt(reader.sensitivity_dbm) / (p_tx_w * reader.modulation_factor)));
 }
 
 Reading read_tag(const ReaderParams& reader, const TagParams& tag, const LinkState& link, Rng& rng) {

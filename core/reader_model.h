@@ -38,6 +38,10 @@ Reading read_tag(const ReaderParams& reader, const TagParams& tag, const LinkSta
 Reading paper_reading(const ReaderParams& reader, const LinkState& link, Rng& rng);
 Reading physical_reading(const ReaderParams& reader, const TagParams& tag, const LinkState& link, Rng& rng);
 
+// The smallest |h|² (one-way channel power gain) at which the physical model can read the tag: the chip must
+// be powered (P_tx·|h|² ≥ chip sensitivity) and the reader must decode (P_tx·K·|h|⁴ ≥ reader sensitivity).
+double min_readable_h2(const ReaderParams& reader, const TagParams& tag);
+
 // Quantizes a phase in [0, 2π) to `bits` bits of 2π (0 bits: unchanged); result in [0, 2π).
 double quantize_phase(double phase_rad, int bits);
 // Rounds an RSSI to the nearest multiple of `resolution_db` (0: unchanged).

@@ -80,10 +80,25 @@ struct TagSpec {
   int source_line = 0;
 };
 
+// Settings of the ray-traced channels and of `channel: auto` (raytrace/trace_options.h, raytrace/fidelity.h).
+// Unset fields keep the ray tracer's defaults.
+struct ChannelOptionsSpec {
+  std::optional<std::string> candidates;      // "fast" | "exhaustive"
+  std::optional<int> candidate_rays;          // per-pose candidate search rays (0: exact)
+  std::optional<double> candidate_spread;
+  std::optional<double> drop_below_db;
+  std::optional<double> max_path_length_m;
+  double auto_phase_tolerance_rad = 0.05;     // channel: auto
+  double auto_rssi_tolerance_db = 0.5;
+  size_t auto_sample_links = 2000;
+  int source_line = 0;
+};
+
 struct Scenario {
   std::string source;  // scenario file, for messages ("" when built in code)
   SceneSpec scene;
-  std::string channel = "ideal";
+  std::string channel = "ideal";  // ideal | los | los+blocked | single-bounce | auto
+  ChannelOptionsSpec channel_options;
   std::vector<RobotSpec> robots;
   std::vector<AntennaSpec> antennas;
   std::vector<TagSpec> tags;

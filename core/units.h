@@ -13,7 +13,8 @@ inline constexpr double kTwoPi = 2.0 * std::numbers::pi;
 inline double wavelength_m(double frequency_hz) { return kSpeedOfLight_m_s / frequency_hz; }
 inline double wavenumber_rad_m(double frequency_hz) { return kTwoPi / wavelength_m(frequency_hz); }
 
-inline double db_to_linear(double db) { return std::pow(10.0, db / 10.0); }
+// exp rather than pow(10, ·): the same value to an ulp, several times cheaper in per-path loops.
+inline double db_to_linear(double db) { return std::exp(db * (std::numbers::ln10 / 10.0)); }
 inline double linear_to_db(double lin) { return 10.0 * std::log10(lin); }
 inline double dbm_to_watt(double dbm) { return std::pow(10.0, (dbm - 30.0) / 10.0); }
 inline double watt_to_dbm(double w) { return 10.0 * std::log10(w) + 30.0; }

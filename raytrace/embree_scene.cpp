@@ -15,6 +15,13 @@ void check(RTCDevice device, const char* what) {
 EmbreeScene::EmbreeScene(std::span<const TriangleMesh> meshes, const std::string& config) {
   device_ = rtcNewDevice(config.empty() ? nullptr : config.c_str());
   if (!device_) throw std::runtime_error("Embree: cannot create device (config '" + config + "')");
+  rtcSetDeviceMemoryMonitorFunction(
+      device_,
+      [](void* user, ssize_t bytes, bool) {
+        static_cast<std::atomic<int64_t>*>(user)->fetch_add(bytes, std::memory_order_relaxed);
+        return true;  // never refuse an allocation
+      },
+      &embree_bytes_);
   try {
     scene_ = rtcNewScene(device_);
     // Robust traversal: rays through shared edges/vertices are not lost (the image method's reflection

@@ -6,6 +6,8 @@
 //
 // Embree works in float: hit distances are good to ~1e-7 relative. The image method itself stays in double
 // (raytrace/path_finder.cpp); Embree only answers visibility and "which triangle is there".
+#include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -17,6 +19,9 @@
 #include "raytrace/triangle_mesh.h"
 
 namespace rfidray {
+
+// Rays traced by the calling thread through any EmbreeScene (deterministic cost measure for `channel: auto`).
+inline thread_local uint64_t tl_rays_traced = 0;
 
 struct RayHit {
   bool hit = false;
@@ -35,6 +40,7 @@ class EmbreeScene {
 
   // Closest hit on origin + t·dir for t in [tnear, tfar]; `dir` must be unit length.
   RayHit intersect(const Vec3& origin, const Vec3& dir, double tnear, double tfar) const {
+    ++tl_rays_traced;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh;
@@ -55,6 +61,7 @@ class EmbreeScene {
   // True if anything lies on origin + t·dir for t in [tnear, tfar].
   bool occluded(const Vec3& origin, const Vec3& dir, double tnear, double tfar) const {
     if (!(tfar > tnear)) return false;
+    ++tl_rays_traced;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay ray;
@@ -65,6 +72,8 @@ class EmbreeScene {
 
   RTCScene handle() const { return scene_; }  // for raw-Embree baselines in bench/
   size_t triangle_count() const { return triangle_count_; }
+  // Bytes Embree holds for this scene (geometry buffers and BVH), from its memory monitor.
+  size_t embree_bytes() const { return static_cast<size_t>(std::max<int64_t>(0, embree_bytes_.load())); }
 
  private:
   static void fill_ray(RTCRay& r, const Vec3& o, const Vec3& d, double tnear, double tfar) {
@@ -82,6 +91,7 @@ class EmbreeScene {
     r.flags = 0;
   }
 
+  std::atomic<int64_t> embree_bytes_{0};  // updated by Embree's build threads
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   size_t triangle_count_ = 0;

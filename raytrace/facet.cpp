@@ -132,6 +132,11 @@ FacetSet merge_facets(const std::vector<TriangleMesh>& meshes,
         f.normal = n0;
         f.offset_m = c0;
       }
+      // How far its vertices stray from the fitted plane (0 for exactly planar input, up to the merge
+      // tolerance for noisy meshes): rays meeting or leaving the facet keep this clearance.
+      for (uint32_t t : queue)
+        for (int k = 0; k < 3; ++k)
+          f.flatness_m = std::max(f.flatness_m, std::abs(f.signed_distance(mesh.vertices[mesh.triangles[t][k]])));
       for (uint32_t g : f.triangles) out.facet_of_triangle[g] = fid;
       out.facets.push_back(std::move(f));
     }

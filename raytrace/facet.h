@@ -20,6 +20,7 @@ struct Facet {
   uint32_t material = 0;        // index into the scene's materials
   Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // bounds of its triangles
   std::vector<uint32_t> triangles;            // global triangle ids
+  double flatness_m = 0.0;                    // max distance of its vertices from the plane
 
   double signed_distance(const Vec3& p) const { return normal.dot(p) - offset_m; }
 };

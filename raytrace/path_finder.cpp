@@ -5,6 +5,8 @@
 #include <map>
 #include <tuple>
 
+#include <omp.h>
+
 #include "core/error.h"
 #include "core/fresnel.h"
 #include "core/units.h"
@@ -14,7 +16,7 @@ namespace {
 
 // Mirror image of t in the plane n·x = c and the point where a→image meets the plane; false unless a and t
 // are strictly on the same side (at least `eps` away from it).
-bool image_point(const Vec3& n, double c, const Vec3& a, const Vec3& t, double eps, Vec3& image, Vec3& p) {
+inline bool image_point(const Vec3& n, double c, const Vec3& a, const Vec3& t, double eps, Vec3& image, Vec3& p) {
   const double da = n.dot(a) - c;
   const double dt = n.dot(t) - c;
   if (da * dt <= 0.0 || std::abs(da) < eps || std::abs(dt) < eps) return false;
@@ -51,9 +53,13 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     : scene_(std::move(scene)), options_(options) {
   if (!scene_) throw InputError("ray-traced channel: no scene");
   if (!(options_.drop_below_db >= 0.0)) throw field_error("drop_below_db", "must be ≥ 0 dB");
+  if (!(options_.max_path_length_m > 0.0)) throw field_error("max_path_length_m", "must be > 0 m");
   if (!(options_.endpoint_epsilon_m > 0.0) || !(options_.surface_epsilon_m > 0.0))
     throw field_error("epsilon", "ray epsilons must be > 0");
   if (options_.candidate_rays < 0) throw field_error("candidate_rays", "must be ≥ 0");
+  if (!(options_.candidate_spread > 0.0)) throw field_error("candidate_spread", "must be > 0");
+  drop_power_ratio_ = db_to_linear(-options_.drop_below_db);
+  max_length2_ = options_.max_path_length_m * options_.max_path_length_m;
   // Plane groups of the fast mode.
   const auto& facets = scene_->facets();
   std::map<std::tuple<int64_t, int64_t, int64_t, int64_t>, uint32_t> group_of_key;
@@ -65,6 +71,7 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     PlaneGroup& g = planes_[it->second];
     g.lo = g.lo.cwiseMin(fc.lo);
     g.hi = g.hi.cwiseMax(fc.hi);
+    g.flatness_m = std::max(g.flatness_m, fc.flatness_m);
     plane_of_facet_[f] = it->second;
   }
   // Occupancy bitmaps: ~64 cells per facet (at most 2^18 per plane), shaped like the plane's extent.
@@ -110,29 +117,70 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
     candidate_directions_.emplace_back(r * std::cos(golden * i), r * std::sin(golden * i), z);
   }
+  if (n > 0) candidate_spacing_rad_ = std::sqrt(4.0 * kPi / n);
 }
 
-bool PathFinder::occupied(const PlaneGroup& g, const Vec3& p) const {
+size_t PathFinder::cell_bit(const PlaneGroup& g, const Vec3& p) const {
   const double fu = (p[g.axis_u] - g.u0) * g.inv_du, fv = (p[g.axis_v] - g.v0) * g.inv_dv;
-  if (!(fu >= 0.0 && fv >= 0.0 && fu < g.nu && fv < g.nv)) return false;
-  const size_t bit = g.bit_offset + static_cast<size_t>(fv) * g.nu + static_cast<size_t>(fu);
-  return (occupancy_[bit / 64] >> (bit % 64)) & 1u;
+  if (!(fu >= 0.0 && fv >= 0.0 && fu < g.nu && fv < g.nv)) return SIZE_MAX;
+  return g.bit_offset + static_cast<size_t>(fv) * g.nu + static_cast<size_t>(fu);
+}
+
+void PathFinder::mark_seen(const PlaneGroup& g, const Vec3& p, double radius_m, PoseCandidates& out) const {
+  const auto range = [](double x, double r, double x0, double inv, int n) {
+    return std::pair{std::clamp(static_cast<int>(std::floor((x - r - x0) * inv)), 0, n - 1),
+                     std::clamp(static_cast<int>(std::floor((x + r - x0) * inv)), 0, n - 1)};
+  };
+  const auto [iu0, iu1] = range(p[g.axis_u], radius_m, g.u0, g.inv_du, g.nu);
+  const auto [iv0, iv1] = range(p[g.axis_v], radius_m, g.v0, g.inv_dv, g.nv);
+  for (int iv = iv0; iv <= iv1; ++iv)
+    for (int iu = iu0; iu <= iu1; ++iu) {
+      const size_t bit = g.bit_offset + static_cast<size_t>(iv) * g.nu + iu;
+      // Only occupied cells are marked, so one lookup in try_plane answers "a facet is there and was seen".
+      const uint64_t mask = (uint64_t{1} << (bit % 64)) & occupancy_[bit / 64];
+      if (!mask) continue;
+      uint64_t& word = out.seen_cells[bit / 64];
+      if (word == 0) out.touched_words.push_back(static_cast<uint32_t>(bit / 64));
+      word |= mask;
+    }
 }
 
 void PathFinder::prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const {
   out.planes.clear();
   out.all = options_.candidates != CandidateMode::kFast || candidate_directions_.empty();
-  if (out.all) return;
-  std::vector<char> seen(planes_.size(), 0);
-  const EmbreeScene& bvh = scene_->bvh();
-  for (const Vec3& d : candidate_directions_) {
-    const RayHit h = bvh.intersect(antenna_position, d, options_.endpoint_epsilon_m, 1e30);
-    if (!h.hit) continue;
-    const uint32_t f = scene_->facet_of(scene_->triangle_id(h.geom, h.prim));
-    if (f != kNoFacet) seen[plane_of_facet_[f]] = 1;
+  if (out.all || options_.level != ChannelLevel::kSingleBounce) return;  // nothing to search for
+  if (out.seen_cells.size() != occupancy_.size()) {
+    out.seen_cells.assign(occupancy_.size(), 0);
+    out.touched_words.clear();
   }
-  for (size_t g = 0; g < seen.size(); ++g)
-    if (seen[g]) out.planes.push_back(static_cast<uint32_t>(g));
+  for (uint32_t w : out.touched_words) out.seen_cells[w] = 0;
+  out.touched_words.clear();
+  // The rays are the expensive part: in parallel unless the caller already is (simulate runs antennas in
+  // parallel); the marking after them is serial and in ray order, so the result never depends on threads.
+  const EmbreeScene& bvh = scene_->bvh();
+  const auto n = static_cast<std::ptrdiff_t>(candidate_directions_.size());
+  out.hits.resize(candidate_directions_.size());
+#pragma omp parallel for schedule(static) if (n >= 2048 && !omp_in_parallel())
+  for (std::ptrdiff_t i = 0; i < n; ++i)
+    out.hits[i] = bvh.intersect(antenna_position, candidate_directions_[i], options_.endpoint_epsilon_m, 1e30);
+  std::vector<char> plane_seen(planes_.size(), 0);
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const RayHit& h = out.hits[i];
+    if (!h.hit) continue;
+    const uint32_t tri = scene_->triangle_id(h.geom, h.prim);
+    const uint32_t f = scene_->facet_of(tri);
+    if (f == kNoFacet) continue;
+    const uint32_t gi = plane_of_facet_[f];
+    const PlaneGroup& g = planes_[gi];
+    plane_seen[gi] = 1;
+    // The ray's footprint: the distance to the neighbouring rays (so footprints overlap), stretched by the
+    // incidence (capped at 80° so grazing hits do not flood a plane), times the spread factor.
+    const double cos_inc = std::max(std::abs(candidate_directions_[i].dot(g.normal)), 0.17);
+    const double radius = options_.candidate_spread * h.t * candidate_spacing_rad_ / cos_inc;
+    mark_seen(g, antenna_position + h.t * candidate_directions_[i], radius, out);
+  }
+  for (size_t gi = 0; gi < plane_seen.size(); ++gi)
+    if (plane_seen[gi]) out.planes.push_back(static_cast<uint32_t>(gi));
 }
 
 void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
@@ -156,10 +204,11 @@ void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double freq
       return std::tie(x.length_m, x.facet) < std::tie(y.length_m, y.facet);
     });
   }
-  // Drop paths far below the strongest (power ratio).
+  // Drop paths far below the strongest (power ratio); a lone path is the strongest.
+  if (out.size() < 2) return;
   double strongest = 0.0;
   for (const TracedPath& p : out) strongest = std::max(strongest, std::norm(p.contribution));
-  const double floor = strongest * db_to_linear(-options_.drop_below_db);
+  const double floor = strongest * drop_power_ratio_;
   std::erase_if(out, [&](const TracedPath& p) { return std::norm(p.contribution) < floor; });
 }
 
@@ -167,35 +216,40 @@ void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f,
   const Vec3& a = ant.pose.position;
   const Vec3 delta = tag.pose.position - a;
   const double length = delta.norm();
+  if (length > options_.max_path_length_m) return;
   const Vec3 dir = delta / length;
   const double eps = std::min(options_.endpoint_epsilon_m, 0.25 * length);
   const EmbreeScene& bvh = scene_->bvh();
+  // At level `los` visibility is all that matters: one occlusion ray, and nothing more for an occluded link.
+  // Above it the first hit is needed anyway, so the segment is walked with closest-hit rays from the start.
+  RayHit hit;
+  if (!scene_->empty()) {
+    if (options_.level == ChannelLevel::kLos) {
+      if (bvh.occluded(a, dir, eps, length - eps)) return;
+    } else {
+      hit = bvh.intersect(a, dir, eps, length - eps);
+    }
+  }
   const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, dir) *
                                 tag.pattern.gain_linear_world(tag.pose.orientation, -dir));
   CVec3 field = ant.polarization.field(ant.pose.orientation, dir);
   TracedPath p;
   p.length_m = length;
   p.point = a;
-  if (!scene_->empty() && bvh.occluded(a, dir, eps, length - eps)) {
-    if (options_.level == ChannelLevel::kLos) return;
-    // Walk the segment surface by surface.
+  // Walk the segment surface by surface.
+  while (hit.hit) {
     p.kind = PathKind::kBlocked;
-    double tnear = eps;
-    for (;;) {
-      const RayHit h = bvh.intersect(a, dir, tnear, length - eps);
-      if (!h.hit) break;
-      const uint32_t tri = scene_->triangle_id(h.geom, h.prim);
-      const RadioMaterial& m = scene_->materials()[scene_->material_of(tri)];
-      if (m.perfect_conductor || ++p.crossings > options_.max_crossings) return;  // opaque
-      const Vec3& n = scene_->normal_of(tri);
-      const double cos_theta = std::abs(dir.dot(n));
-      field = transmit_field(field, dir, n, material_transmission(m, f, cos_theta));
-      if (p.crossings == 1) {
-        p.point = a + h.t * dir;
-        p.material = scene_->material_of(tri);
-      }
-      tnear = h.t + options_.surface_epsilon_m;
+    const uint32_t tri = scene_->triangle_id(hit.geom, hit.prim);
+    const RadioMaterial& m = scene_->materials()[scene_->material_of(tri)];
+    if (m.perfect_conductor || ++p.crossings > options_.max_crossings) return;  // opaque
+    const Vec3& n = scene_->normal_of(tri);
+    const double cos_theta = std::abs(dir.dot(n));
+    field = transmit_field(field, dir, n, material_transmission(m, f, cos_theta));
+    if (p.crossings == 1) {
+      p.point = a + hit.t * dir;
+      p.material = scene_->material_of(tri);
     }
+    hit = bvh.intersect(a, dir, hit.t + options_.surface_epsilon_m, length - eps);
   }
   p.coefficient = gain * polarization_match(field, tag.polarization, tag.pose.orientation, dir);
   p.contribution = path_contribution(length, p.coefficient, f);
@@ -228,6 +282,7 @@ void PathFinder::reflections_exhaustive(const Endpoint& ant, const Endpoint& tag
     const Facet& fc = facets[i];
     if (!image_point(fc.normal, fc.offset_m, ant.pose.position, tag.pose.position, options_.surface_epsilon_m, image, p))
       continue;
+    if ((image - ant.pose.position).squaredNorm() > max_length2_) continue;
     if (!inside_box(p, fc.lo, fc.hi, 1e-6) || !point_on_facet(fc, p)) continue;
     add_reflection(static_cast<uint32_t>(i), image, p, ant, tag, f, /*check_leg1=*/true, out);
   }
@@ -236,25 +291,33 @@ void PathFinder::reflections_exhaustive(const Endpoint& ant, const Endpoint& tag
 void PathFinder::reflections_fast(const Endpoint& ant, const Endpoint& tag, double f, const PoseCandidates& c,
                                   std::vector<TracedPath>& out) const {
   if (c.all) {
-    for (uint32_t g = 0; g < planes_.size(); ++g) try_plane(g, ant, tag, f, out);
+    for (uint32_t g = 0; g < planes_.size(); ++g) try_plane(g, ant, tag, f, c, out);
   } else {
-    for (uint32_t g : c.planes) try_plane(g, ant, tag, f, out);
+    for (uint32_t g : c.planes) try_plane(g, ant, tag, f, c, out);
   }
 }
 
 void PathFinder::try_plane(uint32_t group, const Endpoint& ant, const Endpoint& tag, double f,
-                           std::vector<TracedPath>& out) const {
+                           const PoseCandidates& c, std::vector<TracedPath>& out) const {
   const PlaneGroup& g = planes_[group];
   const Vec3& a = ant.pose.position;
   Vec3 image, p;
   if (!image_point(g.normal, g.offset_m, a, tag.pose.position, options_.surface_epsilon_m, image, p)) return;
-  if (!occupied(g, p)) return;
+  if ((image - a).squaredNorm() > max_length2_) return;  // longer than max_path_length_m
+  const size_t bit = cell_bit(g, p);
+  if (bit == SIZE_MAX) return;
+  if (c.all) {
+    if (!((occupancy_[bit / 64] >> (bit % 64)) & 1u)) return;  // no facet near p
+  } else {
+    // A point no candidate ray saw is taken as hidden from the antenna (seen cells are occupied ones).
+    if (!((c.seen_cells[bit / 64] >> (bit % 64)) & 1u)) return;
+  }
   // One ray A→P answers both "is leg 1 clear" and "which facet of this plane is at P": the first thing hit
   // must be a facet of this plane.
   const Vec3 d1 = p - a;
   const double l1 = d1.norm();
   const Vec3 dir1 = d1 / l1;
-  const double margin = plane_margin(options_.surface_epsilon_m, std::abs(dir1.dot(g.normal)), l1);
+  const double margin = plane_margin(options_.surface_epsilon_m + g.flatness_m, std::abs(dir1.dot(g.normal)), l1);
   const RayHit h = scene_->bvh().intersect(a, dir1, std::min(options_.endpoint_epsilon_m, 0.25 * l1), l1 + margin);
   if (!h.hit) return;
   const uint32_t facet = scene_->facet_of(scene_->triangle_id(h.geom, h.prim));
@@ -280,13 +343,14 @@ void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p
   if (!(l1 > 0.0) || !(l2 > 0.0)) return;
   const Vec3 dir1 = d1 / l1, dir2 = d2 / l2;
   const double cos_theta = std::abs(dir1.dot(fc.normal));
+  const double clearance = options_.surface_epsilon_m + fc.flatness_m;  // legs stay clear of the facet itself
   const EmbreeScene& bvh = scene_->bvh();
   const double end_eps1 = std::min(options_.endpoint_epsilon_m, 0.25 * l1);
   const double end_eps2 = std::min(options_.endpoint_epsilon_m, 0.25 * l2);
   if (check_leg1 &&
-      bvh.occluded(a, dir1, end_eps1, l1 - plane_margin(options_.surface_epsilon_m, cos_theta, l1)))
+      bvh.occluded(a, dir1, end_eps1, l1 - plane_margin(clearance, cos_theta, l1)))
     return;
-  if (bvh.occluded(p, dir2, plane_margin(options_.surface_epsilon_m, cos_theta, l2), l2 - end_eps2)) return;
+  if (bvh.occluded(p, dir2, plane_margin(clearance, cos_theta, l2), l2 - end_eps2)) return;
 
   const RadioMaterial& m = scene_->materials()[fc.material];
   const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, dir1) *

@@ -44,10 +44,16 @@ struct TracedPath {
   std::complex<double> contribution{0.0, 0.0};
 };
 
-// Planes to try for one antenna pose (the per-pose, tag-independent part of the candidate search).
+// Where reflections can be for one antenna pose (the per-pose, tag-independent part of the candidate search).
+// With candidate rays, a plane is tried only if a ray from the antenna hit it, and a reflection point only if
+// it lies in a cell of that plane's occupancy grid that some ray's footprint covered (the region of the plane
+// the antenna sees). Each surviving candidate is then made exact by the image method and both legs' rays.
 struct PoseCandidates {
-  bool all = true;              // test every plane (exact)
-  std::vector<uint32_t> planes; // otherwise only these (plane-group ids)
+  bool all = true;                     // test every plane and every point (exact)
+  std::vector<uint32_t> planes;        // otherwise only these (plane-group ids) ...
+  std::vector<uint64_t> seen_cells;    // ... and only points in these cells (occupancy-grid bit indexing)
+  std::vector<uint32_t> touched_words; // words of seen_cells set since the last clear
+  std::vector<RayHit> hits;            // per-ray scratch
 };
 
 class PathFinder {
@@ -77,18 +83,23 @@ class PathFinder {
     Vec3 normal;
     double offset_m;
     Vec3 lo, hi;
+    double flatness_m = 0.0;  // max over its facets
     int axis_u = 0, axis_v = 1;
     double u0 = 0, v0 = 0, inv_du = 0, inv_dv = 0;
     int nu = 1, nv = 1;
     size_t bit_offset = 0;  // into occupancy_
   };
-  bool occupied(const PlaneGroup& g, const Vec3& p) const;
+  // Bit index of p's cell in g's grid, or SIZE_MAX when p is outside the grid.
+  size_t cell_bit(const PlaneGroup& g, const Vec3& p) const;
+  // Marks the cells of g within radius_m of p (in the plane's two projected coordinates) as seen.
+  void mark_seen(const PlaneGroup& g, const Vec3& p, double radius_m, PoseCandidates& out) const;
 
   void direct_path(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
   void reflections_exhaustive(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
   void reflections_fast(const Endpoint& a, const Endpoint& t, double f, const PoseCandidates& c,
                         std::vector<TracedPath>& out) const;
-  void try_plane(uint32_t group, const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
+  void try_plane(uint32_t group, const Endpoint& a, const Endpoint& t, double f, const PoseCandidates& c,
+                 std::vector<TracedPath>& out) const;
   // Shared tail of both modes: P on facet f is valid; checks leg 2 (and leg 1 if asked) and appends.
   void add_reflection(uint32_t facet, const Vec3& image, const Vec3& p, const Endpoint& a, const Endpoint& t,
                       double f, bool check_leg1, std::vector<TracedPath>& out) const;
@@ -96,10 +107,13 @@ class PathFinder {
 
   std::shared_ptr<const Scene> scene_;
   TraceOptions options_;
+  double drop_power_ratio_ = 0.0;  // db_to_linear(-drop_below_db)
+  double max_length2_ = 0.0;       // max_path_length_m²
   std::vector<PlaneGroup> planes_;
   std::vector<uint32_t> plane_of_facet_;
   std::vector<uint64_t> occupancy_;
   std::vector<Vec3> candidate_directions_;
+  double candidate_spacing_rad_ = 0.0;  // angular spacing of the candidate rays, √(4π/N)
 };
 
 }  // namespace rfidray

@@ -1,5 +1,6 @@
 #pragma once
 // Settings of the ray-traced channel (raytrace/raytraced_channel.h).
+#include <limits>
 #include <string>
 
 namespace rfidray {
@@ -19,11 +20,19 @@ enum class CandidateMode {
 struct TraceOptions {
   ChannelLevel level = ChannelLevel::kSingleBounce;
   CandidateMode candidates = CandidateMode::kFast;
-  // Fast mode, optional: shoot this many rays (spherical Fibonacci) from each antenna pose and test only
-  // the planes they hit. 0 = off (exact: every plane is tested). Small reflectors can be missed when > 0.
+  // Fast mode, optional: shoot this many rays (spherical Fibonacci) from each antenna pose and test only the
+  // parts of planes they hit. 0 = off (exact: every plane is tested). Reflections off regions the rays
+  // missed (small or distant reflectors, slivers behind occluders) are lost when > 0.
   int candidate_rays = 0;
+  // Footprint of each candidate ray on the surface it hits, in units of the ray spacing: the cells it covers
+  // count as seen from the antenna (path_finder.h, PoseCandidates). Larger = fewer missed reflections, slower.
+  double candidate_spread = 1.0;
   // Paths whose power is more than this many dB below the strongest path of the link are dropped.
   double drop_below_db = 40.0;
+  // Paths longer than this (unfolded length) are not modelled; a direct path longer than it leaves the link
+  // with no path (h = 0). Culls by range before any ray is shot (a reflection's length is known from its
+  // image point). Infinite = off (exact).
+  double max_path_length_m = std::numeric_limits<double>::infinity();
   // Rays stop this short of an antenna or tag, so a tag mounted on a surface is not occluded by it.
   double endpoint_epsilon_m = 1e-3;
   // Reflection legs are tested from this height above the reflecting plane (float-precision margin of

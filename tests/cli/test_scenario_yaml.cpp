@@ -249,3 +249,37 @@ TEST(ScenarioYaml, DurationRequiredWhenNothingEnds) {
 
 }  // namespace
 }  // namespace rfidray::cli
+
+namespace rfidray::cli {
+namespace {
+
+TEST(ScenarioYaml, ChannelOptionsAndAuto) {
+  const std::string base = "antennas:\n  - {name: a, position: [0, 0, 1]}\nduration_s: 1\n";
+  const Scenario s = parse_scenario(base +
+                                        "channel: auto\n"
+                                        "channel_options:\n"
+                                        "  candidate_rays: 4096\n"
+                                        "  drop_below_db: 30\n"
+                                        "  max_path_length_m: 25\n"
+                                        "  auto_phase_tolerance_rad: 0.1\n"
+                                        "  auto_sample_links: 500\n",
+                                    "s.yaml");
+  EXPECT_EQ(s.channel, "auto");
+  EXPECT_EQ(*s.channel_options.candidate_rays, 4096);
+  EXPECT_EQ(*s.channel_options.drop_below_db, 30.0);
+  EXPECT_EQ(s.channel_options.auto_phase_tolerance_rad, 0.1);
+  EXPECT_EQ(s.channel_options.auto_rssi_tolerance_db, 0.5);  // default kept
+  EXPECT_EQ(s.channel_options.auto_sample_links, 500u);
+  EXPECT_FALSE(s.channel_options.candidate_spread.has_value());
+  // Located errors: unknown key (with a suggestion), bad values.
+  const std::string typo = error_of(base + "channel_options:\n  candidate_ray: 10\n");
+  EXPECT_NE(typo.find("s.yaml:5"), std::string::npos) << typo;
+  EXPECT_NE(typo.find("candidate_rays"), std::string::npos) << typo;
+  EXPECT_NE(error_of(base + "channel_options:\n  drop_below_db: -3\n").find("channel_options.drop_below_db"),
+            std::string::npos);
+  EXPECT_NE(error_of(base + "channel_options:\n  candidates: smart\n").find("fast or exhaustive"), std::string::npos);
+  EXPECT_NE(error_of(base + "channel_options:\n  max_path_length_m: 0\n").find("> 0"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace rfidray::cli

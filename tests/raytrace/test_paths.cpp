@@ -313,3 +313,103 @@ TEST(RaytracedChannel, RejectsBadLinks) {
 
 }  // namespace
 }  // namespace rfidray
+
+namespace rfidray {
+namespace {
+
+TEST(PathFinder, MaxPathLengthCullsLongerPaths) {
+  // scenes/ground_wall: LoS 3.0414 m, ground reflection 3.9051 m, wall reflection 7.0178 m.
+  const auto scene = scene_of(ground_and_wall_meshes());
+  const Endpoint a = endpoint(Vec3(0, 0, 1), Vec3::UnitZ()), t = endpoint(Vec3(3, 0, 1.5), Vec3::UnitZ());
+  auto lengths = [&](double max_m) {
+    TraceOptions o;
+    o.max_path_length_m = max_m;
+    o.drop_below_db = 300;
+    std::vector<double> out;
+    for (const Path& p : RaytracedChannel(scene, o).paths(a, t, kF)) out.push_back(p.length_m);
+    return out;
+  };
+  EXPECT_EQ(lengths(1e9).size(), 3u);
+  const auto five = lengths(5.0);
+  ASSERT_EQ(five.size(), 2u);
+  EXPECT_NEAR(five[1], std::sqrt(9.0 + 2.5 * 2.5), 1e-9);
+  EXPECT_TRUE(lengths(3.0).empty());  // even the direct path is longer: no path, h = 0
+  TraceOptions bad;
+  bad.max_path_length_m = 0.0;
+  EXPECT_THROW(RaytracedChannel(scene, bad), InputError);
+}
+
+// Per-pose candidate rays (PoseCandidates): the cells of each plane the antenna's rays see. Enough rays find
+// the exhaustive search's paths; few rays miss some (the mask really culls).
+TEST(PathFinder, CandidateRaysConvergeToTheExhaustiveSearch) {
+  const auto scene = scene_of(paper_warehouse_meshes());
+  TraceOptions ref_o;
+  ref_o.candidates = CandidateMode::kExhaustive;
+  ref_o.drop_below_db = 300;
+  const RaytracedChannel reference(scene, ref_o);
+  auto found_fraction = [&](int rays) {
+    TraceOptions o = ref_o;
+    o.candidates = CandidateMode::kFast;
+    o.candidate_rays = rays;
+    const RaytracedChannel fast(scene, o);
+    double total = 0.0, found = 0.0;
+    for (int k = 0; k < 8; ++k) {
+      const Endpoint ant = endpoint(Vec3(-1.0, -9.0 + 2.2 * k, 1.68), Vec3::UnitZ());
+      for (int i = 0; i < 10; ++i) {
+        const Endpoint tag = endpoint(Vec3(i % 2 ? 2.90 : -4.85, -8.0 + 1.5 * i, i % 2 ? 2.05 : 1.85), Vec3::UnitZ());
+        const auto ref = reference.paths(ant, tag, kF);
+        const auto got = fast.paths(ant, tag, kF);
+        for (const Path& p : ref) total += std::norm(p.contribution);
+        for (const Path& p : got) {
+          // Every path the fast search reports is one of the reference's.
+          bool match = false;
+          for (const Path& q : ref) match = match || ((q.point - p.point).norm() < 1e-6 && q.kind == p.kind);
+          EXPECT_TRUE(match) << "spurious path at " << p.point.transpose();
+          found += std::norm(p.contribution);
+        }
+      }
+    }
+    return found / total;
+  };
+  const double many = found_fraction(1 << 13), few = found_fraction(64);
+  EXPECT_GT(many, 0.999);
+  EXPECT_LT(few, many - 0.01);
+}
+
+}  // namespace
+}  // namespace rfidray
+
+namespace rfidray {
+namespace {
+
+// A tessellated ground with ±0.5 mm vertex noise, merged into one facet with a 5 mm tolerance: the reflection
+// legs must keep clear of the facet's real surface (up to its flatness off the fitted plane), or the ray to
+// the reflection point stops short of the surface and the ground reflection is lost.
+TEST(PathFinder, NoisyMergedFacetStillReflects) {
+  TriangleMesh ground = plane_mesh("ground", "concrete", Vec3(-2, -2, 0), Vec3(4, 0, 0), Vec3(0, 4, 0), 4);
+  uint64_t state = 7;
+  for (Vec3& v : ground.vertices) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    v.z() += 0.5e-3 * (double(state >> 11) / double(1ULL << 53) * 2.0 - 1.0);
+  }
+  SceneOptions so;
+  so.facets.distance_tolerance_m = 5e-3;
+  so.facets.angle_tolerance_rad = 5e-3;
+  const auto scene = std::make_shared<const Scene>(std::vector<TriangleMesh>{ground}, MaterialAssignment{}, so);
+  ASSERT_EQ(scene->facets().size(), 1u);
+  EXPECT_GT(scene->facets()[0].flatness_m, 1e-4);
+  for (CandidateMode mode : {CandidateMode::kFast, CandidateMode::kExhaustive}) {
+    TraceOptions o;
+    o.candidates = mode;
+    int found = 0;
+    for (int k = 0; k < 20; ++k) {
+      const Endpoint a = endpoint(Vec3(-1.5 + 0.05 * k, -1.0, 1.0), Vec3::UnitZ());
+      const Endpoint t = endpoint(Vec3(1.5, 0.5 + 0.05 * k, 1.5), Vec3::UnitZ());
+      for (const Path& p : RaytracedChannel(scene, o).paths(a, t, kF)) found += p.kind == PathKind::kReflection;
+    }
+    EXPECT_EQ(found, 20) << to_string(mode);
+  }
+}
+
+}  // namespace
+}  // namespace rfidray

@@ -1,0 +1,299 @@
+// Accuracy against speed. Reference: the exhaustive image method keeping every path (single-bounce,
+// candidates = exhaustive, no path dropped). Each faster setting — channel level, path-drop threshold, number
+// and spread of per-pose candidate rays, facet-merging tolerance on a mesh with float noise — is timed on the
+// same links and compared with the reference on what a reader reports:
+//   phase error |wrap(arg h² − arg h_ref²)| and RSSI error |40 log10 |h|/|h_ref|| (p50 / p95 / max over the
+//   links readable in either; core/channel_error.h), relative error of |h|, fraction of the reference's path
+//   power (Σ|contribution|²) the setting misses, and, on the paper scenario (physical reader model, several
+//   seeds), the localization error it causes (NLLS, tag height known, truth-side mirror prior).
+//
+//   bench_accuracy [--quick] [--out DIR] [--seeds N] [--runs N]
+// Writes DIR/accuracy_<scene>.csv and DIR/accuracy_pareto.png (error vs time per link, Pareto front marked).
+#include <omp.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <random>
+
+#include "bench/localize_common.h"
+#include "bench/workload.h"
+#include "cli/plot.h"
+#include "cli/scenario_yaml.h"
+#include "core/channel_error.h"
+#include "core/reader_model.h"
+#include "raytrace/path_finder.h"
+#include "raytrace/raytraced_channel.h"
+
+using namespace rfidray;
+
+namespace {
+
+struct Setting {
+  std::string name;
+  std::string group;  // level | drop | rays | spread | merge
+  bool ideal = false;
+  TraceOptions options;
+  bool jittered = false;  // on the mesh with float noise
+  FacetOptions facets;
+};
+
+TraceOptions reference_options() {
+  TraceOptions o;
+  o.level = ChannelLevel::kSingleBounce;
+  o.candidates = CandidateMode::kExhaustive;
+  o.drop_below_db = 300.0;  // keep every path
+  return o;
+}
+
+std::vector<Setting> settings(bool quick, bool with_merge) {
+  std::vector<Setting> out;
+  out.push_back({"ideal", "level", true, {}, false, {}});
+  for (auto level : {ChannelLevel::kLos, ChannelLevel::kLosBlocked}) {
+    TraceOptions o;
+    o.level = level;
+    out.push_back({to_string(level), "level", false, o, false, {}});
+  }
+  for (double drop : quick ? std::vector<double>{20, 40} : std::vector<double>{10, 20, 30, 40, 60}) {
+    TraceOptions o;
+    o.drop_below_db = drop;
+    out.push_back({"drop " + std::to_string(int(drop)) + " dB", "drop", false, o, false, {}});
+  }
+  for (int rays : quick ? std::vector<int>{1024, 16384} : std::vector<int>{256, 1024, 4096, 16384, 65536}) {
+    TraceOptions o;
+    o.candidate_rays = rays;
+    out.push_back({"rays " + std::to_string(rays), "rays", false, o, false, {}});
+  }
+  if (!quick)
+    for (double spread : {0.5, 2.0}) {
+      TraceOptions o;
+      o.candidate_rays = 4096;
+      o.candidate_spread = spread;
+      char name[64];
+      std::snprintf(name, sizeof name, "rays 4096 spread %.1f", spread);
+      out.push_back({name, "spread", false, o, false, {}});
+    }
+  if (with_merge)
+    for (auto [dist, angle] : std::vector<std::pair<double, double>>{{1e-4, 1e-3}, {1e-3, 5e-3}, {5e-3, 2e-2}}) {
+      FacetOptions f;
+      f.distance_tolerance_m = dist;
+      f.angle_tolerance_rad = angle;
+      char name[96];
+      std::snprintf(name, sizeof name, "noisy mesh, merge %.1f mm %.0f mrad", dist * 1e3, angle * 1e3);
+      out.push_back({name, "merge", false, TraceOptions{}, true, f});
+    }
+  return out;
+}
+
+// Every vertex moved by up to ±0.5 mm (uniform, fixed seed): a mesh exported in float, or a scanned one.
+std::vector<TriangleMesh> jittered(std::vector<TriangleMesh> meshes) {
+  std::mt19937_64 rng(2040);
+  std::uniform_real_distribution<double> u(-0.5e-3, 0.5e-3);
+  for (TriangleMesh& m : meshes)
+    for (Vec3& v : m.vertices) v += Vec3(u(rng), u(rng), u(rng));
+  return meshes;
+}
+
+struct LinkValues {
+  std::vector<std::complex<double>> h;
+  std::vector<double> path_power;  // Σ |contribution|² per link
+  double us_per_link = 0.0;        // median over runs
+};
+
+LinkValues evaluate(const std::shared_ptr<const Scene>& scene, const Setting& s, const bench::Workload& w, int runs) {
+  LinkValues v;
+  v.h.resize(w.links());
+  v.path_power.resize(w.links());
+  const std::unique_ptr<Channel> channel = s.ideal ? std::unique_ptr<Channel>(std::make_unique<IdealChannel>())
+                                                   : std::make_unique<RaytracedChannel>(scene, s.options);
+  std::vector<double> times;
+  for (int r = 0; r < runs; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (size_t a = 0; a < w.antennas.size(); ++a)
+      channel->one_way(w.antennas[a], w.tags, 865.7e6,
+                       std::span(v.h).subspan(a * w.tags.size(), w.tags.size()));
+    times.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() /
+                    double(w.links()));
+  }
+  std::sort(times.begin(), times.end());
+  v.us_per_link = times[times.size() / 2];
+  // Path powers (untimed).
+  if (s.ideal) {
+    for (size_t i = 0; i < v.h.size(); ++i) v.path_power[i] = std::norm(v.h[i]);
+    return v;
+  }
+  const PathFinder finder(scene, s.options);
+  for (size_t a = 0; a < w.antennas.size(); ++a) {
+    PoseCandidates c;
+    finder.prepare_pose(w.antennas[a].pose.position, c);
+#pragma omp parallel for schedule(dynamic, 16)
+    for (size_t i = 0; i < w.tags.size(); ++i) {
+      std::vector<TracedPath> paths;
+      finder.trace(w.antennas[a], w.tags[i], 865.7e6, c, paths);
+      double p = 0.0;
+      for (const TracedPath& t : paths) p += std::norm(t.contribution);
+      v.path_power[a * w.tags.size() + i] = p;
+    }
+  }
+  return v;
+}
+
+struct LocalizationError {
+  double mean_mm = 0.0, max_mm = 0.0;
+  int ok = 0, failed = 0;
+};
+
+// The paper scenario with every antenna on the physical model, simulated with `channel`, the mobile antenna's
+// tags localized (NLLS, height known, truth-side prior) over `seeds` seeds.
+LocalizationError localization_error(const Scenario& base, const Channel& channel, int seeds) {
+  LocalizationError e;
+  double sum = 0.0;
+  size_t mobile = 0;
+  for (size_t i = 0; i < base.antennas.size(); ++i)
+    if (base.antennas[i].reader.name == "mobile") mobile = i;
+  for (int s = 0; s < seeds; ++s) {
+    Scenario scenario = base;
+    scenario.seed = 1 + static_cast<uint64_t>(s);
+    const SimulationResult sim = simulate(scenario, channel);
+    const auto tags = bench::tag_reads(scenario, scenario.antennas[mobile], sim.antennas[mobile]);
+    for (size_t t = 0; t < tags.size(); ++t) {
+      const Vec3 truth = scenario.tags[t].motion.pose.position;
+      loc::LocalizeOptions o;
+      o.height_known = true;
+      o.tag_height_m = truth.z();
+      o.mirror_prior = loc::MirrorPrior::kPoint;
+      o.prior_point = truth;
+      const loc::LocalizeResult r = tags[t].read_count() ? loc::localize(loc::Method::kNlls, tags[t], o)
+                                                         : loc::LocalizeResult{};
+      if (!r.ok) {
+        ++e.failed;
+        continue;
+      }
+      const double err = 1000.0 * (r.position - truth).norm();
+      sum += err;
+      e.max_mm = std::max(e.max_mm, err);
+      ++e.ok;
+    }
+  }
+  e.mean_mm = e.ok ? sum / e.ok : std::numeric_limits<double>::quiet_NaN();
+  return e;
+}
+
+// Indices of the points not dominated in (time, error), sorted by time.
+std::vector<size_t> pareto_front(const std::vector<double>& time, const std::vector<double>& error) {
+  std::vector<size_t> idx(time.size());
+  for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+  std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return std::tie(time[a], error[a]) < std::tie(time[b], error[b]); });
+  std::vector<size_t> front;
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i : idx)
+    if (error[i] < best) front.push_back(i), best = error[i];
+  return front;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Accuracy vs speed of the channel settings against the exhaustive image method"};
+  bool quick = false;
+  std::string out_dir = "bench/results";
+  int seeds = 3, runs = 3;
+  app.add_flag("--quick", quick, "fewer settings, links and seeds");
+  app.add_option("--out", out_dir, "output directory")->capture_default_str();
+  app.add_option("--seeds", seeds, "seeds of the localization runs")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--runs", runs, "timing runs (median)")->capture_default_str()->check(CLI::PositiveNumber);
+  CLI11_PARSE(app, argc, argv);
+  if (quick) seeds = 1, runs = std::min(runs, 2);
+  std::filesystem::create_directories(out_dir);
+
+  Scenario paper = cli::load_scenario(std::string(RFIDRAY_SOURCE_DIR) + "/scenes/paper_warehouse.yaml");
+  for (AntennaSpec& a : paper.antennas) a.reader.model = ReaderModelKind::kPhysical;
+  const double min_h2 = min_readable_h2(ReaderParams{}, TagParams{});
+
+  struct SceneCase {
+    std::string name;
+    bench::BenchScene scene;
+    int tags, poses;
+    bool localize;
+  };
+  std::vector<SceneCase> cases{{"paper", bench::find_bench_scene("paper"), quick ? 60 : 200, quick ? 8 : 20, true}};
+  if (!quick) cases.push_back({"w1m", bench::find_bench_scene("w1m"), 250, 4, false});
+
+  std::vector<cli::Panel> panels;
+  for (const SceneCase& sc : cases) {
+    const std::vector<TriangleMesh> meshes = bench::scene_meshes(sc.scene);
+    const auto clean = std::make_shared<const Scene>(meshes, MaterialAssignment{});
+    const bench::Workload w = bench::scene_workload(sc.scene, sc.tags, sc.poses);
+    Setting ref{"reference (exhaustive, all paths)", "reference", false, reference_options(), false, {}};
+    const LinkValues reference = evaluate(clean, ref, w, runs);
+    double ref_power = 0.0;
+    for (double p : reference.path_power) ref_power += p;
+    const std::vector<double> min_h2s(w.links(), min_h2);
+    LocalizationError ref_loc;
+    if (sc.localize) ref_loc = localization_error(paper, RaytracedChannel(clean, ref.options), seeds);
+
+    std::ofstream csv(std::filesystem::path(out_dir) / ("accuracy_" + sc.name + ".csv"));
+    csv << "scene,setting,group,links,us_per_link,speedup,phase_p50_rad,phase_p95_rad,phase_max_rad,rssi_p50_db,"
+           "rssi_p95_db,magnitude_p95,missed_power_fraction,mismatches,loc_mean_mm,loc_max_mm,loc_failed\n";
+    std::printf("%s: %zu triangles, %zu links (%zu tags x %zu poses); reference %.2f us/link", sc.name.c_str(),
+                clean->triangle_count(), w.links(), w.tags.size(), w.antennas.size(), reference.us_per_link);
+    if (sc.localize) std::printf(", localization %.1f mm mean (%d tags x seeds)", ref_loc.mean_mm, ref_loc.ok);
+    std::printf("\n  %-36s %9s %8s %10s %10s %10s %9s %8s %9s\n", "setting", "us/link", "speedup", "phase p50",
+                "phase p95", "RSSI p95", "missed", "mismatch", "loc mm");
+    csv << sc.name << "," << ref.name << ",reference," << w.links() << "," << reference.us_per_link
+        << ",1,0,0,0,0,0,0,0,0," << (sc.localize ? ref_loc.mean_mm : NAN) << ","
+        << (sc.localize ? ref_loc.max_mm : NAN) << "," << ref_loc.failed << "\n";
+
+    std::vector<double> times{reference.us_per_link}, errors{0.0};
+    std::vector<std::string> labels{"reference"};
+    for (const Setting& s : settings(quick, sc.localize)) {
+      std::shared_ptr<const Scene> scene = clean;
+      if (s.jittered) {
+        SceneOptions so;
+        so.facets = s.facets;
+        scene = std::make_shared<const Scene>(jittered(meshes), MaterialAssignment{}, so);
+      }
+      const LinkValues v = evaluate(scene, s, w, runs);
+      const ChannelErrorStats e = channel_errors(reference.h, v.h, min_h2s);
+      double power = 0.0;
+      for (double p : v.path_power) power += p;
+      const double missed = std::max(0.0, (ref_power - power) / ref_power);
+      LocalizationError le{NAN, NAN, 0, 0};
+      if (sc.localize) {
+        const std::unique_ptr<Channel> ch = s.ideal ? std::unique_ptr<Channel>(std::make_unique<IdealChannel>())
+                                                    : std::make_unique<RaytracedChannel>(scene, s.options);
+        le = localization_error(paper, *ch, seeds);
+      }
+      std::printf("  %-36s %9.2f %8.1f %10.4f %10.4f %10.3f %9.2e %8zu %9.1f\n", s.name.c_str(), v.us_per_link,
+                  reference.us_per_link / v.us_per_link, e.phase_p50_rad, e.phase_p95_rad, e.rssi_p95_db, missed,
+                  e.status_mismatches, le.mean_mm);
+      csv << sc.name << "," << s.name << "," << s.group << "," << w.links() << "," << v.us_per_link << ","
+          << reference.us_per_link / v.us_per_link << "," << e.phase_p50_rad << "," << e.phase_p95_rad << ","
+          << e.phase_max_rad << "," << e.rssi_p50_db << "," << e.rssi_p95_db << "," << e.magnitude_p95 << ","
+          << missed << "," << e.status_mismatches << "," << le.mean_mm << "," << le.max_mm << "," << le.failed
+          << "\n";
+      times.push_back(v.us_per_link);
+      errors.push_back(std::isfinite(e.phase_p95_rad) ? e.phase_p95_rad : 10.0);
+      labels.push_back(s.name);
+    }
+    // Chart: error vs time, one point per setting (errors of 0 drawn at 1e-6 on the log axis).
+    cli::Series pts{"settings", {}, {}, "points pt 7 ps 1.2"};
+    for (size_t i = 0; i < times.size(); ++i)
+      pts.x.push_back(times[i]), pts.y.push_back(std::max(errors[i], 1e-6)), pts.labels.push_back(labels[i]);
+    cli::Series front{"Pareto front", {}, {}, "linespoints lw 2"};
+    for (size_t i : pareto_front(times, errors)) front.x.push_back(times[i]), front.y.push_back(std::max(errors[i], 1e-6));
+    panels.push_back({sc.name + ": p95 round-trip phase error vs time per link (reference: exhaustive, all paths)",
+                      "time per link (us, all threads)", "p95 phase error (rad)", {pts, front}, true, true});
+  }
+  try {
+    cli::write_png(std::filesystem::path(out_dir) / "accuracy_pareto.png", panels, 1200, 560);
+  } catch (const std::exception& e) {
+    std::cerr << "bench_accuracy: chart not written: " << e.what() << "\n";
+  }
+  std::printf("wrote %s/accuracy_*.csv and accuracy_pareto.png\n", out_dir.c_str());
+  return 0;
+}

@@ -1,0 +1,269 @@
+// Ray throughput (Google Benchmark): our path finder's rays against a raw Embree loop on the same segments,
+// the same scene, in the same process and at the same thread count.
+//
+//   occluded1_raw    rtcOccluded1 over every antenna–tag segment of the workload (the LoS visibility test)
+//   occluded1_ours   PathFinder::trace at level `los` on the same links: exactly one rtcOccluded1 per link,
+//                    plus everything the tracer does around it (checks, pattern gains, polarization, the path)
+//   occluded16_raw   the same segments as rtcOccluded16 packets (16 tags of one antenna pose per packet)
+//   intersect1_raw   rtcIntersect1 on the candidate-search directions (spherical Fibonacci) of every pose
+//   intersect1_ours  PathFinder::prepare_pose with the same number of candidate rays
+// items_per_second = rays per second (real time, all threads). The `rfidray bench` driver turns the JSON
+// output into ratios (ours / raw) per scene and thread count.
+//
+//   bench_rays [--scenes paper,w10k,...] [--tags N] [--poses N] [--candidate-rays N] [Google Benchmark flags]
+#include <benchmark/benchmark.h>
+#include <embree3/rtcore.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench/workload.h"
+#include "raytrace/path_finder.h"
+#include "raytrace/scene.h"
+
+using namespace rfidray;
+
+namespace {
+
+struct Segment {
+  float org[3], dir[3], tnear, tfar;
+};
+
+struct Prepared {
+  std::shared_ptr<const Scene> scene;
+  bench::Workload work;
+  std::vector<Segment> segments;  // pose-major: tags of pose 0, then pose 1, ...
+  std::vector<Vec3> directions;   // candidate-search directions
+  std::unique_ptr<PathFinder> los_finder, candidate_finder;
+};
+
+struct Config {
+  std::vector<std::string> scenes{"paper", "w10k", "w100k", "w1m", "w5m"};
+  int tags = 2000, poses = 20, candidate_rays = 4096;
+};
+
+std::map<std::string, std::unique_ptr<Prepared>> g_prepared;
+
+Prepared& prepare(const std::string& name, const Config& c) {
+  auto& slot = g_prepared[name];
+  if (slot) return *slot;
+  slot = std::make_unique<Prepared>();
+  Prepared& p = *slot;
+  const bench::BenchScene bs = bench::find_bench_scene(name);
+  p.scene = std::make_shared<const Scene>(bench::scene_meshes(bs), MaterialAssignment{});
+  p.work = bench::scene_workload(bs, c.tags, c.poses);
+  const double eps = TraceOptions{}.endpoint_epsilon_m;
+  for (const Endpoint& a : p.work.antennas)
+    for (const Endpoint& t : p.work.tags) {
+      const Vec3 d = t.pose.position - a.pose.position;
+      const double len = d.norm();
+      const Vec3 u = d / len;
+      const double e = std::min(eps, 0.25 * len);  // as PathFinder::direct_path
+      p.segments.push_back({{float(a.pose.position.x()), float(a.pose.position.y()), float(a.pose.position.z())},
+                            {float(u.x()), float(u.y()), float(u.z())},
+                            float(e),
+                            float(len - e)});
+    }
+  TraceOptions los;
+  los.level = ChannelLevel::kLos;
+  p.los_finder = std::make_unique<PathFinder>(p.scene, los);
+  TraceOptions cand;
+  cand.candidate_rays = c.candidate_rays;
+  p.candidate_finder = std::make_unique<PathFinder>(p.scene, cand);
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < c.candidate_rays; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / c.candidate_rays;
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    p.directions.emplace_back(r * std::cos(golden * i), r * std::sin(golden * i), z);
+  }
+  return p;
+}
+
+// This thread's share [begin, end) of n items.
+std::pair<size_t, size_t> slice(const benchmark::State& state, size_t n) {
+  const size_t t = static_cast<size_t>(state.thread_index()), k = static_cast<size_t>(state.threads());
+  return {n * t / k, n * (t + 1) / k};
+}
+
+void occluded1_raw(benchmark::State& state, Prepared* p) {
+  const RTCScene scene = p->scene->bvh().handle();
+  const auto [b, e] = slice(state, p->segments.size());
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  size_t blocked = 0;
+  for (auto _ : state) {
+    for (size_t i = b; i < e; ++i) {
+      const Segment& s = p->segments[i];
+      RTCRay ray;
+      ray.org_x = s.org[0], ray.org_y = s.org[1], ray.org_z = s.org[2];
+      ray.dir_x = s.dir[0], ray.dir_y = s.dir[1], ray.dir_z = s.dir[2];
+      ray.tnear = s.tnear, ray.tfar = s.tfar;
+      ray.time = 0.0f, ray.mask = 0xFFFFFFFFu, ray.id = 0, ray.flags = 0;
+      rtcOccluded1(scene, &context, &ray);
+      blocked += ray.tfar < 0.0f;
+    }
+  }
+  benchmark::DoNotOptimize(blocked);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (e - b)));
+  state.counters["blocked_fraction"] = benchmark::Counter(
+      double(blocked) / double(std::max<size_t>(1, state.iterations() * (e - b))), benchmark::Counter::kAvgThreads);
+}
+
+void occluded16_raw(benchmark::State& state, Prepared* p) {
+  const RTCScene scene = p->scene->bvh().handle();
+  const auto [b, e] = slice(state, p->segments.size());
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // rays of a packet share their origin
+  size_t blocked = 0;
+  alignas(64) RTCRay16 ray;
+  alignas(64) int valid[16];
+  for (auto _ : state) {
+    for (size_t i = b; i < e; i += 16) {
+      const size_t n = std::min<size_t>(16, e - i);
+      for (size_t k = 0; k < 16; ++k) {
+        valid[k] = k < n ? -1 : 0;
+        const Segment& s = p->segments[i + std::min(k, n - 1)];
+        ray.org_x[k] = s.org[0], ray.org_y[k] = s.org[1], ray.org_z[k] = s.org[2];
+        ray.dir_x[k] = s.dir[0], ray.dir_y[k] = s.dir[1], ray.dir_z[k] = s.dir[2];
+        ray.tnear[k] = s.tnear, ray.tfar[k] = s.tfar;
+        ray.time[k] = 0.0f, ray.mask[k] = 0xFFFFFFFFu, ray.id[k] = 0, ray.flags[k] = 0;
+      }
+      rtcOccluded16(valid, scene, &context, &ray);
+      for (size_t k = 0; k < n; ++k) blocked += ray.tfar[k] < 0.0f;
+    }
+  }
+  benchmark::DoNotOptimize(blocked);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (e - b)));
+  state.counters["blocked_fraction"] = benchmark::Counter(
+      double(blocked) / double(std::max<size_t>(1, state.iterations() * (e - b))), benchmark::Counter::kAvgThreads);
+}
+
+void occluded1_ours(benchmark::State& state, Prepared* p) {
+  const size_t n_tags = p->work.tags.size();
+  const auto [b, e] = slice(state, p->segments.size());
+  PoseCandidates candidates;
+  std::vector<TracedPath> out;
+  size_t blocked = 0;
+  for (auto _ : state) {
+    for (size_t i = b; i < e; ++i) {
+      p->los_finder->trace(p->work.antennas[i / n_tags], p->work.tags[i % n_tags], 865.7e6, candidates, out);
+      blocked += out.empty();
+    }
+  }
+  benchmark::DoNotOptimize(blocked);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (e - b)));
+  state.counters["blocked_fraction"] = benchmark::Counter(
+      double(blocked) / double(std::max<size_t>(1, state.iterations() * (e - b))), benchmark::Counter::kAvgThreads);
+}
+
+void intersect1_raw(benchmark::State& state, Prepared* p) {
+  const RTCScene scene = p->scene->bvh().handle();
+  const size_t n_dir = p->directions.size();
+  const auto [b, e] = slice(state, p->work.antennas.size() * n_dir);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  size_t hits = 0;
+  const float eps = float(TraceOptions{}.endpoint_epsilon_m);
+  for (auto _ : state) {
+    for (size_t i = b; i < e; ++i) {
+      const Vec3& o = p->work.antennas[i / n_dir].pose.position;
+      const Vec3& d = p->directions[i % n_dir];
+      RTCRayHit rh;
+      rh.ray.org_x = float(o.x()), rh.ray.org_y = float(o.y()), rh.ray.org_z = float(o.z());
+      rh.ray.dir_x = float(d.x()), rh.ray.dir_y = float(d.y()), rh.ray.dir_z = float(d.z());
+      rh.ray.tnear = eps, rh.ray.tfar = 1e30f;
+      rh.ray.time = 0.0f, rh.ray.mask = 0xFFFFFFFFu, rh.ray.id = 0, rh.ray.flags = 0;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(scene, &context, &rh);
+      hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    }
+  }
+  benchmark::DoNotOptimize(hits);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (e - b)));
+}
+
+void intersect1_ours(benchmark::State& state, Prepared* p) {
+  const size_t n_dir = p->directions.size();
+  const auto [b, e] = slice(state, p->work.antennas.size());  // whole poses per thread
+  PoseCandidates c;
+  size_t planes = 0;
+  for (auto _ : state) {
+    for (size_t i = b; i < e; ++i) {
+      p->candidate_finder->prepare_pose(p->work.antennas[i].pose.position, c);
+      planes += c.planes.size();
+    }
+  }
+  benchmark::DoNotOptimize(planes);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (e - b) * n_dir));
+  state.counters["planes_per_pose"] = benchmark::Counter(double(planes) / double(std::max<size_t>(1, state.iterations() * (e - b))), benchmark::Counter::kAvgThreads);
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);  // removes its own --benchmark_* flags
+  Config c;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    if (i + 1 >= argc) {
+      std::fprintf(stderr, "bench_rays: option %s needs a value\n", k.c_str());
+      return 2;
+    }
+    const std::string v = argv[++i];
+    if (k == "--scenes") c.scenes = split(v);
+    else if (k == "--tags") c.tags = std::atoi(v.c_str());
+    else if (k == "--poses") c.poses = std::atoi(v.c_str());
+    else if (k == "--candidate-rays") c.candidate_rays = std::atoi(v.c_str());
+    else {
+      std::fprintf(stderr, "bench_rays: unknown option %s\n", k.c_str());
+      return 2;
+    }
+  }
+  if (c.tags < 1 || c.poses < 1 || c.candidate_rays < 1) {
+    std::fprintf(stderr, "bench_rays: --tags, --poses and --candidate-rays must be >= 1\n");
+    return 2;
+  }
+  try {
+    for (const std::string& name : c.scenes) {
+      Prepared* p = &prepare(name, c);
+      std::fprintf(stderr, "bench_rays: %s: %zu triangles, %zu segments\n", name.c_str(), p->scene->triangle_count(),
+                   p->segments.size());
+      // Interleaved raw/ours so both see the same machine state; one thread count after the other.
+      for (int threads : {1, 2}) {
+        auto reg = [&](const char* what, void (*fn)(benchmark::State&, Prepared*)) {
+          benchmark::RegisterBenchmark((std::string(what) + "/" + name).c_str(), fn, p)
+              ->Threads(threads)
+              ->UseRealTime()
+              ->Unit(benchmark::kMillisecond);
+        };
+        reg("occluded1_raw", occluded1_raw);
+        reg("occluded1_ours", occluded1_ours);
+        reg("occluded16_raw", occluded16_raw);
+        reg("intersect1_raw", intersect1_raw);
+        reg("intersect1_ours", intersect1_ours);
+      }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_rays: %s\n", e.what());
+    return 2;
+  }
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,214 @@
+// Links per second of the ray-traced channel, as `rfidray simulate` computes them: for every antenna pose one
+// Channel::one_way call over all tags (the batch shares the pose's candidate search), OpenMP over tags.
+//
+//   per scene (paper warehouse, parametric warehouses at ~10 k … 5 M triangles): scene + BVH build time,
+//   Embree bytes and resident bytes per triangle; then per channel level (los, los+blocked, single-bounce exact,
+//   single-bounce with 4096 candidate rays) and thread count (1, 2): median links/s over runs, rays per link;
+//   on the 1 M-triangle warehouse also links/s vs number of tags (100 … 100 k).
+//
+//   bench_sweep [--quick] [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes a,b,...]
+// Writes DIR/links_per_level.csv, DIR/links_vs_tags.csv, DIR/links_vs_triangles.png, DIR/links_vs_tags.png.
+#include <omp.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "bench/workload.h"
+#include "cli/plot.h"
+#include "raytrace/raytraced_channel.h"
+
+using namespace rfidray;
+
+namespace {
+
+struct Setting {
+  std::string name;
+  TraceOptions options;
+};
+
+std::vector<Setting> settings() {
+  std::vector<Setting> out;
+  auto add = [&](std::string name, ChannelLevel level, int rays) {
+    TraceOptions o;
+    o.level = level;
+    o.candidate_rays = rays;
+    out.push_back({std::move(name), o});
+  };
+  add("los", ChannelLevel::kLos, 0);
+  add("los+blocked", ChannelLevel::kLosBlocked, 0);
+  add("single-bounce", ChannelLevel::kSingleBounce, 0);
+  add("single-bounce rays=4096", ChannelLevel::kSingleBounce, 4096);
+  return out;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Resident set size of this process (bytes), from /proc/self/statm.
+size_t resident_bytes() {
+  std::ifstream in("/proc/self/statm");
+  size_t pages = 0, resident = 0;
+  in >> pages >> resident;
+  return resident * 4096;
+}
+
+// Rays traced by every thread of the OpenMP pool since the last call (the pool's threads persist).
+uint64_t take_pool_rays() {
+  uint64_t rays = 0;
+#pragma omp parallel reduction(+ : rays)
+  {
+    rays += tl_rays_traced;
+    tl_rays_traced = 0;
+  }
+  return rays + std::exchange(tl_rays_traced, 0);
+}
+
+struct Rate {
+  double median = 0, min = 0, max = 0, rays_per_link = 0;
+};
+
+Rate measure(const RaytracedChannel& ch, const bench::Workload& w, int runs) {
+  std::vector<std::complex<double>> h(w.tags.size());
+  std::vector<double> rates;
+  take_pool_rays();
+  for (int r = 0; r < runs; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (const Endpoint& ant : w.antennas) ch.one_way(ant, w.tags, 865.7e6, h);
+    rates.push_back(double(w.links()) / seconds_since(t0));
+  }
+  const uint64_t rays = take_pool_rays();
+  std::sort(rates.begin(), rates.end());
+  return {rates[rates.size() / 2], rates.front(), rates.back(), double(rays) / double(runs * w.links())};
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Links/s of the ray-traced channel per level, thread count, scene size and tag count"};
+  bool quick = false;
+  std::string out_dir = "bench/results", scene_list;
+  int runs = 5, tags = 10000, poses = 4;
+  app.add_flag("--quick", quick, "small run: scenes up to 1 M triangles, fewer tags and runs");
+  app.add_option("--out", out_dir, "output directory")->capture_default_str();
+  app.add_option("--runs", runs, "runs per measurement (median reported)")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--tags", tags, "tags per antenna pose")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--poses", poses, "antenna poses per run")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--scenes", scene_list, "comma-separated subset of paper,w10k,w100k,w1m,w5m");
+  CLI11_PARSE(app, argc, argv);
+  if (quick) runs = std::min(runs, 3), tags = std::min(tags, 2000);
+  std::filesystem::create_directories(out_dir);
+
+  std::vector<bench::BenchScene> scenes;
+  try {
+    if (!scene_list.empty())
+      for (const std::string& n : split(scene_list)) scenes.push_back(bench::find_bench_scene(n));
+    else
+      for (const bench::BenchScene& s : bench::bench_scenes())
+        if (!quick || s.name != "w5m") scenes.push_back(s);
+  } catch (const std::exception& e) {
+    std::cerr << "bench_sweep: " << e.what() << "\n";
+    return 2;
+  }
+
+  std::ofstream csv(std::filesystem::path(out_dir) / "links_per_level.csv");
+  csv << "scene,triangles,facets,planes,build_s,embree_bytes_per_triangle,resident_bytes_per_triangle,setting,"
+         "threads,tags,poses,links_per_s_median,links_per_s_min,links_per_s_max,rays_per_link\n";
+  std::map<std::string, cli::Series> by_triangles;  // setting → (triangles, links/s at 2 threads)
+  std::ofstream tags_csv(std::filesystem::path(out_dir) / "links_vs_tags.csv");
+  tags_csv << "scene,setting,threads,tags,poses,links_per_s_median,rays_per_link\n";
+  std::map<std::string, cli::Series> by_tags;
+
+  for (const bench::BenchScene& bs : scenes) {
+    const size_t rss0 = resident_bytes();
+    std::vector<TriangleMesh> meshes = bench::scene_meshes(bs);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto scene = std::make_shared<const Scene>(std::move(meshes), MaterialAssignment{});
+    const double build_s = seconds_since(t0);
+    const size_t rss1 = resident_bytes();
+    const double n_tri = double(scene->triangle_count());
+    const bench::Workload w = bench::scene_workload(bs, tags, poses);
+    const size_t planes = RaytracedChannel(scene).finder().plane_count();
+    std::printf("%s: %zu triangles, %zu facets, %zu planes; scene + BVH build %.3f s; Embree %.0f B/triangle, "
+                "resident %.0f B/triangle; %zu tags x %zu poses\n",
+                bs.name.c_str(), scene->triangle_count(), scene->facets().size(), planes, build_s,
+                scene->bvh().embree_bytes() / n_tri, double(rss1 - std::min(rss0, rss1)) / n_tri, w.tags.size(),
+                w.antennas.size());
+    for (const Setting& st : settings()) {
+      const RaytracedChannel ch(scene, st.options);
+      for (int threads : {1, 2}) {
+        omp_set_num_threads(threads);
+        const Rate r = measure(ch, w, runs);
+        std::printf("  %-24s %d thread%s  %12.0f links/s median (min %.0f, max %.0f)  %6.2f rays/link\n",
+                    st.name.c_str(), threads, threads == 1 ? " " : "s", r.median, r.min, r.max, r.rays_per_link);
+        csv << bs.name << "," << scene->triangle_count() << "," << scene->facets().size() << "," << planes << ","
+            << build_s << "," << scene->bvh().embree_bytes() / n_tri << ","
+            << double(rss1 - std::min(rss0, rss1)) / n_tri << "," << st.name << "," << threads << ","
+            << w.tags.size() << "," << w.antennas.size() << "," << r.median << "," << r.min << "," << r.max << ","
+            << r.rays_per_link << "\n";
+        if (threads == 2) {
+          auto& s = by_triangles[st.name];
+          s.title = st.name, s.style = "linespoints";
+          s.x.push_back(n_tri), s.y.push_back(r.median);
+        }
+      }
+    }
+    if (bs.name == "w1m") {
+      // Cost vs tags: linear in tags, the per-pose candidate search amortised over more of them.
+      omp_set_num_threads(2);
+      std::vector<int> counts{100, 1000, 10000, 100000};
+      if (quick) counts = {100, 1000, 10000};
+      for (const Setting& st : settings()) {
+        const RaytracedChannel ch(scene, st.options);
+        for (int n : counts) {
+          const bench::Workload wt = bench::scene_workload(bs, n, poses);
+          const Rate r = measure(ch, wt, std::max(1, runs / 2));
+          std::printf("  %-24s 2 threads %7d tags %12.0f links/s  %6.2f rays/link\n", st.name.c_str(), n, r.median,
+                      r.rays_per_link);
+          tags_csv << bs.name << "," << st.name << ",2," << n << "," << poses << "," << r.median << ","
+                   << r.rays_per_link << "\n";
+          auto& s = by_tags[st.name];
+          s.title = st.name, s.style = "linespoints";
+          s.x.push_back(n), s.y.push_back(r.median);
+        }
+      }
+    }
+  }
+
+  auto values = [](const std::map<std::string, cli::Series>& m) {
+    std::vector<cli::Series> v;
+    for (const Setting& st : settings())
+      if (m.count(st.name)) v.push_back(m.at(st.name));
+    return v;
+  };
+  try {
+    cli::Panel tri{"Links/s vs scene size (2 threads; tags on every row, antenna poses along the middle aisle)",
+                   "triangles", "links / s", values(by_triangles), true, true};
+    cli::write_png(std::filesystem::path(out_dir) / "links_vs_triangles.png", {tri});
+    if (!by_tags.empty()) {
+      cli::Panel tg{"Links/s vs tags per antenna pose (1 M-triangle warehouse, 2 threads)", "tags", "links / s",
+                    values(by_tags), true, true};
+      cli::write_png(std::filesystem::path(out_dir) / "links_vs_tags.png", {tg});
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "bench_sweep: charts not written: " << e.what() << "\n";
+  }
+  std::printf("wrote %s/links_per_level.csv, links_vs_tags.csv, links_vs_triangles.png, links_vs_tags.png\n",
+              out_dir.c_str());
+  return 0;
+}

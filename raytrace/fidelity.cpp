@@ -1,0 +1,155 @@
+#include "raytrace/fidelity.h"
+
+#include <omp.h>
+
+#include <cstdio>
+#include <exception>
+
+#include "core/error.h"
+#include "raytrace/path_finder.h"
+#include "raytrace/raytraced_channel.h"
+
+namespace rfidray {
+namespace {
+
+// One rung's one-way channels on every sampled link (batch order), and the rays it took.
+struct RungValues {
+  std::vector<std::complex<double>> h;
+  uint64_t rays = 0;
+};
+
+RungValues evaluate(const std::shared_ptr<const Scene>& scene, const FidelityRung& rung,
+                    const std::vector<LinkBatch>& batches) {
+  RungValues v;
+  v.h.reserve(link_count(batches));
+  if (rung.ideal) {
+    const IdealChannel ideal;
+    for (const LinkBatch& b : batches) {
+      std::vector<std::complex<double>> h(b.tag_ends.size());
+      ideal.one_way(b.antenna_end, b.tag_ends, b.frequency_hz, h);
+      v.h.insert(v.h.end(), h.begin(), h.end());
+    }
+    return v;
+  }
+  const PathFinder finder(scene, rung.options);
+  PoseCandidates candidates;
+  for (const LinkBatch& b : batches) {
+    finder.prepare_pose(b.antenna_end.pose.position, candidates);
+    if (!candidates.all) v.rays += static_cast<uint64_t>(rung.options.candidate_rays);
+    const size_t first = v.h.size();
+    v.h.resize(first + b.tag_ends.size());
+    const auto n = static_cast<std::ptrdiff_t>(b.tag_ends.size());
+    uint64_t rays = 0;
+    std::exception_ptr error;
+    // Rays are counted per thread (tl_rays_traced) and summed: the total does not depend on the schedule.
+#pragma omp parallel reduction(+ : rays) if (n >= 64)
+    {
+      const uint64_t before = tl_rays_traced;
+      std::vector<TracedPath> paths;
+#pragma omp for schedule(dynamic, 16)
+      for (std::ptrdiff_t i = 0; i < n; ++i) {
+        try {
+          finder.trace(b.antenna_end, b.tag_ends[i], b.frequency_hz, candidates, paths);
+          std::complex<double> sum{0.0, 0.0};
+          for (const TracedPath& p : paths) sum += p.contribution;
+          v.h[first + i] = sum;
+        } catch (...) {
+#pragma omp critical(rfidray_fidelity_error)
+          if (!error) error = std::current_exception();
+        }
+      }
+      rays += tl_rays_traced - before;
+    }
+    if (error) std::rethrow_exception(error);
+    v.rays += rays;
+  }
+  return v;
+}
+
+std::string fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<FidelityRung> fidelity_ladder(const TraceOptions& base) {
+  std::vector<FidelityRung> ladder;
+  ladder.push_back({"ideal", true, base});
+  auto rung = [&](ChannelLevel level, CandidateMode mode, int rays, std::string label) {
+    TraceOptions o = base;
+    o.level = level;
+    o.candidates = mode;
+    o.candidate_rays = rays;
+    ladder.push_back({std::move(label), false, o});
+  };
+  rung(ChannelLevel::kLos, CandidateMode::kFast, 0, "los");
+  rung(ChannelLevel::kLosBlocked, CandidateMode::kFast, 0, "los+blocked");
+  if (base.candidate_rays > 0)
+    rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, base.candidate_rays,
+         "single-bounce rays=" + std::to_string(base.candidate_rays));
+  rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, 0, "single-bounce");
+  rung(ChannelLevel::kSingleBounce, CandidateMode::kExhaustive, 0, "single-bounce exhaustive");
+  return ladder;
+}
+
+FidelityChoice choose_fidelity(std::shared_ptr<const Scene> scene, const std::vector<LinkBatch>& batches,
+                               const TraceOptions& base, const FidelityTolerance& tolerance) {
+  if (!(tolerance.phase_rad >= 0.0) || !(tolerance.rssi_db >= 0.0))
+    throw InputError("channel auto: tolerances must be >= 0");
+  FidelityChoice choice;
+  choice.links = link_count(batches);
+  if (choice.links == 0) throw InputError("channel auto: the scenario has no antenna–tag link to sample");
+  std::vector<double> min_h2;
+  for (const LinkBatch& b : batches) min_h2.insert(min_h2.end(), b.min_readable_h2.begin(), b.min_readable_h2.end());
+  const std::vector<FidelityRung> ladder = fidelity_ladder(base);
+  const RungValues reference = evaluate(scene, ladder.back(), batches);
+  for (size_t i = 0; i < ladder.size(); ++i) {
+    const bool is_reference = i + 1 == ladder.size();
+    const RungValues values = is_reference ? reference : evaluate(scene, ladder[i], batches);
+    FidelityRow row;
+    row.rung = ladder[i];
+    row.errors = channel_errors(reference.h, values.h, min_h2);
+    row.rays_per_link = static_cast<double>(values.rays) / static_cast<double>(choice.links);
+    row.within = is_reference ||
+                 (row.errors.phase_p95_rad <= tolerance.phase_rad && row.errors.rssi_p95_db <= tolerance.rssi_db);
+    choice.rows.push_back(row);
+    if (!row.within) continue;
+    choice.picked = ladder[i];
+    const ChannelErrorStats& e = row.errors;
+    choice.reason = is_reference
+                        ? "no cheaper level stays within the tolerance"
+                        : "cheapest level within the tolerance: p95 phase error " + fixed(e.phase_p95_rad, 4) +
+                              " <= " + fixed(tolerance.phase_rad, 4) + " rad, p95 RSSI error " +
+                              fixed(e.rssi_p95_db, 3) + " <= " + fixed(tolerance.rssi_db, 3) + " dB";
+    choice.reason += " (" + std::to_string(choice.links) + " sampled links, " + std::to_string(e.links) +
+                     " readable, vs " + ladder.back().label + ")";
+    break;
+  }
+  return choice;
+}
+
+std::unique_ptr<Channel> make_rung_channel(std::shared_ptr<const Scene> scene, const FidelityRung& rung) {
+  if (rung.ideal) return std::make_unique<IdealChannel>();
+  return std::make_unique<RaytracedChannel>(std::move(scene), rung.options);
+}
+
+std::vector<std::string> describe(const FidelityChoice& choice) {
+  std::vector<std::string> out;
+  out.push_back("channel auto: picked '" + choice.picked.label + "': " + choice.reason);
+  char line[256];
+  std::snprintf(line, sizeof line, "  %-28s %8s %9s %14s %12s %10s  %s", "rung", "readable", "mismatch",
+                "phase p95 rad", "RSSI p95 dB", "rays/link", "within");
+  out.push_back(line);
+  for (const FidelityRow& r : choice.rows) {
+    const ChannelErrorStats& e = r.errors;
+    std::snprintf(line, sizeof line, "  %-28s %8zu %9zu %14.4g %12.4g %10.2f  %s", r.rung.label.c_str(), e.links,
+                  e.status_mismatches, e.phase_p95_rad, e.rssi_p95_db, r.rays_per_link,
+                  r.within ? "yes" : "no");
+    out.push_back(line);
+  }
+  return out;
+}
+
+}  // namespace rfidray

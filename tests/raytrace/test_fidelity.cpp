@@ -1,0 +1,158 @@
+// channel: auto (raytrace/fidelity.h): the ladder picks the reference level at zero tolerance, the ideal
+// channel on an empty scene, and stops at los+blocked where nothing can reflect; link caching in the simulation
+// loop gives the same readings as recomputing every link with the ray-traced channel.
+#include <gtest/gtest.h>
+
+#include <atomic>
+
+#include "core/reader_model.h"
+#include "core/simulation.h"
+#include "raytrace/fidelity.h"
+#include "raytrace/raytraced_channel.h"
+#include "raytrace/warehouse.h"
+
+namespace rfidray {
+namespace {
+
+constexpr double kF = 865.7e6;
+
+Endpoint at(const Vec3& p) {
+  Endpoint e;
+  e.pose.position = p;
+  return e;
+}
+
+// One batch per antenna position, every tag in each, with the default reader's and tag's readability.
+std::vector<LinkBatch> batches(const std::vector<Vec3>& antennas, const std::vector<Vec3>& tags) {
+  std::vector<LinkBatch> out;
+  const double min_h2 = min_readable_h2(ReaderParams{}, TagParams{});
+  for (size_t a = 0; a < antennas.size(); ++a) {
+    LinkBatch b;
+    b.antenna = 0;
+    b.frequency_hz = kF;
+    b.antenna_end = at(antennas[a]);
+    for (size_t i = 0; i < tags.size(); ++i) {
+      b.tags.push_back(i);
+      b.tag_ends.push_back(at(tags[i]));
+      b.min_readable_h2.push_back(min_h2);
+    }
+    out.push_back(b);
+  }
+  return out;
+}
+
+std::vector<Vec3> paper_tags() {
+  return {{2.90, 0.57, 2.05},  {2.90, -1.24, 2.05}, {2.90, -3.03, 2.05}, {2.90, -4.82, 2.05}, {2.90, -6.75, 2.05},
+          {2.90, -8.66, 2.05}, {-4.85, -7.70, 1.85}, {-4.85, -3.03, 1.85}, {-4.85, 1.44, 1.85}, {-4.85, 5.95, 1.85}};
+}
+
+std::vector<Vec3> aisle_poses(int n) {
+  std::vector<Vec3> out;
+  for (int k = 0; k < n; ++k) out.emplace_back(-1.0, -10.0 + 18.0 * k / (n - 1), 1.68);
+  return out;
+}
+
+TEST(Fidelity, ZeroToleranceKeepsTheReferenceLevel) {
+  const auto scene = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
+  const auto sample = batches(aisle_poses(12), paper_tags());
+  const FidelityChoice c = choose_fidelity(scene, sample, TraceOptions{}, {0.0, 0.0});
+  EXPECT_FALSE(c.picked.ideal);
+  EXPECT_EQ(c.picked.options.level, ChannelLevel::kSingleBounce);
+  EXPECT_EQ(c.links, 120u);
+  // Every cheaper rung was tried and rejected; the reference row has no error.
+  ASSERT_GE(c.rows.size(), 4u);
+  for (size_t i = 0; i + 1 < c.rows.size(); ++i) EXPECT_FALSE(c.rows[i].within) << c.rows[i].rung.label;
+  EXPECT_EQ(c.rows.back().errors.phase_p95_rad, 0.0);
+  EXPECT_EQ(c.rows.back().errors.rssi_p95_db, 0.0);
+  // The racks and the floor matter in this warehouse: the free-space rung is far outside the default tolerance.
+  EXPECT_GT(c.rows.front().errors.phase_p95_rad, 0.05);
+}
+
+TEST(Fidelity, EmptySceneIsTheIdealChannel) {
+  const auto scene = std::make_shared<const Scene>(std::vector<TriangleMesh>{}, MaterialAssignment{});
+  const auto sample = batches(aisle_poses(5), paper_tags());
+  const FidelityChoice c = choose_fidelity(scene, sample, TraceOptions{}, FidelityTolerance{});
+  EXPECT_TRUE(c.picked.ideal);
+  ASSERT_EQ(c.rows.size(), 1u);  // the first rung passes: nothing else is evaluated against it
+  EXPECT_EQ(c.rows[0].rays_per_link, 0.0);
+  const auto channel = make_rung_channel(scene, c.picked);
+  EXPECT_EQ(channel->name(), "ideal");
+}
+
+TEST(Fidelity, WhereNothingCanReflectItStopsAtLosPlusBlocked) {
+  // A concrete wall sheet x = 0, y −2…2, z 0…3; antennas at x < 0, tags at x > 0: no specular reflection is
+  // possible (the two ends are on opposite sides of the only plane), some links cross the wall, some pass by.
+  TriangleMesh wall;
+  wall.name = "wall";
+  wall.material_names = {"concrete"};
+  add_quad(wall, Vec3(0, -2, 0), Vec3(0, 4, 0), Vec3(0, 0, 3), 0);
+  const auto scene = std::make_shared<const Scene>(std::vector<TriangleMesh>{wall}, MaterialAssignment{});
+  const auto sample = batches({{-2, -1, 1.5}, {-2, 3, 1.5}}, {{2, 0, 1.5}, {2, 1, 1.2}, {2, 4, 1.5}, {2, -4, 1.0}});
+  const FidelityChoice c = choose_fidelity(scene, sample, TraceOptions{}, FidelityTolerance{});
+  EXPECT_EQ(c.picked.label, "los+blocked");
+  ASSERT_EQ(c.rows.size(), 3u);
+  EXPECT_FALSE(c.rows[0].within);                  // ideal ignores the wall's loss
+  EXPECT_GT(c.rows[1].errors.status_mismatches, 0u);  // los loses the links through the wall
+  EXPECT_EQ(c.rows[2].errors.phase_p95_rad, 0.0);  // los+blocked is exact here
+}
+
+// Forwards to a channel but forbids caching, so the simulation recomputes every link every tick.
+class Uncached final : public Channel {
+ public:
+  explicit Uncached(const Channel& inner) : inner_(inner) {}
+  std::string name() const override { return inner_.name(); }
+  std::vector<Path> paths(const Endpoint& a, const Endpoint& t, double f) const override { return inner_.paths(a, t, f); }
+  void one_way(const Endpoint& a, std::span<const Endpoint> tags, double f,
+               std::span<std::complex<double>> h) const override {
+    inner_.one_way(a, tags, f, h);
+  }
+  bool cacheable() const override { return false; }
+
+ private:
+  const Channel& inner_;
+};
+
+TEST(Fidelity, CachedAndRecomputedRaytracedLinksGiveIdenticalReadings) {
+  Scenario s;
+  s.duration_s = 6.0;  // the mover stops at t = 2 s and rests: its links hit the cache from then on
+  AntennaSpec fixed;
+  fixed.reader.name = "fixed";
+  fixed.reader.model = ReaderModelKind::kPhysical;
+  fixed.motion.pose.position = Vec3(3.5, -4.0, 2.0);
+  s.antennas.push_back(fixed);
+  AntennaSpec mover = fixed;
+  mover.reader.name = "mover";
+  mover.motion.kind = MotionSpec::Kind::kWaypoints;
+  mover.motion.waypoints = {Vec3(-1, -5, 1.68), Vec3(-1, -4, 1.68)};
+  mover.motion.speed_m_s = 0.5;
+  s.antennas.push_back(mover);
+  for (size_t i = 0; i < paper_tags().size(); ++i) {
+    TagSpec t;
+    t.tag.name = "tag" + std::to_string(i + 1);
+    t.motion.pose.position = paper_tags()[i];
+    s.tags.push_back(t);
+  }
+  const auto scene = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
+  const RaytracedChannel traced(scene);
+  const Uncached uncached(traced);
+  const SimulationResult a = simulate(s, traced, {2, 16});
+  const SimulationResult b = simulate(s, uncached, {2, 16});
+  EXPECT_LT(a.channel_evaluations, b.channel_evaluations / 2);
+  ASSERT_EQ(a.antennas.size(), b.antennas.size());
+  size_t reads = 0;
+  for (size_t k = 0; k < a.antennas.size(); ++k) {
+    ASSERT_EQ(a.antennas[k].reads.size(), b.antennas[k].reads.size());
+    for (size_t r = 0; r < a.antennas[k].reads.size(); ++r) {
+      const ReadRecord &x = a.antennas[k].reads[r], &y = b.antennas[k].reads[r];
+      EXPECT_EQ(x.tick, y.tick);
+      EXPECT_EQ(x.tag, y.tag);
+      EXPECT_EQ(x.reading.phase_rad, y.reading.phase_rad);
+      EXPECT_EQ(x.reading.rssi_dbm, y.reading.rssi_dbm);
+      ++reads;
+    }
+  }
+  EXPECT_GT(reads, 500u);
+}
+
+}  // namespace
+}  // namespace rfidray
