@@ -99,6 +99,8 @@ int run_bridge(const BridgeOptions& o) {
   if (!o.ip.empty()) ::setenv("IGN_IP", o.ip.c_str(), 1);
   std::string partition_from;
   const std::string partition = partition_of(o, partition_from);
+  // Declared before the node: the node's callbacks push into it until the node is gone.
+  Inbox inbox;
   ignition::transport::NodeOptions node_options;
   if (!partition.empty()) node_options.SetPartition(partition);
   ignition::transport::Node node(node_options);
@@ -174,11 +176,10 @@ int run_bridge(const BridgeOptions& o) {
                                                    " of the SDF world not in Gazebo's scene (first: " + map.missing[0] + ")"));
   }
 
-  Inbox inbox;
   std::function<void(const ignition::msgs::Pose_V&)> on_poses = [&](const ignition::msgs::Pose_V& m) { inbox.push(m); };
-  for (const std::string& topic : {"/world/" + name + "/pose/info", "/world/" + name + "/dynamic_pose/info"})
-    if (!node.Subscribe(topic, on_poses))
-      throw InputError("cannot subscribe to '" + topic + "'");
+  const std::vector<std::string> pose_topics = {"/world/" + name + "/pose/info", "/world/" + name + "/dynamic_pose/info"};
+  for (const std::string& topic : pose_topics)
+    if (!node.Subscribe(topic, on_poses)) throw InputError("cannot subscribe to '" + topic + "'");
 
   // The first reading after advertising is lost unless the subscribers are known: wait for them, bounded.
   if (o.connect_timeout_s > 0.0) {
@@ -258,6 +259,7 @@ int run_bridge(const BridgeOptions& o) {
     st.set_entities_matched(static_cast<uint32_t>(live.entity_map().matched));
     status_pub.Publish(st);
   }
+  for (const std::string& topic : pose_topics) node.Unsubscribe(topic);
   say(std::to_string(live.ticks()) + " antenna ticks from " + std::to_string(pose_messages) + " pose messages, " +
       std::to_string(live.scene_builds()) + " scene builds, simulation time " + fmt_s(live.time_s()) + " s");
   return 0;
