@@ -7,6 +7,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "core/channel.h"
@@ -14,6 +15,7 @@
 #include "core/reader.h"
 #include "core/units.h"
 #include "raytrace/raytraced_channel.h"
+#include "cli/world_source.h"
 
 namespace rfidray::cli {
 namespace {
@@ -175,7 +177,27 @@ struct LinkOptions {
   double thickness_m = -1.0;
   double drop_db = TraceOptions{}.drop_below_db;
   bool json = false;
+  WorldSourceOptions world;  // --world instead of --scene
 };
+
+// --antenna / --tag: X,Y,Z, or with --world the name of one of its antennas (tags) at its world pose.
+std::optional<Pose> named_pose(const std::string& text, const WorldSource* world, bool antenna) {
+  if (!world || text.find(',') != std::string::npos) return std::nullopt;
+  if (antenna) {
+    for (const AntennaSpec& a : world->scenario.antennas)
+      if (a.reader.name == text) return a.motion.pose;
+  } else {
+    for (const TagSpec& t : world->scenario.tags)
+      if (t.tag.name == text) return t.motion.pose;
+  }
+  std::string known;
+  if (antenna)
+    for (const AntennaSpec& a : world->scenario.antennas) known += (known.empty() ? "" : ", ") + a.reader.name;
+  else
+    for (const TagSpec& t : world->scenario.tags) known += (known.empty() ? "" : ", ") + t.tag.name;
+  throw InputError(std::string("option ") + (antenna ? "--antenna" : "--tag") + ": '" + text + "' is neither X,Y,Z nor " +
+                   (antenna ? "an antenna" : "a tag") + " of the world (" + (known.empty() ? "none" : known) + ")");
+}
 
 int run_link(const LinkOptions& o) {
   MaterialAssignment assignment;
@@ -186,7 +208,21 @@ int run_link(const LinkOptions& o) {
   if (!o.default_material.empty()) find_radio_material(o.default_material, {}, "option --default-material");
   std::vector<std::filesystem::path> files(o.scene.begin(), o.scene.end());
   std::vector<std::string> warnings;
-  const auto scene = load_scene(files, assignment, {}, &warnings);
+  std::optional<WorldSource> world;
+  std::shared_ptr<const Scene> scene;
+  if (!o.world.file.empty()) {
+    if (!o.scene.empty()) throw InputError("give --scene FILE.obj or --world FILE, not both");
+    if (!o.material.empty() || o.thickness_m >= 0.0)
+      throw InputError("--world: materials come from --materials FILE (and --default-material), not --material/--thickness");
+    world = load_world_source(o.world, o.default_material);
+    if (!o.json) std::fprintf(stderr, "rfidray: %s\n", world->summary.c_str());
+    warnings = world->warnings;
+    for (const auto& n : world->notes) std::cerr << "rfidray: note: " << n << "\n";
+    scene = world->scene;
+  } else {
+    if (o.scene.empty()) throw InputError("give --scene FILE.obj (or --world FILE)");
+    scene = load_scene(files, assignment, {}, &warnings);
+  }
   for (const auto& w : extrapolation_warnings(*scene, o.frequency_hz)) warnings.push_back(w);
   for (const auto& w : warnings) std::cerr << "rfidray: warning: " << w << "\n";
 
@@ -198,12 +234,21 @@ int run_link(const LinkOptions& o) {
   if (!(o.frequency_hz > 0.0) || !std::isfinite(o.frequency_hz)) throw InputError("option --frequency: must be > 0 Hz");
 
   Endpoint antenna, tag;
-  antenna.pose.position = parse_vec3(o.antenna, "--antenna");
-  antenna.pose.orientation = parse_rpy(o.antenna_rpy, "--antenna-rpy");
+  const WorldSource* w = world ? &*world : nullptr;
+  if (auto p = named_pose(o.antenna, w, true)) {
+    antenna.pose = *p;
+  } else {
+    antenna.pose.position = parse_vec3(o.antenna, "--antenna");
+    antenna.pose.orientation = parse_rpy(o.antenna_rpy, "--antenna-rpy");
+  }
   antenna.polarization = parse_polarization(o.antenna_pol, "--antenna-pol");
   antenna.pattern = parse_pattern(o.pattern, "--pattern");
-  tag.pose.position = parse_vec3(o.tag, "--tag");
-  tag.pose.orientation = parse_rpy(o.tag_rpy, "--tag-rpy");
+  if (auto p = named_pose(o.tag, w, false)) {
+    tag.pose = *p;
+  } else {
+    tag.pose.position = parse_vec3(o.tag, "--tag");
+    tag.pose.orientation = parse_rpy(o.tag_rpy, "--tag-rpy");
+  }
   tag.polarization = parse_polarization(o.tag_pol, "--tag-pol");
   tag.pattern = parse_pattern(o.tag_pattern, "--tag-pattern");
 
@@ -214,7 +259,7 @@ int run_link(const LinkOptions& o) {
   const IdealChannel ideal;
 
   nlohmann::json j;
-  j["scene"] = {{"files", o.scene},
+  j["scene"] = {{"files", world ? std::vector<std::string>{o.world.file} : o.scene},
                 {"triangles", scene->triangle_count()},
                 {"facets", scene->facets().size()},
                 {"notes", scene->notes()},
@@ -245,12 +290,13 @@ int run_link(const LinkOptions& o) {
 std::function<int()> setup_link(CLI::App& app) {
   auto o = std::make_shared<LinkOptions>();
   CLI::App* cmd = app.add_subcommand("link", "One noise-free antenna–tag link in a scene: paths, h, phase, RSSI (vs ideal)");
-  cmd->add_option("--scene", o->scene, "OBJ scene file(s); usemtl names are radio materials")->required();
+  cmd->add_option("--scene", o->scene, "OBJ scene file(s); usemtl names are radio materials (or --world)");
+  add_world_options(*cmd, o->world);
   cmd->add_option("--material", o->material, "radio material for every surface (overrides usemtl)");
   cmd->add_option("--default-material", o->default_material, "radio material for usemtl names that are not materials");
   cmd->add_option("--thickness", o->thickness_m, "slab thickness (m) for every material (blocked paths, slab reflection)");
-  cmd->add_option("--antenna", o->antenna, "antenna position X,Y,Z (m)")->required();
-  cmd->add_option("--tag", o->tag, "tag position X,Y,Z (m)")->required();
+  cmd->add_option("--antenna", o->antenna, "antenna position X,Y,Z (m), or with --world an antenna's name")->required();
+  cmd->add_option("--tag", o->tag, "tag position X,Y,Z (m), or with --world a tag's name")->required();
   cmd->add_option("--frequency", o->frequency_hz, "carrier frequency (Hz)");
   cmd->add_option("--tx-power", o->tx_power_dbm, "reader transmit power (dBm)");
   cmd->add_option("--antenna-pol", o->antenna_pol, "linear:x,y,z | rhcp | lhcp (antenna frame)");

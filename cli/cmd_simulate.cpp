@@ -15,6 +15,7 @@
 #include "cli/channel_factory.h"
 #include "cli/readings_csv.h"
 #include "cli/scenario_yaml.h"
+#include "cli/world_source.h"
 #include "core/error.h"
 #include "core/simulation.h"
 
@@ -29,6 +30,8 @@ struct SimulateOptions {
   std::string channel;
   std::string model;  // "" keeps each antenna's own
   bool quiet = false;
+  WorldSourceOptions world;          // --world instead of SCENARIO
+  std::optional<double> duration_s;  // overrides the scenario's duration_s
 };
 
 void write_file(const std::filesystem::path& path, const std::function<void(std::ostream&)>& body) {
@@ -41,7 +44,23 @@ void write_file(const std::filesystem::path& path, const std::function<void(std:
 
 int run(const SimulateOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
-  Scenario scenario = load_scenario(o.scenario);
+  Scenario scenario;
+  std::shared_ptr<const Scene> world_scene;  // --world: the world's surfaces (a scenario loads its own scene)
+  if (!o.world.file.empty()) {
+    if (!o.scenario.empty()) throw InputError("give a SCENARIO file or --world FILE, not both");
+    if (!o.duration_s)
+      throw InputError("--world " + o.world.file + ": --duration S is required (the world's antennas and tags stand "
+                       "where the world puts them, so no motion ends the run)");
+    const WorldSource world = load_world_source(o.world);
+    if (!o.quiet) std::fprintf(stderr, "rfidray: %s\n", world.summary.c_str());
+    print_world_remarks(world);
+    scenario = world.scenario;
+    world_scene = world.scene;
+  } else {
+    if (o.scenario.empty()) throw InputError("give a SCENARIO file (or --world FILE)");
+    scenario = load_scenario(o.scenario);
+  }
+  if (o.duration_s) scenario.duration_s = *o.duration_s;
   if (o.seed) scenario.seed = *o.seed;
   if (!o.channel.empty()) scenario.channel = o.channel;
   if (!o.model.empty())
@@ -56,9 +75,11 @@ int run(const SimulateOptions& o) {
                  "rfidray: warning: channel '%s' has no effect: every antenna uses the paper reader model, which "
                  "depends on the distance only (use --model physical or `model: physical`)\n",
                  scenario.channel.c_str());
+  const std::string channel_field = o.channel.empty() ? "channel" : "--channel";
   std::vector<std::string> channel_report;
   const std::unique_ptr<Channel> channel =
-      make_channel(scenario.channel, scenario, o.channel.empty() ? "channel" : "--channel", &channel_report);
+      world_scene ? make_scene_channel(scenario.channel, world_scene, channel_field)
+                  : make_channel(scenario.channel, scenario, channel_field, &channel_report);
   SimulationOptions sim;
   sim.threads = o.threads;
   const SimulationResult result = simulate(scenario, *channel, sim);
@@ -84,8 +105,10 @@ int run(const SimulateOptions& o) {
   if (o.quiet) return 0;
 
   const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
-  std::printf("rfidray simulate %s: channel %s, seed %llu, %.3f s simulated\n", o.scenario.c_str(),
-              (scenario.channel == "auto" ? "auto -> " + channel->name() : scenario.channel).c_str(), static_cast<unsigned long long>(scenario.seed), result.duration_s);
+  std::printf("rfidray simulate %s: channel %s, seed %llu, %.3f s simulated\n",
+              (o.world.file.empty() ? o.scenario : o.world.file).c_str(),
+              (scenario.channel == "auto" ? "auto -> " + channel->name() : scenario.channel).c_str(),
+              static_cast<unsigned long long>(scenario.seed), result.duration_s);
   for (const std::string& line : channel_report) std::printf("  %s\n", line.c_str());
   for (size_t a = 0; a < scenario.antennas.size(); ++a) {
     const AntennaResult& r = result.antennas[a];
@@ -157,8 +180,16 @@ std::function<int()> setup_simulate(CLI::App& app) {
       "  tags: - name, position [+ orientation] | waypoints + speed_m_s, gain_dbi, chip_sensitivity_dbm,\n"
       "          pattern, polarization, start_s\n"
       "The seed Gazebo plugin's parameter names (frequency, noisephi, noiserssi, range, optional_distribution,\n"
-      "optional_distribution_params, communication_gain, update_rate) are accepted as-is.");
-  cmd->add_option("SCENARIO", opts->scenario, "Scenario YAML file (e.g. scenes/paper_warehouse.yaml)")->required();
+      "optional_distribution_params, communication_gain, update_rate) are accepted as-is.\n"
+      "\n"
+      "--world FILE reads a Gazebo SDF world instead: collision geometry (mesh, box, cylinder, sphere, plane),\n"
+      "antennas (<sensor type=\"rfid\"> with the seed plugin's parameters, or type=\"custom\" with <rfid_antenna>)\n"
+      "and tags (<sensor type=\"rfidtag\">, or <rfid_tag>); model:// URIs through --resource-path and\n"
+      "IGN_GAZEBO_RESOURCE_PATH / GZ_SIM_RESOURCE_PATH / SDF_PATH; radio materials from --materials FILE.\n"
+      "Antennas and tags stand still, so --duration is required.");
+  cmd->add_option("SCENARIO", opts->scenario, "Scenario YAML file (e.g. scenes/paper_warehouse.yaml), or --world");
+  add_world_options(*cmd, opts->world);
+  cmd->add_option("--duration", opts->duration_s, "Simulated time (s), overrides `duration_s`; required with --world");
   cmd->add_option("--seed", opts->seed, "Random seed (overrides the scenario's `seed`)");
   cmd->add_option("--threads", opts->threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
       ->check(CLI::PositiveNumber);

@@ -12,6 +12,7 @@ std::function<int()> setup_gen_warehouse(CLI::App& app);
 std::function<int()> setup_compare(CLI::App& app);
 std::function<int()> setup_localize(CLI::App& app);
 std::function<int()> setup_bench(CLI::App& app);
+std::function<int()> setup_gazebo(CLI::App& app);
 
 namespace {
 std::map<const CLI::App*, std::function<int()>>& runners() {
@@ -33,6 +34,7 @@ void register_commands(CLI::App& app) {
   add(app, setup_compare);
   add(app, setup_localize);
   add(app, setup_bench);
+  add(app, setup_gazebo);
 }
 
 int run_selected(CLI::App& app) {

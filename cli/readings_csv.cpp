@@ -26,9 +26,14 @@ void put(std::ostream& out, double v, int decimals) {
 }  // namespace
 
 void write_readings_csv(std::ostream& out, const Scenario& scenario, size_t antenna, const AntennaResult& result) {
-  const std::string& name = scenario.antennas.at(antenna).reader.name;
   out << kReadingsHeader << '\n';
-  for (const ReadRecord& r : result.reads) {
+  write_readings_rows(out, scenario, antenna, result.reads);
+}
+
+void write_readings_rows(std::ostream& out, const Scenario& scenario, size_t antenna,
+                         const std::vector<ReadRecord>& reads) {
+  const std::string& name = scenario.antennas.at(antenna).reader.name;
+  for (const ReadRecord& r : reads) {
     const Vec3& p = r.antenna_pose.position;
     const Quat& q = r.antenna_pose.orientation;
     put(out, r.time_s, 6);

@@ -19,6 +19,9 @@ inline constexpr const char* kReadingsHeader =
     "time,posx,posy,posz,q1,q2,q3,q4,name,dist,phase,rssi,antenna,frequency_hz,channel";
 
 void write_readings_csv(std::ostream& out, const Scenario& scenario, size_t antenna, const AntennaResult& result);
+// The rows alone (no header), for writers that append as readings arrive (the Gazebo bridge).
+void write_readings_rows(std::ostream& out, const Scenario& scenario, size_t antenna,
+                         const std::vector<ReadRecord>& reads);
 void write_tags_csv(std::ostream& out, const Scenario& scenario, const SceneMotion& motion);
 // Moving tags sampled every 1/rate_hz s over [0, duration_s], while present. Header only when none moves.
 void write_tag_trajectories_csv(std::ostream& out, const Scenario& scenario, const SceneMotion& motion,

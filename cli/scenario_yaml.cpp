@@ -46,15 +46,17 @@ size_t edit_distance(const std::string& a, const std::string& b) {
 // The file being parsed: turns a node and a field path into a located error.
 class Source {
  public:
-  explicit Source(std::string file) : file_(std::move(file)) {}
+  // use_marks = false: the nodes were built in code (another front end), so their marks say nothing and
+  // every message is located by `file` alone (which then names the place, e.g. "world.sdf:42: sensor 'x'").
+  explicit Source(std::string file, bool use_marks = true) : file_(std::move(file)), use_marks_(use_marks) {}
   const std::string& file() const { return file_; }
 
   std::string at(const YAML::Node& n) const {
     const YAML::Mark m = n.Mark();
-    if (m.line < 0) return file_ + ": ";
+    if (!use_marks_ || m.line < 0) return file_ + ": ";
     return file_ + ":" + std::to_string(m.line + 1) + ": ";
   }
-  int line(const YAML::Node& n) const { return n.Mark().line < 0 ? 0 : n.Mark().line + 1; }
+  int line(const YAML::Node& n) const { return !use_marks_ || n.Mark().line < 0 ? 0 : n.Mark().line + 1; }
   InputError error(const YAML::Node& n, const std::string& field, const std::string& what) const {
     return InputError(at(n) + "field '" + field + "': " + what);
   }
@@ -116,6 +118,7 @@ class Source {
 
  private:
   std::string file_;
+  bool use_marks_ = true;
 };
 
 // A YAML map whose keys are checked: every key must be read by the parser, or finish() reports it.
@@ -456,15 +459,10 @@ std::vector<double> parse_params(const Source& src, const YAML::Node& n, const s
   return v;
 }
 
-AntennaSpec parse_antenna(const Source& src, const YAML::Node& n, const std::string& field, size_t index,
-                          ReaderModelKind default_model, const std::set<std::string>& robots) {
-  Map m(src, n, field);
-  AntennaSpec a;
-  a.source_line = src.line(n);
-  ReaderParams& r = a.reader;
-  r.name = m.string("name", "antenna" + std::to_string(index));
-  check_name(src, m.has("name") ? *m.get("name") : n, m.field("name"), r.name, true);
-  r.model = m.has("model") ? parse_model(src, *m.get("model"), m.field("model")) : default_model;
+// The reader keys of an antenna (all but name, start_s and the place) into `r`; absent keys keep r's values.
+void parse_reader_keys(Map& m, const YAML::Node& n, ReaderParams& r) {  // n: the map, for messages
+  const Source& src = m.src();
+  if (m.has("model")) r.model = parse_model(src, *m.get("model"), m.field("model"));
 
   // Frequencies: one fixed channel, a hopping list, or a named channel plan.
   auto freq = m.get_one({"frequency", "frequency_hz", "frequencies_hz", "hopping"});
@@ -507,16 +505,18 @@ AntennaSpec parse_antenna(const Source& src, const YAML::Node& n, const std::str
   {
     auto dist = m.get("optional_distribution");
     auto params = m.get("optional_distribution_params");
-    const std::string name = dist ? src.scalar(*dist, m.field("optional_distribution")) : "";
-    const std::vector<double> p =
-        params ? parse_params(src, *params, m.field("optional_distribution_params")) : std::vector<double>{};
-    // parse_distribution names optional_distribution (unknown name) or optional_distribution_params (bad values).
-    try {
-      r.optional_distribution = parse_distribution(name, p, m.field("optional_distribution"));
-    } catch (const InputError& e) {
-      const std::string msg = e.what();
-      const bool about_params = params && msg.find("_params") != std::string::npos;
-      throw InputError(src.at(about_params ? *params : (dist ? *dist : n)) + msg);
+    if (dist || params) {
+      const std::string name = dist ? src.scalar(*dist, m.field("optional_distribution")) : "";
+      const std::vector<double> p =
+          params ? parse_params(src, *params, m.field("optional_distribution_params")) : std::vector<double>{};
+      // parse_distribution names optional_distribution (unknown name) or optional_distribution_params (bad values).
+      try {
+        r.optional_distribution = parse_distribution(name, p, m.field("optional_distribution"));
+      } catch (const InputError& e) {
+        const std::string msg = e.what();
+        const bool about_params = params && msg.find("_params") != std::string::npos;
+        throw InputError(src.at(about_params ? *params : (dist ? *dist : n)) + msg);
+      }
     }
   }
   r.communication_gain = m.positive({"communication_gain"}, r.communication_gain);
@@ -529,10 +529,25 @@ AntennaSpec parse_antenna(const Source& src, const YAML::Node& n, const std::str
   r.rssi_resolution_db = m.non_negative({"rssi_resolution_db"}, r.rssi_resolution_db);
   r.sensitivity_dbm = m.number("sensitivity_dbm", r.sensitivity_dbm);
   r.modulation_factor = m.positive({"modulation_factor"}, r.modulation_factor);
-  const double gain_dbi = m.number("gain_dbi", 0.0);
-  r.pattern = m.has("pattern") ? parse_pattern(src, *m.get("pattern"), m.field("pattern"), gain_dbi)
-                               : isotropic_pattern(gain_dbi);
+  // An antenna without pattern and gain_dbi keeps the one it has (isotropic 0 dBi by default).
+  if (m.has("pattern") || m.has("gain_dbi")) {
+    const double gain_dbi = m.number("gain_dbi", 0.0);
+    r.pattern = m.has("pattern") ? parse_pattern(src, *m.get("pattern"), m.field("pattern"), gain_dbi)
+                                 : isotropic_pattern(gain_dbi);
+  }
   if (auto pol = m.get("polarization")) r.polarization = parse_polarization(src, *pol, m.field("polarization"));
+}
+
+AntennaSpec parse_antenna(const Source& src, const YAML::Node& n, const std::string& field, size_t index,
+                          ReaderModelKind default_model, const std::set<std::string>& robots) {
+  Map m(src, n, field);
+  AntennaSpec a;
+  a.source_line = src.line(n);
+  ReaderParams& r = a.reader;
+  r.name = m.string("name", "antenna" + std::to_string(index));
+  check_name(src, m.has("name") ? *m.get("name") : n, m.field("name"), r.name, true);
+  r.model = default_model;
+  parse_reader_keys(m, n, r);
   a.start_s = m.non_negative({"start_s"}, 0.0);
   a.motion = parse_motion(m, true, robots);
   m.finish();
@@ -543,18 +558,24 @@ AntennaSpec parse_antenna(const Source& src, const YAML::Node& n, const std::str
   return a;
 }
 
+// The radio keys of a tag (gain_dbi, chip_sensitivity_dbm, pattern, polarization) into `t`.
+void parse_tag_keys(Map& m, TagParams& t) {
+  const Source& src = m.src();
+  t.gain_dbi = m.number("gain_dbi", t.gain_dbi);
+  t.chip_sensitivity_dbm = m.number("chip_sensitivity_dbm", t.chip_sensitivity_dbm);
+  // The channel takes the tag gain from its pattern: an isotropic one with the tag's gain by default.
+  t.pattern = m.has("pattern") ? parse_pattern(src, *m.get("pattern"), m.field("pattern"), t.gain_dbi)
+                               : isotropic_pattern(t.gain_dbi);
+  if (auto pol = m.get("polarization")) t.polarization = parse_polarization(src, *pol, m.field("polarization"));
+}
+
 TagSpec parse_tag(const Source& src, const YAML::Node& n, const std::string& field, size_t index) {
   Map m(src, n, field);
   TagSpec t;
   t.source_line = src.line(n);
   t.tag.name = m.string("name", "tag" + std::to_string(index));
   check_name(src, m.has("name") ? *m.get("name") : n, m.field("name"), t.tag.name, false);
-  t.tag.gain_dbi = m.number("gain_dbi", t.tag.gain_dbi);
-  t.tag.chip_sensitivity_dbm = m.number("chip_sensitivity_dbm", t.tag.chip_sensitivity_dbm);
-  // The channel takes the tag gain from its pattern: an isotropic one with the tag's gain by default.
-  t.tag.pattern = m.has("pattern") ? parse_pattern(src, *m.get("pattern"), m.field("pattern"), t.tag.gain_dbi)
-                                   : isotropic_pattern(t.tag.gain_dbi);
-  if (auto pol = m.get("polarization")) t.tag.polarization = parse_polarization(src, *pol, m.field("polarization"));
+  parse_tag_keys(m, t.tag);
   t.start_s = m.non_negative({"start_s"}, 0.0);
   t.motion = parse_motion(m, false, {});
   m.finish();
@@ -728,6 +749,34 @@ Scenario parse_scenario(const std::string& text, const std::string& source) {
   }
   top.finish();
   return s;
+}
+
+ReaderParams parse_reader_params(const YAML::Node& map, const std::string& where, const std::string& field,
+                                 const ReaderParams& defaults) {
+  const Source src(where, false);
+  Map m(src, map, field);
+  ReaderParams r = defaults;
+  parse_reader_keys(m, map, r);
+  m.finish();
+  src.located(map, [&] {
+    validate(r, field);
+    return 0;
+  });
+  return r;
+}
+
+TagParams parse_tag_params(const YAML::Node& map, const std::string& where, const std::string& field,
+                           const TagParams& defaults) {
+  const Source src(where, false);
+  Map m(src, map, field);
+  TagParams t = defaults;
+  parse_tag_keys(m, t);
+  m.finish();
+  src.located(map, [&] {
+    validate(t, field);
+    return 0;
+  });
+  return t;
 }
 
 Scenario load_scenario(const std::string& path) {

@@ -20,6 +20,8 @@
 //   start_s} (fixed or robot base).
 // tag:        name · gain_dbi · chip_sensitivity_dbm · pattern · polarization · start_s · position (+ orientation)
 //   | waypoints + speed_m_s (+ orientation).
+#include <yaml-cpp/yaml.h>
+
 #include <string>
 
 #include "core/scenario.h"
@@ -30,6 +32,16 @@ namespace rfidray::cli {
 Scenario load_scenario(const std::string& path);
 // Parses scenario text; `source` names it in messages, relative mesh paths resolve against its directory.
 Scenario parse_scenario(const std::string& text, const std::string& source);
+
+// The radio keys of one antenna (every antenna key above except name, start_s and the place) or one tag
+// (gain_dbi, chip_sensitivity_dbm, pattern, polarization) from a YAML map, checked and validated exactly as in
+// a scenario file; keys that are absent keep the value in `defaults`. For front ends that are not scenario
+// files (the SDF importer builds the map from XML elements): `where` starts every message
+// ("world.sdf:42: sensor 'reader'"), `field` names the map ("reader").
+ReaderParams parse_reader_params(const YAML::Node& map, const std::string& where, const std::string& field,
+                                 const ReaderParams& defaults);
+TagParams parse_tag_params(const YAML::Node& map, const std::string& where, const std::string& field,
+                           const TagParams& defaults);
 
 // The EU channel plan of `hopping: eu` (ETSI EN 302 208 high-power channels), Hz.
 inline const std::vector<double>& eu_channels_hz() {

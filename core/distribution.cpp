@@ -58,8 +58,15 @@ OptionalDistribution parse_distribution(const std::string& name, const std::vect
       throw field_error(field, "distribution 'none' takes no parameters (got " + format_params(params) + ")");
     return {};
   }
-  // The paper spells "weibul"; accept it and the hyphenated chi-squared as aliases.
-  const std::string canonical = name == "weibul" ? "weibull" : name == "chi-squared" ? "chi_squared" : name;
+  // The paper spells "weibul"; accept it and the hyphenated chi-squared as aliases, and the seed plugin's SDF
+  // names, which are the <random> class names ("uniform_real_distribution", "normal_distribution", ...).
+  std::string canonical = name;
+  const std::string suffix = "_distribution";
+  if (canonical.size() > suffix.size() && canonical.ends_with(suffix))
+    canonical.resize(canonical.size() - suffix.size());
+  if (canonical == "uniform_real") canonical = "uniform";
+  if (canonical == "weibul") canonical = "weibull";
+  if (canonical == "chi-squared") canonical = "chi_squared";
   const Spec* spec = nullptr;
   for (const Spec& sp : kSpecs)
     if (canonical == sp.name) spec = &sp;

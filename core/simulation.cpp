@@ -47,6 +47,53 @@ struct CachedLink {
 
 }  // namespace
 
+void read_attempts(const Scenario& scenario, size_t antenna, uint64_t tick, double t_s, const Pose& antenna_pose,
+                   std::span<const size_t> present, std::span<const double> distance_m,
+                   std::span<const std::complex<double>> h_one_way, std::vector<ReadRecord>& out) {
+  const ReaderParams& reader = scenario.antennas[antenna].reader;
+  const size_t c = hop_channel_index(reader, t_s);
+  const bool physical = reader.model == ReaderModelKind::kPhysical;
+  Rng rng = make_stream(scenario.seed, {static_cast<uint64_t>(antenna), tick});
+  for (size_t i : present) {
+    LinkState link;
+    link.distance_m = distance_m[i];
+    link.frequency_hz = reader.frequencies_hz[c];
+    link.phase_offset_rad = reader.phase_offsets_rad[c];
+    link.h_one_way = physical ? h_one_way[i] : std::complex<double>{0.0, 0.0};
+    const Reading reading = read_tag(reader, scenario.tags[i].tag, link, rng);
+    if (!reading.read) continue;
+    out.push_back({t_s, tick, static_cast<uint32_t>(i), antenna_pose, distance_m[i], link.frequency_hz,
+                   static_cast<uint32_t>(c), reading});
+  }
+}
+
+std::vector<ReadRecord> simulate_tick(const Scenario& scenario, const Channel& channel, size_t antenna,
+                                      uint64_t tick, const Pose& antenna_pose, std::span<const Pose> tag_poses,
+                                      std::span<const size_t> present) {
+  const ReaderParams& reader = scenario.antennas.at(antenna).reader;
+  const double t_s = static_cast<double>(tick) / reader.update_rate_hz;
+  const size_t n_tags = scenario.tags.size();
+  std::vector<double> dist(n_tags, 0.0);
+  std::vector<std::complex<double>> h(n_tags, {0.0, 0.0});
+  std::vector<Endpoint> batch;
+  for (size_t i : present) {
+    dist[i] = (tag_poses[i].position - antenna_pose.position).norm();
+    if (!(dist[i] >= kMinLinkDistance_m))
+      throw InputError("tag '" + scenario.tags[i].tag.name + "' is at antenna '" + reader.name + "' at t = " +
+                       fmt(t_s) + " s (distance " + fmt(dist[i]) + " m; the models need D > 0)");
+    batch.push_back({tag_poses[i], scenario.tags[i].tag.pattern, scenario.tags[i].tag.polarization});
+  }
+  if (reader.model == ReaderModelKind::kPhysical && !batch.empty()) {
+    std::vector<std::complex<double>> batch_h(batch.size());
+    channel.one_way({antenna_pose, reader.pattern, reader.polarization}, batch,
+                    reader.frequencies_hz[hop_channel_index(reader, t_s)], batch_h);
+    for (size_t m = 0; m < present.size(); ++m) h[present[m]] = batch_h[m];
+  }
+  std::vector<ReadRecord> out;
+  read_attempts(scenario, antenna, tick, t_s, antenna_pose, present, dist, h, out);
+  return out;
+}
+
 TrajectoryPtr build_trajectory(const Scenario& scenario, const SceneMotion& motion, const MotionSpec& spec,
                                double start_s, const std::string& owner) {
   if (spec.kind == MotionSpec::Kind::kWaypoints) {
@@ -271,19 +318,8 @@ SimulationResult simulate(const Scenario& scenario, const Channel& channel, cons
             }
           }
         }
-        Rng rng = make_stream(scenario.seed, {static_cast<uint64_t>(a), k});
-        for (size_t i : present) {
-          ++item.out.attempts;
-          LinkState link;
-          link.distance_m = dist[i];
-          link.frequency_hz = reader.frequencies_hz[c];
-          link.phase_offset_rad = reader.phase_offsets_rad[c];
-          link.h_one_way = needs_h(a) ? h[i] : std::complex<double>{0.0, 0.0};
-          const Reading reading = read_tag(reader, scenario.tags[i].tag, link, rng);
-          if (!reading.read) continue;
-          item.out.reads.push_back(
-              {t, k, static_cast<uint32_t>(i), ap, dist[i], link.frequency_hz, static_cast<uint32_t>(c), reading});
-        }
+        item.out.attempts += present.size();
+        read_attempts(scenario, a, k, t, ap, present, dist, h, item.out.reads);
       }
     } catch (...) {
       item.error = std::current_exception();

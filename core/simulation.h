@@ -3,8 +3,10 @@
 // antenna pose, the hop channel and every present tag give one read attempt through the reader model.
 // Work items are (antenna, block of ticks), run in parallel with OpenMP; each tick draws from its own
 // random stream make_stream(seed, {antenna, tick}), so the result is identical at any thread count.
+#include <complex>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "core/channel.h"
@@ -68,5 +70,21 @@ struct SimulationResult {
 
 // Runs the scenario. Throws InputError for bad inputs (e.g. a tag at an antenna: names both).
 SimulationResult simulate(const Scenario& scenario, const Channel& channel, const SimulationOptions& options = {});
+
+// The read attempts of one antenna tick, as simulate() makes them: tags `present` (ascending indices into
+// Scenario::tags) in that order, every draw from make_stream(seed, {antenna, tick}), the hop channel of t_s.
+// distance_m and h_one_way are indexed by tag (h only read for the physical model). Successful reads are
+// appended to `out`.
+void read_attempts(const Scenario& scenario, size_t antenna, uint64_t tick, double t_s, const Pose& antenna_pose,
+                   std::span<const size_t> present, std::span<const double> distance_m,
+                   std::span<const std::complex<double>> h_one_way, std::vector<ReadRecord>& out);
+
+// One tick of one antenna from poses given from outside (a live bridge), at t = tick / update_rate like
+// simulate(): the channel is evaluated for the present tags (physical model only) and read_attempts draws.
+// For the same poses and seed it returns exactly the reads simulate() makes at that tick. tag_poses is
+// indexed by tag. Throws InputError when a tag is at the antenna.
+std::vector<ReadRecord> simulate_tick(const Scenario& scenario, const Channel& channel, size_t antenna,
+                                      uint64_t tick, const Pose& antenna_pose, std::span<const Pose> tag_poses,
+                                      std::span<const size_t> present);
 
 }  // namespace rfidray
