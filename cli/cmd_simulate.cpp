@@ -78,7 +78,7 @@ int run(const SimulateOptions& o) {
   const std::string channel_field = o.channel.empty() ? "channel" : "--channel";
   std::vector<std::string> channel_report;
   const std::unique_ptr<Channel> channel =
-      world_scene ? make_scene_channel(scenario.channel, world_scene, channel_field)
+      world_scene ? make_channel(scenario.channel, scenario, world_scene, channel_field, &channel_report)
                   : make_channel(scenario.channel, scenario, channel_field, &channel_report);
   SimulationOptions sim;
   sim.threads = o.threads;

@@ -56,20 +56,6 @@ WorldSource load_world_source(const WorldSourceOptions& options, const std::stri
 #endif
 }
 
-std::unique_ptr<Channel> make_scene_channel(const std::string& name, std::shared_ptr<const Scene> scene,
-                                            const std::string& field) {
-  if (name == "ideal") return std::make_unique<IdealChannel>();
-  if (name == "los" || name == "los+blocked" || name == "single-bounce") {
-    TraceOptions options;
-    options.level = parse_channel_level(name, field);
-    return std::make_unique<RaytracedChannel>(std::move(scene), options);
-  }
-  if (name == "auto")
-    throw field_error(field, "channel 'auto' samples a scenario file's links; with a world choose one of ideal, los, "
-                             "los+blocked, single-bounce");
-  throw field_error(field, "unknown channel '" + name + "' (known: ideal, los, los+blocked, single-bounce)");
-}
-
 void print_world_remarks(const WorldSource& world) {
   for (const auto& w : world.warnings) std::cerr << "rfidray: warning: " << w << "\n";
   for (const auto& n : world.notes) std::cerr << "rfidray: note: " << n << "\n";

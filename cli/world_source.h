@@ -36,11 +36,6 @@ bool world_import_available();
 // `default_material` ("" = the map's own, or 'concrete' without a map) applies to unmapped surfaces.
 WorldSource load_world_source(const WorldSourceOptions& options, const std::string& default_material = "");
 
-// The channel `name` (ideal | los | los+blocked | single-bounce) over a prebuilt scene. InputError naming
-// `field` for an unknown name.
-std::unique_ptr<Channel> make_scene_channel(const std::string& name, std::shared_ptr<const Scene> scene,
-                                            const std::string& field);
-
 // Prints warnings and notes to stderr as `rfidray: warning: ...` / `rfidray: note: ...`.
 void print_world_remarks(const WorldSource& world);
 

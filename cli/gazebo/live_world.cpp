@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cli/channel_factory.h"
 #include "cli/world_source.h"
 #include "core/error.h"
 #include "core/reader_model.h"
@@ -13,6 +14,10 @@ LiveWorld::LiveWorld(GazeboWorld world, const LiveOptions& options)
     : world_(std::move(world)), options_(options) {
   world_.scenario.seed = options_.seed;
   world_.scenario.channel = options_.channel;
+  // `auto` judges levels on links sampled over a run's motion; live poses come from Gazebo tick by tick.
+  if (options_.channel == "auto")
+    throw InputError("--channel auto: the live bridge needs a fixed level (ideal, los, los+blocked, single-bounce); "
+                     "pick one with `rfidray simulate --world ... --channel auto` on the same world");
   moves_scene_.assign(world_.entities.size(), false);
   for (const Collision& c : world_.collisions)
     for (int e = static_cast<int>(c.link); e >= 0; e = world_.entities[e].parent) moves_scene_[e] = true;
@@ -25,7 +30,7 @@ LiveWorld::LiveWorld(GazeboWorld world, const LiveOptions& options)
 
 const Channel& LiveWorld::channel() {
   if (!channel_ || (needs_trace_ && scene_dirty_)) {
-    channel_ = make_scene_channel(options_.channel, build_scene(world_), "--channel");
+    channel_ = make_channel(options_.channel, world_.scenario, build_scene(world_), "--channel");
     ++scene_builds_;
   }
   scene_dirty_ = false;

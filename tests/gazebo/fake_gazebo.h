@@ -21,6 +21,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cli/channel_factory.h"
 #include "cli/gazebo/entity_map.h"
 #include "cli/gazebo/gazebo_world.h"
 #include "cli/gazebo/msgs/rfid_readings.pb.h"
@@ -112,7 +113,7 @@ inline SimulationResult simulate_state(bool second, Scenario& scenario_out) {
   s.seed = kSeed;
   s.duration_s = kDuration;
   s.channel = "los+blocked";
-  const auto channel = make_scene_channel(s.channel, build_scene(w), "channel");
+  const auto channel = rfidray::cli::make_channel(s.channel, s, build_scene(w), "channel");
   scenario_out = s;
   return simulate(s, *channel);
 }

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli/channel_factory.h"
 #include "cli/gazebo/gazebo_world.h"
 #include "cli/readings_csv.h"
 #include "cli/world_source.h"
@@ -57,7 +58,7 @@ TEST(WorldCli, SimulateWorldEqualsSimulateOfTheImportedScenario) {
   Scenario s = w.scenario;
   s.seed = 3;
   s.duration_s = 1.0;
-  const auto channel = make_scene_channel("single-bounce", build_scene(w), "channel");
+  const auto channel = rfidray::cli::make_channel("single-bounce", s, build_scene(w), "channel");
   const SimulationResult result = simulate(s, *channel);
   for (size_t a = 0; a < s.antennas.size(); ++a) {
     std::ostringstream expected;
