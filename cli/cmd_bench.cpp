@@ -18,6 +18,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <regex>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -72,7 +73,11 @@ std::string machine() {
 // rays.json (Google Benchmark) → rays.csv and the ours/raw ratios per scene and thread count.
 std::vector<std::string> ray_ratios(const fs::path& dir) {
   std::ifstream in(dir / "rays.json");
-  const nlohmann::json j = nlohmann::json::parse(in);
+  std::stringstream text;
+  text << in.rdbuf();
+  // Google Benchmark writes NaN / inf for some aggregates (the cv of a counter that is always 0): not JSON.
+  static const std::regex non_finite(R"(:\s*-?(nan|NaN|inf|Inf|infinity))");
+  const nlohmann::json j = nlohmann::json::parse(std::regex_replace(text.str(), non_finite, ": null"));
   std::map<std::pair<std::string, int>, std::map<std::string, double>> rate;  // (scene, threads) → bench → rays/s
   std::map<std::string, double> triangles;
   std::ofstream csv(dir / "rays.csv");
@@ -86,9 +91,10 @@ std::vector<std::string> ray_ratios(const fs::path& dir) {
     const auto s1 = name.find('/'), s2 = name.find('/', s1 + 1);
     const std::string what = name.substr(0, s1), scene = name.substr(s1 + 1, s2 - s1 - 1);
     const int threads = std::stoi(name.substr(name.rfind(':') + 1));
+    if (!b.contains("items_per_second") || !b.at("items_per_second").is_number()) continue;
     const double r = b.at("items_per_second");
     rate[{scene, threads}][what] = r;
-    triangles[scene] = b.value("triangles", 0.0);
+    if (b.contains("triangles") && b.at("triangles").is_number()) triangles[scene] = b.at("triangles");
     csv << what << "," << scene << "," << threads << "," << r << "\n";
     if (std::find(scenes.begin(), scenes.end(), scene) == scenes.end()) scenes.push_back(scene);
   }
