@@ -214,14 +214,6 @@ void intersect1_ours(benchmark::State& state, Prepared* p) {
   state.counters["planes_per_pose"] = benchmark::Counter(double(planes) / double(std::max<size_t>(1, state.iterations() * (e - b))), benchmark::Counter::kAvgThreads);
 }
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -234,7 +226,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     const std::string v = argv[++i];
-    if (k == "--scenes") c.scenes = split(v);
+    if (k == "--scenes") c.scenes = bench::split_commas(v);
     else if (k == "--tags") c.tags = std::atoi(v.c_str());
     else if (k == "--poses") c.poses = std::atoi(v.c_str());
     else if (k == "--candidate-rays") c.candidate_rays = std::atoi(v.c_str());

@@ -89,14 +89,6 @@ Rate measure(const RaytracedChannel& ch, const bench::Workload& w, int runs) {
   return {rates[rates.size() / 2], rates.front(), rates.back(), double(rays) / double(runs * w.links())};
 }
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -117,7 +109,7 @@ int main(int argc, char** argv) {
   std::vector<bench::BenchScene> scenes;
   try {
     if (!scene_list.empty())
-      for (const std::string& n : split(scene_list)) scenes.push_back(bench::find_bench_scene(n));
+      for (const std::string& n : bench::split_commas(scene_list)) scenes.push_back(bench::find_bench_scene(n));
     else
       for (const bench::BenchScene& s : bench::bench_scenes())
         if (!quick || s.name != "w5m") scenes.push_back(s);

@@ -7,6 +7,7 @@
 // warehouse (so most links of a big warehouse cross racks, as for a deployment of many tags and few antennas).
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -31,6 +32,15 @@ inline std::vector<BenchScene> bench_scenes() {
       {"w1m", false, {.rows = 20, .racks_per_row = 60, .shelves = 5, .tessellation = 3}},
       {"w5m", false, {.rows = 20, .racks_per_row = 100, .shelves = 5, .tessellation = 5}},
   };
+}
+
+// "a,b,,c" → {"a", "b", "c"} (command-line lists).
+inline std::vector<std::string> split_commas(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
 }
 
 inline BenchScene find_bench_scene(const std::string& name) {
