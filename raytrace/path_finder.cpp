@@ -173,7 +173,8 @@ void PathFinder::prepare_pose(const Vec3& antenna_position, PoseCandidates& out)
 #pragma omp parallel for schedule(static) if (n >= 2048 && !omp_in_parallel())
   for (std::ptrdiff_t i = 0; i < n; ++i)
     out.hits[i] = bvh.intersect(antenna_position, candidate_directions_[i], options_.endpoint_epsilon_m, 1e30);
-  std::vector<char> plane_seen(planes_.size(), 0);
+  std::vector<char>& plane_seen = out.plane_seen;
+  plane_seen.assign(planes_.size(), 0);
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const RayHit& h = out.hits[i];
     if (!h.hit) continue;

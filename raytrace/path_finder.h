@@ -54,6 +54,7 @@ struct PoseCandidates {
   std::vector<uint64_t> seen_cells;    // ... and only points in these cells (occupancy-grid bit indexing)
   std::vector<uint32_t> touched_words; // words of seen_cells set since the last clear
   std::vector<RayHit> hits;            // per-ray scratch
+  std::vector<char> plane_seen;        // per-plane scratch
 };
 
 class PathFinder {

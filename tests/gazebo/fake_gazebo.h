@@ -125,11 +125,12 @@ inline std::string slurp(const fs::path& p) {
   return s.str();
 }
 
-class BridgeProcess {
+// A helper process with stdout and stderr to `log`, signalled (kill_signal) and reaped at the end if it is
+// still running.
+class ChildProcess {
  public:
-  BridgeProcess(const std::vector<std::string>& args, const fs::path& log) {
-    std::vector<std::string> argv{RFIDRAY_BINARY};
-    argv.insert(argv.end(), args.begin(), args.end());
+  ChildProcess(std::vector<std::string> argv, const fs::path& log, int kill_signal = SIGKILL)
+      : kill_signal_(kill_signal) {
     std::vector<char*> cargv;
     for (auto& a : argv) cargv.push_back(a.data());
     cargv.push_back(nullptr);
@@ -140,14 +141,17 @@ class BridgeProcess {
     if (posix_spawn(&pid_, cargv[0], &fa, nullptr, cargv.data(), environ) != 0) pid_ = -1;
     posix_spawn_file_actions_destroy(&fa);
   }
-  ~BridgeProcess() {
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+  ~ChildProcess() {
     if (pid_ > 0 && !done_) {
-      kill(pid_, SIGKILL);
+      kill(pid_, kill_signal_);
       waitpid(pid_, nullptr, 0);
     }
   }
+  bool started() const { return pid_ > 0; }
   bool running() const { return pid_ > 0 && !done_; }
-  // Exit status, or −1 if it did not exit within the timeout (it is then killed).
+  // Exit status, or −1 if it did not exit within the timeout (it is then killed at destruction).
   int wait(std::chrono::milliseconds timeout) {
     const auto until = std::chrono::steady_clock::now() + timeout;
     while (std::chrono::steady_clock::now() < until) {
@@ -162,8 +166,22 @@ class BridgeProcess {
   }
 
  private:
+  int kill_signal_;
   pid_t pid_ = -1;
   bool done_ = false;
+};
+
+// `rfidray ARGS...`, killed (SIGKILL) at the end if still running.
+class BridgeProcess : public ChildProcess {
+ public:
+  BridgeProcess(const std::vector<std::string>& args, const fs::path& log) : ChildProcess(with_binary(args), log) {}
+
+ private:
+  static std::vector<std::string> with_binary(const std::vector<std::string>& args) {
+    std::vector<std::string> argv{RFIDRAY_BINARY};
+    argv.insert(argv.end(), args.begin(), args.end());
+    return argv;
+  }
 };
 
 
