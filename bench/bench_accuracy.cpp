@@ -22,8 +22,8 @@
 
 #include "bench/localize_common.h"
 #include "bench/workload.h"
-#include "cli/plot.h"
-#include "cli/scenario_yaml.h"
+#include "io/plot.h"
+#include "io/scenario_yaml.h"
 #include "core/channel_error.h"
 #include "core/reader_model.h"
 #include "raytrace/path_finder.h"
@@ -210,7 +210,7 @@ int main(int argc, char** argv) {
   if (quick) seeds = 1, runs = std::min(runs, 2);
   std::filesystem::create_directories(out_dir);
 
-  Scenario paper = cli::load_scenario(std::string(RFIDRAY_SOURCE_DIR) + "/scenes/paper_warehouse.yaml");
+  Scenario paper = io::load_scenario(std::string(RFIDRAY_SOURCE_DIR) + "/scenes/paper_warehouse.yaml");
   for (AntennaSpec& a : paper.antennas) a.reader.model = ReaderModelKind::kPhysical;
   const double min_h2 = min_readable_h2(ReaderParams{}, TagParams{});
 
@@ -223,7 +223,7 @@ int main(int argc, char** argv) {
   std::vector<SceneCase> cases{{"paper", bench::find_bench_scene("paper"), quick ? 60 : 200, quick ? 8 : 20, true}};
   if (!quick) cases.push_back({"w1m", bench::find_bench_scene("w1m"), 250, 4, false});
 
-  std::vector<cli::Panel> panels;
+  std::vector<io::Panel> panels;
   for (const SceneCase& sc : cases) {
     const std::vector<TriangleMesh> meshes = bench::scene_meshes(sc.scene);
     const auto clean = std::make_shared<const Scene>(meshes, MaterialAssignment{});
@@ -284,16 +284,16 @@ int main(int argc, char** argv) {
       labels.push_back(s.name);
     }
     // Chart: error vs time, one point per setting (errors of 0 drawn at 1e-6 on the log axis).
-    cli::Series pts{"settings", {}, {}, "points pt 7 ps 1.2"};
+    io::Series pts{"settings", {}, {}, "points pt 7 ps 1.2"};
     for (size_t i = 0; i < times.size(); ++i)
       pts.x.push_back(times[i]), pts.y.push_back(std::max(errors[i], 1e-6)), pts.labels.push_back(labels[i]);
-    cli::Series front{"Pareto front", {}, {}, "linespoints lw 2"};
+    io::Series front{"Pareto front", {}, {}, "linespoints lw 2"};
     for (size_t i : pareto_front(times, errors)) front.x.push_back(times[i]), front.y.push_back(std::max(errors[i], 1e-6));
     panels.push_back({sc.name + ": p95 round-trip phase error (links readable in both) vs time per link; reference: exhaustive, all paths",
                       "time per link (us, all threads)", "p95 phase error (rad)", {pts, front}, true, true});
   }
   try {
-    cli::write_png(std::filesystem::path(out_dir) / "accuracy_pareto.png", panels, 1200, 560);
+    io::write_png(std::filesystem::path(out_dir) / "accuracy_pareto.png", panels, 1200, 560);
   } catch (const std::exception& e) {
     std::cerr << "bench_accuracy: chart not written: " << e.what() << "\n";
   }

@@ -21,7 +21,7 @@
 #include <sstream>
 
 #include "bench/workload.h"
-#include "cli/plot.h"
+#include "io/plot.h"
 #include "raytrace/raytraced_channel.h"
 
 using namespace rfidray;
@@ -121,10 +121,10 @@ int main(int argc, char** argv) {
   std::ofstream csv(std::filesystem::path(out_dir) / "links_per_level.csv");
   csv << "scene,triangles,facets,planes,build_s,embree_bytes_per_triangle,resident_bytes_per_triangle,setting,"
          "threads,tags,poses,links_per_s_median,links_per_s_min,links_per_s_max,rays_per_link\n";
-  std::map<std::string, cli::Series> by_triangles;  // setting → (triangles, links/s at 2 threads)
+  std::map<std::string, io::Series> by_triangles;  // setting → (triangles, links/s at 2 threads)
   std::ofstream tags_csv(std::filesystem::path(out_dir) / "links_vs_tags.csv");
   tags_csv << "scene,setting,threads,tags,poses,links_per_s_median,rays_per_link\n";
-  std::map<std::string, cli::Series> by_tags;
+  std::map<std::string, io::Series> by_tags;
 
   for (const bench::BenchScene& bs : scenes) {
     const size_t rss0 = resident_bytes();
@@ -182,20 +182,20 @@ int main(int argc, char** argv) {
     }
   }
 
-  auto values = [](const std::map<std::string, cli::Series>& m) {
-    std::vector<cli::Series> v;
+  auto values = [](const std::map<std::string, io::Series>& m) {
+    std::vector<io::Series> v;
     for (const Setting& st : settings())
       if (m.count(st.name)) v.push_back(m.at(st.name));
     return v;
   };
   try {
-    cli::Panel tri{"Links/s vs scene size (2 threads; tags on every row, antenna poses along the middle aisle)",
+    io::Panel tri{"Links/s vs scene size (2 threads; tags on every row, antenna poses along the middle aisle)",
                    "triangles", "links / s", values(by_triangles), true, true};
-    cli::write_png(std::filesystem::path(out_dir) / "links_vs_triangles.png", {tri});
+    io::write_png(std::filesystem::path(out_dir) / "links_vs_triangles.png", {tri});
     if (!by_tags.empty()) {
-      cli::Panel tg{"Links/s vs tags per antenna pose (1 M-triangle warehouse, 2 threads)", "tags", "links / s",
+      io::Panel tg{"Links/s vs tags per antenna pose (1 M-triangle warehouse, 2 threads)", "tags", "links / s",
                     values(by_tags), true, true};
-      cli::write_png(std::filesystem::path(out_dir) / "links_vs_tags.png", {tg});
+      io::write_png(std::filesystem::path(out_dir) / "links_vs_tags.png", {tg});
     }
   } catch (const std::exception& e) {
     std::cerr << "bench_sweep: charts not written: " << e.what() << "\n";

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/localization/methods.h"
+#include "localization/methods.h"
 #include "core/scenario.h"
 #include "core/simulation.h"
 

@@ -10,10 +10,10 @@
 #include <iostream>
 
 #include "bench/localize_common.h"
-#include "cli/channel_factory.h"
-#include "cli/plot.h"
-#include "cli/scenario_yaml.h"
-#include "core/localization/summary.h"
+#include "io/channel_factory.h"
+#include "io/plot.h"
+#include "io/scenario_yaml.h"
+#include "localization/summary.h"
 
 using namespace rfidray;
 
@@ -36,8 +36,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   std::filesystem::create_directories(out_dir);
 
-  Scenario base = cli::load_scenario(scene);
-  if (!channel_name.empty()) base.channel = channel_name;
+  Scenario base = io::load_scenario(scene);
+  if (!channel_name.empty()) base.channel = parse_channel_level(channel_name, "--channel");
   if (!model.empty())
     for (AntennaSpec& a : base.antennas)
       a.reader.model = model == "physical" ? ReaderModelKind::kPhysical : ReaderModelKind::kPaper;
@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
     std::cerr << "no antenna named '" << antenna_name << "' in " << scene << "\n";
     return 2;
   }
-  const auto channel = cli::make_channel(base.channel, base);
+  const auto channel = io::make_channel(base.channel, base);
 
   const std::vector<loc::Method> methods{loc::Method::kHyperbolic, loc::Method::kNlls, loc::Method::kSar};
   struct Mode {
@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
   }
 
   std::cout << "Paper reproduction: " << scene << ", antenna '" << antenna_name << "', seeds " << first_seed << ".."
-            << first_seed + seeds - 1 << ", channel " << base.channel << " (" << channel->name() << "), "
+            << first_seed + seeds - 1 << ", channel " << to_string(base.channel) << " (" << channel->name() << "), "
             << (base.antennas[ai].reader.model == ReaderModelKind::kPhysical ? "physical" : "paper")
             << " reader model, tag height known (2-D)\n\n";
   std::cout << std::left << std::setw(30) << "method / mirror prior" << std::right << std::setw(8) << "ok"
@@ -126,17 +126,17 @@ int main(int argc, char** argv) {
     }
 
   // Per-tag error of the first seed, like the paper's Fig. 10.
-  std::vector<cli::Series> series;
+  std::vector<io::Series> series;
   for (const auto& [mi, errs] : first_seed_errors) {
-    cli::Series se{loc::to_string(methods[mi]), {}, {}, "linespoints"};
+    io::Series se{loc::to_string(methods[mi]), {}, {}, "linespoints"};
     for (size_t i = 0; i < errs.size(); ++i)
       if (std::isfinite(errs[i])) se.x.push_back(static_cast<double>(i + 1)), se.y.push_back(1000 * errs[i]);
     series.push_back(se);
   }
-  series.push_back(cli::Series{"paper mean (15 mm)", {1, 10}, {15, 15}, "lines"});
+  series.push_back(io::Series{"paper mean (15 mm)", {1, 10}, {15, 15}, "lines"});
   const auto png = std::filesystem::path(out_dir) / "localize_paper_errors.png";
   try {
-    cli::write_png(png, {cli::Panel{"Estimation error per tag, seed " + std::to_string(first_seed) + " (truth-side prior)",
+    io::write_png(png, {io::Panel{"Estimation error per tag, seed " + std::to_string(first_seed) + " (truth-side prior)",
                                     "tag", "error (mm)", series}});
     std::cout << "\nwrote " << png.string() << " and " << (std::filesystem::path(out_dir) / "localize_paper.csv").string() << "\n";
   } catch (const std::exception& e) {

@@ -16,9 +16,9 @@
 #include "core/reader_model.h"
 #include "raytrace/raytraced_channel.h"
 #include "raytrace/warehouse.h"
-#include "cli/plot.h"
-#include "core/localization/summary.h"
-#include "core/localization/synthetic.h"
+#include "io/plot.h"
+#include "localization/summary.h"
+#include "localization/synthetic.h"
 #include "core/units.h"
 
 using namespace rfidray;
@@ -120,14 +120,14 @@ int main(int argc, char** argv) {
     std::ofstream csv(base.string() + ".csv");
     csv << sw.name << ",method,trials,ok,failure_rate,median_error_m,mean_error_m,max_error_m,mean_time_ms,reasons\n"
         << std::setprecision(6);
-    std::vector<cli::Series> err_series, fail_series;
+    std::vector<io::Series> err_series, fail_series;
     std::cout << "\n== sweep " << sw.name << " (" << sw.label << "), " << trials << " trials per point: median error mm / failures\n";
     std::cout << std::setw(8) << sw.name;
     for (loc::Method m : methods) std::cout << std::setw(22) << loc::to_string(m);
     std::cout << "\n";
     std::vector<std::vector<std::string>> rows(sw.values.size());
     for (loc::Method m : methods) {
-      cli::Series es{loc::to_string(m), {}, {}, "linespoints"}, fs{loc::to_string(m), {}, {}, "linespoints"};
+      io::Series es{loc::to_string(m), {}, {}, "linespoints"}, fs{loc::to_string(m), {}, {}, "linespoints"};
       for (size_t vi = 0; vi < sw.values.size(); ++vi) {
         const double v = sw.values[vi];
         Case c;
@@ -172,9 +172,9 @@ int main(int argc, char** argv) {
       std::cout << "\n";
     }
     try {
-      cli::write_png(base.string() + ".png",
-                     {cli::Panel{"Median error of ok results vs " + sw.label, sw.label, "median error (mm)", err_series, sw.log_x, true},
-                      cli::Panel{"Failure rate (status failed) vs " + sw.label, sw.label, "failed fraction", fail_series, sw.log_x, false}});
+      io::write_png(base.string() + ".png",
+                     {io::Panel{"Median error of ok results vs " + sw.label, sw.label, "median error (mm)", err_series, sw.log_x, true},
+                      io::Panel{"Failure rate (status failed) vs " + sw.label, sw.label, "failed fraction", fail_series, sw.log_x, false}});
     } catch (const std::exception& e) {
       std::cerr << "chart not written: " << e.what() << "\n";
     }

@@ -22,7 +22,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "cli/plot.h"
+#include "io/plot.h"
 #include "core/error.h"
 
 namespace rfidray::cli {
@@ -101,7 +101,7 @@ std::vector<std::string> ray_ratios(const fs::path& dir) {
   std::ofstream ratio(dir / "rays_ratio.csv");
   ratio << "scene,threads,occluded_ours_over_raw,intersect_ours_over_raw,occluded16_over_occluded1,raw_occluded1_rays_per_s\n";
   std::vector<std::string> lines;
-  Series occ1{"occluded: ours / raw rtcOccluded1 (1 thread)", {}, {}, "linespoints"},
+  io::Series occ1{"occluded: ours / raw rtcOccluded1 (1 thread)", {}, {}, "linespoints"},
       occ2{"occluded: ours / raw rtcOccluded1 (2 threads)", {}, {}, "linespoints"},
       int2{"candidate search: ours / raw rtcIntersect1 (2 threads)", {}, {}, "linespoints"},
       p16{"raw rtcOccluded16 / rtcOccluded1 (2 threads)", {}, {}, "linespoints"};
@@ -117,11 +117,11 @@ std::vector<std::string> ray_ratios(const fs::path& dir) {
                     inter, pk, m["occluded1_raw"] / 1e6);
       lines.push_back(buf);
       const double x = triangles[scenes[si]];
-      Series& occ_series = threads == 1 ? occ1 : occ2;
+      io::Series& occ_series = threads == 1 ? occ1 : occ2;
       occ_series.x.push_back(x), occ_series.y.push_back(occ), occ_series.labels.push_back(threads == 1 ? scenes[si] : "");
       if (threads == 2) int2.x.push_back(x), int2.y.push_back(inter), p16.x.push_back(x), p16.y.push_back(pk);
     }
-  write_png(dir / "rays_ratio.png", {Panel{"Ray throughput relative to a raw Embree loop on the same rays",
+  io::write_png(dir / "rays_ratio.png", {io::Panel{"Ray throughput relative to a raw Embree loop on the same rays",
                                            "scene triangles", "ratio", {occ1, occ2, int2, p16}, true, false}});
   return lines;
 }

@@ -16,9 +16,9 @@
 #include <optional>
 #include <sstream>
 
-#include "cli/channel_factory.h"
-#include "cli/plot.h"
-#include "cli/scenario_yaml.h"
+#include "io/channel_factory.h"
+#include "io/plot.h"
+#include "io/scenario_yaml.h"
 #include "core/error.h"
 #include "core/simulation.h"
 #include "core/units.h"
@@ -66,21 +66,24 @@ std::vector<std::string> split_list(const std::string& s) {
 }
 
 int run_compare(const CompareOptions& o) {
-  Scenario scenario = load_scenario(o.scenario);
+  Scenario scenario = io::load_scenario(o.scenario);
   if (o.seed) scenario.seed = *o.seed;
-  if (o.channel == "ideal") throw InputError("option --channel: compare needs a ray-traced level (los, los+blocked, single-bounce)");
+  const ChannelLevel level = parse_channel_level(o.channel, "--channel");
+  if (level == ChannelLevel::kIdeal)
+    throw InputError("option --channel: compare needs a ray-traced level (los, los+blocked, single-bounce, auto)");
   for (AntennaSpec& a : scenario.antennas)
     if (a.reader.model == ReaderModelKind::kPaper) {
       std::cerr << "rfidray: note: antenna '" << a.reader.name
                 << "' uses the paper model, which ignores the channel; compare runs it with the physical model\n";
       a.reader.model = ReaderModelKind::kPhysical;
     }
-  const std::unique_ptr<Channel> ideal = make_channel("ideal", scenario, "ideal");
-  const std::unique_ptr<Channel> traced = make_channel(o.channel, scenario, "--channel");
+  const SceneMotion motion = build_motion(scenario);
+  const IdealChannel ideal;
+  const std::unique_ptr<Channel> traced = io::make_channel(level, scenario, motion);
   SimulationOptions sim;
   sim.threads = o.threads;
-  const SimulationResult ri = simulate(scenario, *ideal, sim);
-  const SimulationResult rt = simulate(scenario, *traced, sim);
+  const SimulationResult ri = simulate(scenario, motion, ideal, sim);
+  const SimulationResult rt = simulate(scenario, motion, *traced, sim);
 
   // Chosen tags for the plot (default: the first two).
   std::vector<size_t> plot_tags;
@@ -111,7 +114,7 @@ int run_compare(const CompareOptions& o) {
 
   std::printf("rfidray compare %s: ideal vs %s, seed %llu, %.3f s\n", o.scenario.c_str(), o.channel.c_str(),
               static_cast<unsigned long long>(scenario.seed), ri.duration_s);
-  std::vector<Panel> panels;
+  std::vector<io::Panel> panels;
   for (size_t a = 0; a < scenario.antennas.size(); ++a) {
     const auto& ai = ri.antennas[a].reads;
     const auto& at = rt.antennas[a].reads;
@@ -149,12 +152,12 @@ int run_compare(const CompareOptions& o) {
     if (a != plot_antenna) continue;
     for (size_t t : plot_tags) {
       const std::string& tn = scenario.tags[t].tag.name;
-      Panel phase{"antenna " + an + ", " + tn + ": phase", "time along the trajectory (s)", "phase (rad)", {}};
-      Panel rssi{"antenna " + an + ", " + tn + ": RSSI", "time along the trajectory (s)", "RSSI (dBm)", {}};
+      io::Panel phase{"antenna " + an + ", " + tn + ": phase", "time along the trajectory (s)", "phase (rad)", {}};
+      io::Panel rssi{"antenna " + an + ", " + tn + ": RSSI", "time along the trajectory (s)", "RSSI (dBm)", {}};
       for (int which = 0; which < 2; ++which) {
         const auto& reads = which == 0 ? ai : at;
-        Series sp{which == 0 ? "ideal" : o.channel, {}, {}, "points"};
-        Series sr{which == 0 ? "ideal" : o.channel, {}, {}, "lines"};
+        io::Series sp{which == 0 ? "ideal" : o.channel, {}, {}, "points"};
+        io::Series sr{which == 0 ? "ideal" : o.channel, {}, {}, "lines"};
         for (const ReadRecord& r : reads)
           if (r.tag == t) {
             sp.x.push_back(r.time_s);
@@ -173,7 +176,7 @@ int run_compare(const CompareOptions& o) {
   if (!csv) throw InputError((dir / "compare.csv").string() + ": write failed");
   std::printf("\n-> %s\n", (dir / "compare.csv").string().c_str());
   if (!panels.empty()) {
-    write_png(dir / "compare.png", panels, 1100, 300);
+    io::write_png(dir / "compare.png", panels, 1100, 300);
     std::printf("-> %s\n", (dir / "compare.png").string().c_str());
   }
   return 0;

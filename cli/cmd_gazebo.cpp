@@ -1,21 +1,18 @@
-// `rfidray gazebo`: the live bridge to a running Gazebo (cli/gazebo/bridge.h). Without ign-transport at build
-// time the subcommand still exists and says what is missing.
+// `rfidray gazebo`: the live bridge to a running Gazebo (adapters/gazebo/bridge.h). Built only with the bridge;
+// without it cli/commands.cpp registers a subcommand that says what is missing.
 #include <CLI/CLI.hpp>
 #include <memory>
 #include <optional>
 
-#include "cli/world_source.h"
+#include "adapters/gazebo/bridge.h"
+#include "cli/commands.h"
 #include "core/error.h"
-
-#ifdef RFIDRAY_HAVE_IGN_TRANSPORT
-#include "cli/gazebo/bridge.h"
-#endif
 
 namespace rfidray::cli {
 namespace {
 
 struct GazeboOptions {
-  WorldSourceOptions world;
+  io::WorldSourceOptions world;
   std::string world_name, channel = "ideal", model, csv_dir, topic_prefix = "/rfid", ros_node = "gazebo";
   std::string partition, ip;
   uint64_t seed = 1;
@@ -26,14 +23,13 @@ struct GazeboOptions {
 
 int run_gazebo(const GazeboOptions& o) {
   if (o.world.file.empty()) throw InputError("option --world: required (the SDF world Gazebo is running)");
-#ifdef RFIDRAY_HAVE_IGN_TRANSPORT
   gazebo::BridgeOptions b;
   b.world.file = o.world.file;
   b.world.resource_path = o.world.resource_path;
   b.world.materials_file = o.world.materials_file;
   b.world_name = o.world_name;
   b.seed = o.seed;
-  b.channel = o.channel;
+  b.channel = parse_channel_level(o.channel, "--channel");
   b.model = o.model;
   b.csv_dir = o.csv_dir;
   b.topic_prefix = o.topic_prefix;
@@ -47,10 +43,6 @@ int run_gazebo(const GazeboOptions& o) {
   b.connect_timeout_s = o.connect_timeout_s;
   b.quiet = o.quiet;
   return gazebo::run_bridge(b);
-#else
-  throw InputError("rfidray was built without ign-transport 11 / ign-msgs 8 (and sdformat 12), so it has no live "
-                   "Gazebo bridge: install them (bash .ci/install-deps --gazebo) and rebuild");
-#endif
 }
 
 }  // namespace

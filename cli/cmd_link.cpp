@@ -15,7 +15,8 @@
 #include "core/reader.h"
 #include "core/units.h"
 #include "raytrace/raytraced_channel.h"
-#include "cli/world_source.h"
+#include "cli/commands.h"
+#include "io/world_source.h"
 
 namespace rfidray::cli {
 namespace {
@@ -177,11 +178,11 @@ struct LinkOptions {
   double thickness_m = -1.0;
   double drop_db = TraceOptions{}.drop_below_db;
   bool json = false;
-  WorldSourceOptions world;  // --world instead of --scene
+  io::WorldSourceOptions world;  // --world instead of --scene
 };
 
 // --antenna / --tag: X,Y,Z, or with --world the name of one of its antennas (tags) at its world pose.
-std::optional<Pose> named_pose(const std::string& text, const WorldSource* world, bool antenna) {
+std::optional<Pose> named_pose(const std::string& text, const io::WorldSource* world, bool antenna) {
   if (!world || text.find(',') != std::string::npos) return std::nullopt;
   if (antenna) {
     for (const AntennaSpec& a : world->scenario.antennas)
@@ -208,13 +209,13 @@ int run_link(const LinkOptions& o) {
   if (!o.default_material.empty()) find_radio_material(o.default_material, {}, "option --default-material");
   std::vector<std::filesystem::path> files(o.scene.begin(), o.scene.end());
   std::vector<std::string> warnings;
-  std::optional<WorldSource> world;
+  std::optional<io::WorldSource> world;
   std::shared_ptr<const Scene> scene;
   if (!o.world.file.empty()) {
     if (!o.scene.empty()) throw InputError("give --scene FILE.obj or --world FILE, not both");
     if (!o.material.empty() || o.thickness_m >= 0.0)
       throw InputError("--world: materials come from --materials FILE (and --default-material), not --material/--thickness");
-    world = load_world_source(o.world, o.default_material);
+    world = io::load_world_source(o.world, o.default_material);
     if (!o.json) std::fprintf(stderr, "rfidray: %s\n", world->summary.c_str());
     warnings = world->warnings;
     for (const auto& n : world->notes) std::cerr << "rfidray: note: " << n << "\n";
@@ -228,29 +229,32 @@ int run_link(const LinkOptions& o) {
 
   TraceOptions trace;
   trace.level = parse_channel_level(o.level, "--level");
+  if (!is_traced(trace.level))
+    throw InputError("option --level: '" + o.level + "' is not traced (link shows one of los, los+blocked, "
+                     "single-bounce; the ideal channel is printed beside it)");
   trace.candidates = parse_candidate_mode(o.candidates, "--candidates");
   if (!(o.drop_db >= 0.0)) throw InputError("option --drop-db: must be ≥ 0 dB");
   trace.drop_below_db = o.drop_db;
   if (!(o.frequency_hz > 0.0) || !std::isfinite(o.frequency_hz)) throw InputError("option --frequency: must be > 0 Hz");
 
-  Endpoint antenna, tag;
-  const WorldSource* w = world ? &*world : nullptr;
-  if (auto p = named_pose(o.antenna, w, true)) {
-    antenna.pose = *p;
-  } else {
-    antenna.pose.position = parse_vec3(o.antenna, "--antenna");
-    antenna.pose.orientation = parse_rpy(o.antenna_rpy, "--antenna-rpy");
-  }
-  antenna.polarization = parse_polarization(o.antenna_pol, "--antenna-pol");
-  antenna.pattern = parse_pattern(o.pattern, "--pattern");
-  if (auto p = named_pose(o.tag, w, false)) {
-    tag.pose = *p;
-  } else {
-    tag.pose.position = parse_vec3(o.tag, "--tag");
-    tag.pose.orientation = parse_rpy(o.tag_rpy, "--tag-rpy");
-  }
-  tag.polarization = parse_polarization(o.tag_pol, "--tag-pol");
-  tag.pattern = parse_pattern(o.tag_pattern, "--tag-pattern");
+  const io::WorldSource* w = world ? &*world : nullptr;
+  // An end: a world's antenna or tag by name, or X,Y,Z with its own orientation; then polarization and pattern.
+  auto endpoint = [&](const std::string& where, const std::string& rpy, const std::string& pol,
+                      const std::string& pattern, bool is_antenna, const std::string& prefix,
+                      const std::string& pattern_flag) {
+    Endpoint e;
+    if (auto p = named_pose(where, w, is_antenna)) {
+      e.pose = *p;
+    } else {
+      e.pose.position = parse_vec3(where, "--" + prefix);
+      e.pose.orientation = parse_rpy(rpy, "--" + prefix + "-rpy");
+    }
+    e.polarization = parse_polarization(pol, "--" + prefix + "-pol");
+    e.pattern = parse_pattern(pattern, pattern_flag);
+    return e;
+  };
+  const Endpoint antenna = endpoint(o.antenna, o.antenna_rpy, o.antenna_pol, o.pattern, true, "antenna", "--pattern");
+  const Endpoint tag = endpoint(o.tag, o.tag_rpy, o.tag_pol, o.tag_pattern, false, "tag", "--tag-pattern");
 
   ReaderParams reader;
   reader.tx_power_dbm = o.tx_power_dbm;

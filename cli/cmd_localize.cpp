@@ -6,10 +6,10 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "cli/readings_reader.h"
+#include "io/readings_csv.h"
 #include "core/error.h"
-#include "core/localization/methods.h"
-#include "core/localization/summary.h"
+#include "localization/methods.h"
+#include "localization/summary.h"
 
 namespace rfidray::cli {
 
@@ -49,13 +49,13 @@ int run_localize(const LocalizeState& s) {
   if (s.stride_m <= 0.0) throw field_error("--stride", "must be > 0");
 
   std::map<std::string, Vec3> truth;
-  if (!s.truth.empty()) truth = read_truth_csv(s.truth);
+  if (!s.truth.empty()) truth = io::read_truth_csv(s.truth);
   if (s.height_known && s.truth.empty()) throw field_error("--height-known", "needs --truth (the tag z comes from it)");
   if (prior == loc::MirrorPrior::kPoint && s.truth.empty()) throw field_error("--mirror-prior truth", "needs --truth");
 
-  std::vector<std::vector<ReadingRow>> files;
-  for (const std::string& f : s.readings) files.push_back(load_localize_readings(f));
-  const std::vector<loc::TagReads> tags = group_by_tag(files, s.frequency_hz);
+  std::vector<std::vector<io::ReadingRow>> files;
+  for (const std::string& f : s.readings) files.push_back(io::read_readings_csv(f));
+  const std::vector<loc::TagReads> tags = io::group_by_tag(files, s.frequency_hz);
 
   nlohmann::json results = nlohmann::json::array();
   std::map<loc::Method, std::vector<double>> errors, times;

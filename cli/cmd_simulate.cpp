@@ -12,10 +12,11 @@
 #include <memory>
 #include <optional>
 
-#include "cli/channel_factory.h"
-#include "cli/readings_csv.h"
-#include "cli/scenario_yaml.h"
-#include "cli/world_source.h"
+#include "io/channel_factory.h"
+#include "io/readings_csv.h"
+#include "io/scenario_yaml.h"
+#include "cli/commands.h"
+#include "io/world_source.h"
 #include "core/error.h"
 #include "core/simulation.h"
 
@@ -30,7 +31,7 @@ struct SimulateOptions {
   std::string channel;
   std::string model;  // "" keeps each antenna's own
   bool quiet = false;
-  WorldSourceOptions world;          // --world instead of SCENARIO
+  io::WorldSourceOptions world;          // --world instead of SCENARIO
   std::optional<double> duration_s;  // overrides the scenario's duration_s
 };
 
@@ -51,18 +52,18 @@ int run(const SimulateOptions& o) {
     if (!o.duration_s)
       throw InputError("--world " + o.world.file + ": --duration S is required (the world's antennas and tags stand "
                        "where the world puts them, so no motion ends the run)");
-    const WorldSource world = load_world_source(o.world);
+    const io::WorldSource world = io::load_world_source(o.world);
     if (!o.quiet) std::fprintf(stderr, "rfidray: %s\n", world.summary.c_str());
-    print_world_remarks(world);
+    io::print_world_remarks(world);
     scenario = world.scenario;
     world_scene = world.scene;
   } else {
     if (o.scenario.empty()) throw InputError("give a SCENARIO file (or --world FILE)");
-    scenario = load_scenario(o.scenario);
+    scenario = io::load_scenario(o.scenario);
   }
   if (o.duration_s) scenario.duration_s = *o.duration_s;
   if (o.seed) scenario.seed = *o.seed;
-  if (!o.channel.empty()) scenario.channel = o.channel;
+  if (!o.channel.empty()) scenario.channel = parse_channel_level(o.channel, "--channel");
   if (!o.model.empty())
     for (AntennaSpec& a : scenario.antennas)
       a.reader.model = o.model == "physical" ? ReaderModelKind::kPhysical : ReaderModelKind::kPaper;
@@ -70,20 +71,19 @@ int run(const SimulateOptions& o) {
   const bool any_physical = std::any_of(scenario.antennas.begin(), scenario.antennas.end(), [](const AntennaSpec& a) {
     return a.reader.model == ReaderModelKind::kPhysical;
   });
-  if (scenario.channel != "ideal" && !any_physical)
+  if (scenario.channel != ChannelLevel::kIdeal && !any_physical)
     std::fprintf(stderr,
                  "rfidray: warning: channel '%s' has no effect: every antenna uses the paper reader model, which "
                  "depends on the distance only (use --model physical or `model: physical`)\n",
-                 scenario.channel.c_str());
-  const std::string channel_field = o.channel.empty() ? "channel" : "--channel";
+                 to_string(scenario.channel));
+  const SceneMotion motion = build_motion(scenario);  // once per run: the channel (auto) and the loop share it
   std::vector<std::string> channel_report;
   const std::unique_ptr<Channel> channel =
-      world_scene ? make_channel(scenario.channel, scenario, world_scene, channel_field, &channel_report)
-                  : make_channel(scenario.channel, scenario, channel_field, &channel_report);
+      world_scene ? io::make_channel(scenario.channel, scenario, motion, world_scene, &channel_report)
+                  : io::make_channel(scenario.channel, scenario, motion, &channel_report);
   SimulationOptions sim;
   sim.threads = o.threads;
-  const SimulationResult result = simulate(scenario, *channel, sim);
-  const SceneMotion motion = build_motion(scenario);
+  const SimulationResult result = simulate(scenario, motion, *channel, sim);
 
   const std::filesystem::path dir(o.output_dir);
   std::error_code ec;
@@ -91,14 +91,14 @@ int run(const SimulateOptions& o) {
   if (ec) throw InputError(o.output_dir + ": cannot create output directory (" + ec.message() + ")");
   for (size_t a = 0; a < scenario.antennas.size(); ++a)
     write_file(dir / (scenario.antennas[a].reader.name + ".csv"),
-               [&](std::ostream& out) { write_readings_csv(out, scenario, a, result.antennas[a]); });
-  write_file(dir / "tags.csv", [&](std::ostream& out) { write_tags_csv(out, scenario, motion); });
-  const bool moving = has_moving_tags(motion);
+               [&](std::ostream& out) { io::write_readings_csv(out, scenario, a, result.antennas[a]); });
+  write_file(dir / "tags.csv", [&](std::ostream& out) { io::write_tags_csv(out, scenario, motion); });
+  const bool moving = io::has_moving_tags(motion);
   if (moving) {
     double rate = 0.0;
     for (const AntennaSpec& a : scenario.antennas) rate = std::max(rate, a.reader.update_rate_hz);
     write_file(dir / "tags_trajectory.csv", [&](std::ostream& out) {
-      write_tag_trajectories_csv(out, scenario, motion, result.duration_s, rate);
+      io::write_tag_trajectories_csv(out, scenario, motion, result.duration_s, rate);
     });
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -107,7 +107,8 @@ int run(const SimulateOptions& o) {
   const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
   std::printf("rfidray simulate %s: channel %s, seed %llu, %.3f s simulated\n",
               (o.world.file.empty() ? o.scenario : o.world.file).c_str(),
-              (scenario.channel == "auto" ? "auto -> " + channel->name() : scenario.channel).c_str(),
+              (scenario.channel == ChannelLevel::kAuto ? "auto -> " + channel->name()
+                                                       : std::string(to_string(scenario.channel))).c_str(),
               static_cast<unsigned long long>(scenario.seed), result.duration_s);
   for (const std::string& line : channel_report) std::printf("  %s\n", line.c_str());
   for (size_t a = 0; a < scenario.antennas.size(); ++a) {
@@ -146,8 +147,7 @@ int run(const SimulateOptions& o) {
 
 std::function<int()> setup_simulate(CLI::App& app) {
   auto opts = std::make_shared<SimulateOptions>();
-  std::string channels;
-  for (const std::string& n : channel_names()) channels += (channels.empty() ? "" : ", ") + n;
+  const std::string channels = channel_level_names();
   CLI::App* cmd = app.add_subcommand("simulate", "Run a scenario; write readings CSV per antenna and tag ground truth");
   cmd->footer(
       "Every antenna reads every present tag at its update rate along its trajectory (fixed, on a robot\n"

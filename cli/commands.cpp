@@ -2,17 +2,24 @@
 
 #include <map>
 
+#include "core/error.h"
+
+#ifdef RFIDRAY_HAVE_SDFORMAT
+#include "adapters/gazebo/gazebo_world.h"
+#endif
+
 namespace rfidray::cli {
 
 // Each subcommand file provides one setup function (declared here, defined in cli/cmd_<name>.cpp).
-// std::function<int()> setup_<name>(CLI::App& app);   (add one line per command)
 std::function<int()> setup_simulate(CLI::App& app);
 std::function<int()> setup_link(CLI::App& app);
 std::function<int()> setup_gen_warehouse(CLI::App& app);
 std::function<int()> setup_compare(CLI::App& app);
 std::function<int()> setup_localize(CLI::App& app);
 std::function<int()> setup_bench(CLI::App& app);
+#ifdef RFIDRAY_HAVE_IGN_TRANSPORT
 std::function<int()> setup_gazebo(CLI::App& app);
+#endif
 
 namespace {
 std::map<const CLI::App*, std::function<int()>>& runners() {
@@ -25,9 +32,24 @@ void add(CLI::App& app, const CommandSetup& setup) {
   auto subs = app.get_subcommands({});
   if (subs.size() > before) runners()[subs.back()] = std::move(runner);
 }
+
+#ifndef RFIDRAY_HAVE_IGN_TRANSPORT
+// Without the bridge the subcommand still exists and says what is missing.
+std::function<int()> setup_gazebo(CLI::App& app) {
+  CLI::App* cmd = app.add_subcommand("gazebo", "Live bridge to a running Gazebo (not in this build)");
+  cmd->allow_extras();
+  return [] () -> int {
+    throw InputError("rfidray was built without ign-transport 11 / ign-msgs 8 (and sdformat 12), so it has no live "
+                     "Gazebo bridge: install them (bash .ci/install-deps --gazebo) and rebuild");
+  };
+}
+#endif
 }  // namespace
 
 void register_commands(CLI::App& app) {
+#ifdef RFIDRAY_HAVE_SDFORMAT
+  io::register_world_loader(&gazebo::load_world_source);
+#endif
   add(app, setup_simulate);
   add(app, setup_link);
   add(app, setup_gen_warehouse);
@@ -43,6 +65,16 @@ int run_selected(CLI::App& app) {
     if (it != runners().end()) return it->second();
   }
   return 1;
+}
+
+void add_world_options(CLI::App& cmd, io::WorldSourceOptions& o) {
+  cmd.add_option("--world", o.file, "Gazebo SDF world (.world/.sdf): collisions, RFID antennas and tags (see README)");
+  cmd.add_option("--resource-path", o.resource_path,
+                 "Directory holding model://NAME folders, searched before IGN_GAZEBO_RESOURCE_PATH, "
+                 "GZ_SIM_RESOURCE_PATH and SDF_PATH (repeatable; ':' separates several)");
+  cmd.add_option("--materials", o.materials_file,
+                 "Material map of the world (YAML: default_material, materials, models, links, collisions, meshes, "
+                 "mesh_materials)");
 }
 
 }  // namespace rfidray::cli

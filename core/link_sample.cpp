@@ -8,8 +8,7 @@
 
 namespace rfidray {
 
-std::vector<LinkBatch> sample_link_batches(const Scenario& scenario, size_t max_links) {
-  const SceneMotion motion = build_motion(scenario);
+std::vector<LinkBatch> sample_link_batches(const Scenario& scenario, const SceneMotion& motion, size_t max_links) {
   const double duration = scenario_duration_s(scenario, motion);
   const size_t n_ant = scenario.antennas.size(), n_tags = scenario.tags.size();
   bool tags_static = true;
@@ -30,7 +29,7 @@ std::vector<LinkBatch> sample_link_batches(const Scenario& scenario, size_t max_
       LinkBatch b;
       b.antenna = a;
       b.time_s = t;
-      b.frequency_hz = reader.frequencies_hz[hop_channel_index(reader, t)];
+      b.frequency_hz = reader.frequencies_hz[hop_index_at(reader, t)];
       b.antenna_end = Endpoint{motion.antennas[a]->pose_at(t), reader.pattern, reader.polarization};
       std::vector<size_t> present;
       for (size_t i = 0; i < n_tags; ++i)

@@ -7,6 +7,7 @@
 
 #include "core/channel.h"
 #include "core/scenario.h"
+#include "core/simulation.h"
 
 namespace rfidray {
 
@@ -25,7 +26,8 @@ struct LinkBatch {
 // the scenario (one pose when antenna and tags are all static), every present tag at each — or, when there are
 // more tags than max_links / antennas, every k-th of them. Tags at the antenna are left out (the simulation
 // itself reports them).
-std::vector<LinkBatch> sample_link_batches(const Scenario& scenario, size_t max_links);
+// `motion` is build_motion(scenario).
+std::vector<LinkBatch> sample_link_batches(const Scenario& scenario, const SceneMotion& motion, size_t max_links);
 
 size_t link_count(const std::vector<LinkBatch>& batches);
 

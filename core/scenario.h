@@ -1,12 +1,13 @@
 #pragma once
-// A simulation scenario as plain data: what the YAML file (cli/scenario_yaml) says, before any object is
-// built. Trajectories are built from it by build_trajectory (core/simulation.h); the channel by name
-// (cli/channel_factory). Other front ends (Gazebo) can fill it directly.
+// A simulation scenario as plain data: what the YAML file (io/scenario_yaml) says, before any object is
+// built. Trajectories are built from it by build_motion (core/simulation.h); the channel by its level
+// (io/channel_factory). Other front ends (Gazebo worlds) fill it directly.
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/channel_level.h"
 #include "core/differential_drive.h"
 #include "core/geometry.h"
 #include "core/mast.h"
@@ -97,7 +98,7 @@ struct ChannelOptionsSpec {
 struct Scenario {
   std::string source;  // scenario file, for messages ("" when built in code)
   SceneSpec scene;
-  std::string channel = "ideal";  // ideal | los | los+blocked | single-bounce | auto
+  ChannelLevel channel = ChannelLevel::kIdeal;
   ChannelOptionsSpec channel_options;
   std::vector<RobotSpec> robots;
   std::vector<AntennaSpec> antennas;

@@ -51,7 +51,7 @@ void read_attempts(const Scenario& scenario, size_t antenna, uint64_t tick, doub
                    std::span<const size_t> present, std::span<const double> distance_m,
                    std::span<const std::complex<double>> h_one_way, std::vector<ReadRecord>& out) {
   const ReaderParams& reader = scenario.antennas[antenna].reader;
-  const size_t c = hop_channel_index(reader, t_s);
+  const size_t c = hop_index_at(reader, t_s);
   const bool physical = reader.model == ReaderModelKind::kPhysical;
   Rng rng = make_stream(scenario.seed, {static_cast<uint64_t>(antenna), tick});
   for (size_t i : present) {
@@ -86,7 +86,7 @@ std::vector<ReadRecord> simulate_tick(const Scenario& scenario, const Channel& c
   if (reader.model == ReaderModelKind::kPhysical && !batch.empty()) {
     std::vector<std::complex<double>> batch_h(batch.size());
     channel.one_way({antenna_pose, reader.pattern, reader.polarization}, batch,
-                    reader.frequencies_hz[hop_channel_index(reader, t_s)], batch_h);
+                    reader.frequencies_hz[hop_index_at(reader, t_s)], batch_h);
     for (size_t m = 0; m < present.size(); ++m) h[present[m]] = batch_h[m];
   }
   std::vector<ReadRecord> out;
@@ -157,14 +157,18 @@ double scenario_duration_s(const Scenario& scenario, const SceneMotion& motion) 
   return end;
 }
 
-size_t hop_channel_index(const ReaderParams& reader, double t_s) {
+size_t hop_index_at(const ReaderParams& reader, double t_s) {
   const size_t n = reader.frequencies_hz.size();
   if (n <= 1 || !(reader.hop_dwell_s > 0.0) || t_s <= 0.0) return 0;
   return static_cast<size_t>(std::floor(t_s / reader.hop_dwell_s)) % n;
 }
 
 SimulationResult simulate(const Scenario& scenario, const Channel& channel, const SimulationOptions& options) {
-  const SceneMotion motion = build_motion(scenario);
+  return simulate(scenario, build_motion(scenario), channel, options);
+}
+
+SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, const Channel& channel,
+                          const SimulationOptions& options) {
   SimulationResult result;
   result.duration_s = scenario_duration_s(scenario, motion);
   const size_t n_ant = scenario.antennas.size(), n_tags = scenario.tags.size();
@@ -177,9 +181,6 @@ SimulationResult simulate(const Scenario& scenario, const Channel& channel, cons
       validate(r, "antennas[" + std::to_string(a) + "]");
       return 0;
     });
-    if (r.phase_offsets_rad.size() != r.frequencies_hz.size())
-      throw InputError(where(scenario, scenario.antennas[a].source_line) + "antenna '" + r.name +
-                       "': one phase offset per channel frequency needed");
   }
 
   for (size_t i = 0; i < n_tags; ++i)
@@ -280,7 +281,7 @@ SimulationResult simulate(const Scenario& scenario, const Channel& channel, cons
         if (t < ant.start_s) continue;
         ++item.out.ticks;
         const Pose ap = motion.antennas[a]->pose_at(t);
-        const size_t c = hop_channel_index(reader, t);
+        const size_t c = hop_index_at(reader, t);
         present.clear();
         for (size_t i = 0; i < n_tags; ++i) {
           if (t < scenario.tags[i].start_s) continue;

@@ -1,4 +1,8 @@
 #pragma once
+// Module core — owns the physics (antenna patterns, polarization, Fresnel, materials), the reader model
+// (phase, RSSI, noise, quantization, read/no-read), motion and the simulation loop. Eigen and OpenMP only;
+// includes nothing outside core/.
+//
 // The simulation loop: every antenna reads at its update rate over the scenario duration; at each tick the
 // antenna pose, the hop channel and every present tag give one read attempt through the reader model.
 // Work items are (antenna, block of ticks), run in parallel with OpenMP; each tick draws from its own
@@ -37,8 +41,9 @@ SceneMotion build_motion(const Scenario& scenario);
 // when neither exists (nothing to end the run).
 double scenario_duration_s(const Scenario& scenario, const SceneMotion& motion);
 
-// Hop channel index at time t: channels are visited in list order, hop_dwell_s each, cyclically.
-size_t hop_channel_index(const ReaderParams& reader, double t_s);
+// Hop index at time t (into reader.frequencies_hz): carriers are visited in list order, hop_dwell_s each,
+// cyclically.
+size_t hop_index_at(const ReaderParams& reader, double t_s);
 
 struct ReadRecord {
   double time_s = 0.0;
@@ -47,7 +52,7 @@ struct ReadRecord {
   Pose antenna_pose;
   double distance_m = 0.0;  // true distance
   double frequency_hz = 0.0;
-  uint32_t channel_index = 0;
+  uint32_t hop_index = 0;  // index into the reader's frequencies_hz (the CSV's `channel` column)
   Reading reading;
 };
 
@@ -68,7 +73,11 @@ struct SimulationResult {
   uint64_t channel_evaluations = 0;     // links handed to Channel::one_way (after caching)
 };
 
-// Runs the scenario. Throws InputError for bad inputs (e.g. a tag at an antenna: names both).
+// Runs the scenario along `motion` (build_motion(scenario), built once per run by the caller). Throws InputError
+// for bad inputs (e.g. a tag at an antenna: names both).
+SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, const Channel& channel,
+                          const SimulationOptions& options = {});
+// The same, building the motion.
 SimulationResult simulate(const Scenario& scenario, const Channel& channel, const SimulationOptions& options = {});
 
 // The read attempts of one antenna tick, as simulate() makes them: tags `present` (ascending indices into

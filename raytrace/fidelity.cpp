@@ -23,7 +23,7 @@ RungValues evaluate(const std::shared_ptr<const Scene>& scene, const FidelityRun
                     const std::vector<LinkBatch>& batches) {
   RungValues v;
   v.h.reserve(link_count(batches));
-  if (rung.ideal) {
+  if (rung.level == ChannelLevel::kIdeal) {
     const IdealChannel ideal;
     for (const LinkBatch& b : batches) {
       std::vector<std::complex<double>> h(b.tag_ends.size());
@@ -81,21 +81,20 @@ std::string fixed(double v, int digits) {
 
 std::vector<FidelityRung> fidelity_ladder(const TraceOptions& base, double tags_per_pose) {
   std::vector<FidelityRung> ladder;
-  ladder.push_back({"ideal", true, base});
-  auto rung = [&](ChannelLevel level, CandidateMode mode, int rays, std::string label) {
+  ladder.push_back({to_string(ChannelLevel::kIdeal), ChannelLevel::kIdeal, base});
+  auto rung = [&](ChannelLevel level, CandidateMode mode, int rays, const std::string& suffix) {
     TraceOptions o = base;
     o.level = level;
     o.candidates = mode;
     o.candidate_rays = rays;
-    ladder.push_back({std::move(label), false, o});
+    ladder.push_back({to_string(level) + suffix, level, o});
   };
-  rung(ChannelLevel::kLos, CandidateMode::kFast, 0, "los");
-  rung(ChannelLevel::kLosBlocked, CandidateMode::kFast, 0, "los+blocked");
+  rung(ChannelLevel::kLos, CandidateMode::kFast, 0, "");
+  rung(ChannelLevel::kLosBlocked, CandidateMode::kFast, 0, "");
   const int rays = base.candidate_rays > 0 ? base.candidate_rays : tags_per_pose >= 1000.0 ? 4096 : 0;
-  if (rays > 0)
-    rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, rays, "single-bounce rays=" + std::to_string(rays));
-  rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, 0, "single-bounce");
-  rung(ChannelLevel::kSingleBounce, CandidateMode::kExhaustive, 0, "single-bounce exhaustive");
+  if (rays > 0) rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, rays, " rays=" + std::to_string(rays));
+  rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, 0, "");
+  rung(ChannelLevel::kSingleBounce, CandidateMode::kExhaustive, 0, " exhaustive");
   return ladder;
 }
 
@@ -138,7 +137,7 @@ FidelityChoice choose_fidelity(std::shared_ptr<const Scene> scene, const std::ve
 }
 
 std::unique_ptr<Channel> make_rung_channel(std::shared_ptr<const Scene> scene, const FidelityRung& rung) {
-  if (rung.ideal) return std::make_unique<IdealChannel>();
+  if (rung.level == ChannelLevel::kIdeal) return std::make_unique<IdealChannel>();
   return std::make_unique<RaytracedChannel>(std::move(scene), rung.options);
 }
 

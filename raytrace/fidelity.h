@@ -25,8 +25,8 @@
 namespace rfidray {
 
 struct FidelityRung {
-  std::string label;   // "ideal", "los", "los+blocked", "single-bounce rays=4096", "single-bounce", ...
-  bool ideal = false;  // the free-space channel (options unused)
+  std::string label;     // "ideal", "los", "los+blocked", "single-bounce rays=4096", "single-bounce", ...
+  ChannelLevel level;    // kIdeal: the free-space channel (options unused); else options.level
   TraceOptions options;
 };
 

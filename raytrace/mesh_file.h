@@ -10,12 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "raytrace/assimp_mesh.h"  // mesh_formats_available()
 #include "raytrace/triangle_mesh.h"
 
 namespace rfidray {
-
-// False when rfidray was built without assimp: only .obj files load then.
-bool mesh_formats_available();
 
 // Throws InputError ("file: what") for a missing, unreadable or malformed file, or one without triangles.
 // Remarks (points and lines skipped, ...) are appended to `warnings` when given.

@@ -1,4 +1,8 @@
 #pragma once
+// Module raytrace — owns scenes (meshes, facets, the Embree BVH), mesh loading and generated warehouses, and
+// the path finder behind the traced channel levels. Includes core/ only; the one Embree boundary is
+// raytrace/embree_scene.h.
+//
 // A static radio scene: triangle meshes with resolved radio materials, their planar facets, and one Embree
 // BVH built once. Read-only after construction, so one Scene is shared by every thread and channel.
 //

@@ -3,14 +3,10 @@
 #include <limits>
 #include <string>
 
+#include "core/channel_level.h"
+
 namespace rfidray {
 
-// What the channel models. Each level includes the previous one.
-enum class ChannelLevel {
-  kLos,           // the direct path if unoccluded, else nothing (h = 0)
-  kLosBlocked,    // the direct path, through obstacles if needed (transmission loss per crossed surface)
-  kSingleBounce,  // + every single specular reflection (image method) with both legs unoccluded
-};
 
 enum class CandidateMode {
   kExhaustive,  // reference: every facet, point-in-triangle on its triangles, rtcOccluded1 on both legs
@@ -18,7 +14,7 @@ enum class CandidateMode {
 };
 
 struct TraceOptions {
-  ChannelLevel level = ChannelLevel::kSingleBounce;
+  ChannelLevel level = ChannelLevel::kSingleBounce;  // a traced level (is_traced)
   CandidateMode candidates = CandidateMode::kFast;
   // Fast mode, optional: shoot this many rays (spherical Fibonacci) from each antenna pose and test only the
   // parts of planes they hit. 0 = off (exact: every plane is tested). Reflections off regions the rays
@@ -42,10 +38,7 @@ struct TraceOptions {
   int max_crossings = 16;
 };
 
-const char* to_string(ChannelLevel level);
 const char* to_string(CandidateMode mode);
-// "los" | "los+blocked" | "single-bounce"; throws InputError naming `field` otherwise.
-ChannelLevel parse_channel_level(const std::string& name, const std::string& field);
 // "exhaustive" | "fast"
 CandidateMode parse_candidate_mode(const std::string& name, const std::string& field);
 

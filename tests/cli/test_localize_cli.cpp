@@ -9,11 +9,11 @@
 #include <random>
 #include <sstream>
 
-#include "cli/readings_reader.h"
+#include "io/readings_csv.h"
 #include "core/error.h"
-#include "core/localization/synthetic.h"
+#include "localization/synthetic.h"
 
-namespace rfidray::cli {
+namespace rfidray::io {
 namespace {
 
 namespace fs = std::filesystem;
@@ -29,7 +29,7 @@ void write(const fs::path& p, const std::string& text) { std::ofstream(p) << tex
 std::string expect_input_error(const fs::path& p, bool truth = false) {
   try {
     if (truth) read_truth_csv(p);
-    else load_localize_readings(p);
+    else read_readings_csv(p);
   } catch (const InputError& e) {
     return e.what();
   }
@@ -75,7 +75,7 @@ TEST(ReadingsReader, GroupsByAntennaChannelFrequencyAndSortsByTime) {
                "0.1,0,0,0,0,0,0,1,t,1,0.4,-50,a,866.3e6\n"
                "0.1,0,0,0,0,0,0,1,t,1,0.4,-50,a,865.7e6\n"
                "0.1,0,0,0,0,0,0,1,u,1,0.4,-50,b,865.7e6\n");
-  const auto tags = group_by_tag({load_localize_readings(p)}, 865.7e6);
+  const auto tags = group_by_tag({read_readings_csv(p)}, 865.7e6);
   ASSERT_EQ(tags.size(), 2u);
   EXPECT_EQ(tags[0].tag, "t");
   ASSERT_EQ(tags[0].groups.size(), 2u);
@@ -170,4 +170,4 @@ TEST(LocalizeCli, HeightKnownNeedsTruth) {
 }
 
 }  // namespace
-}  // namespace rfidray::cli
+}  // namespace rfidray::io

@@ -12,7 +12,7 @@
 #include <set>
 #include <sstream>
 
-#include "cli/readings_csv.h"
+#include "io/readings_csv.h"
 #include "core/units.h"
 
 namespace rfidray::cli {
@@ -103,10 +103,10 @@ TEST_F(SimulateCli, PaperScenarioReadsEveryTagWithTheSeedColumns) {
   ASSERT_EQ(truth.size(), 10u);
   EXPECT_TRUE(truth["tag1"].isApprox(Vec3(2.90, 0.57, 2.05)));
 
-  const std::vector<CsvReading> rows = read_readings_csv((dir_ / "mobile.csv").string());
+  const std::vector<io::ReadingRow> rows = io::read_readings_csv((dir_ / "mobile.csv").string());
   std::set<std::string> read_tags;
   double last_t = -1.0;
-  for (const CsvReading& row : rows) {
+  for (const io::ReadingRow& row : rows) {
     read_tags.insert(row.tag);
     ASSERT_TRUE(truth.count(row.tag)) << row.tag;
     // dist is the true distance between the written antenna position and the tag (6 decimals each).
@@ -135,13 +135,13 @@ TEST_F(SimulateCli, MovingTagWritesItsTrajectoryAndMastStaysInRange) {
   EXPECT_NE(traj.find("1.000000,conveyor_tag,-3.000000,2.000000,1.000000\n"), std::string::npos);
   EXPECT_EQ(traj.find("fixed_tag"), std::string::npos);  // static tags are not in the trajectory file
   std::set<int> channels;
-  for (const CsvReading& row : read_readings_csv((dir_ / "mast_reader.csv").string())) {
+  for (const io::ReadingRow& row : io::read_readings_csv((dir_ / "mast_reader.csv").string())) {
     ASSERT_GE(row.antenna_pose.position.z(), 0.5 - 1e-9);
     ASSERT_LE(row.antenna_pose.position.z(), 2.0 + 1e-9);
     if (row.tag == "conveyor_tag") {
       ASSERT_GE(row.time_s, 1.0);
     }
-    channels.insert(row.channel);
+    channels.insert(row.hop_index);
   }
   EXPECT_EQ(channels.size(), 4u);  // EU hopping over 12 s at 0.4 s dwell
 }

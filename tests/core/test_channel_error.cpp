@@ -72,7 +72,7 @@ TEST(LinkSample, StaticScenarioGivesOnePoseMovingOneSpreadsOverTheRun) {
   mover.motion.speed_m_s = 1.0;  // 10 s, 151 ticks at 15 Hz
   s.antennas.push_back(mover);
   s.tags = {tag_at("a", Vec3(2, 0, 1)), tag_at("b", Vec3(2, 1, 1)), tag_at("late", Vec3(2, 2, 1), 5.0)};
-  const auto batches = sample_link_batches(s, 60);  // 60 / (2 antennas × 3 tags) = 10 poses per antenna
+  const auto batches = sample_link_batches(s, build_motion(s), 60);  // 60 / (2 antennas × 3 tags) = 10 poses per antenna
   size_t fixed_poses = 0, mover_poses = 0;
   double last_t = -1.0;
   for (const LinkBatch& b : batches) {
@@ -99,7 +99,7 @@ TEST(LinkSample, StaticScenarioGivesOnePoseMovingOneSpreadsOverTheRun) {
   for (const LinkBatch& b : batches) {
     for (size_t i : b.tags) late += i == 2;
     const ReaderParams& r = s.antennas[b.antenna].reader;
-    EXPECT_EQ(b.frequency_hz, r.frequencies_hz[hop_channel_index(r, b.time_s)]);
+    EXPECT_EQ(b.frequency_hz, r.frequencies_hz[hop_index_at(r, b.time_s)]);
   }
   EXPECT_EQ(late, 5u);  // the mover's poses at t ≈ 5.5, 6.5, 7.5, 8.5, 9.5 s
 }
@@ -123,7 +123,7 @@ TEST(LinkSample, ManyTagsAreSubsampledButCounted) {
     s.tags.push_back(t);
   }
   s.duration_s = 1.0;
-  const auto batches = sample_link_batches(s, 1000);
+  const auto batches = sample_link_batches(s, build_motion(s), 1000);
   ASSERT_EQ(batches.size(), 1u);
   EXPECT_EQ(batches[0].tags_present, 5000u);
   EXPECT_EQ(batches[0].tags.size(), 1000u);  // every 5th

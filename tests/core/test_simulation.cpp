@@ -88,7 +88,7 @@ bool same(const SimulationResult& a, const SimulationResult& b) {
     for (size_t k = 0; k < x.size(); ++k)
       if (x[k].tick != y[k].tick || x[k].tag != y[k].tag || x[k].reading.phase_rad != y[k].reading.phase_rad ||
           x[k].reading.rssi_dbm != y[k].reading.rssi_dbm || !(x[k].antenna_pose == y[k].antenna_pose) ||
-          x[k].distance_m != y[k].distance_m || x[k].channel_index != y[k].channel_index)
+          x[k].distance_m != y[k].distance_m || x[k].hop_index != y[k].hop_index)
         return false;
   }
   return true;
@@ -143,9 +143,9 @@ TEST(Simulation, DurationDefaultsToRobotEndAndHoppingFollowsDwell) {
   std::set<uint32_t> seen;
   for (const ReadRecord& rec : r.antennas[0].reads) {
     const size_t c = static_cast<size_t>(std::floor(rec.time_s / 0.4)) % 4;
-    ASSERT_EQ(rec.channel_index, c);
+    ASSERT_EQ(rec.hop_index, c);
     ASSERT_EQ(rec.frequency_hz, reader.frequencies_hz[c]);
-    seen.insert(rec.channel_index);
+    seen.insert(rec.hop_index);
     // The record carries the robot-mounted antenna pose at that time.
     ASSERT_TRUE(rec.antenna_pose.position.isApprox(m.antennas[0]->pose_at(rec.time_s).position));
   }
@@ -185,7 +185,7 @@ TEST(Simulation, PhysicalModelGetsTheChannelPhase) {
   size_t checked = 0;
   for (size_t a = 0; a < r.antennas.size(); ++a)
     for (const ReadRecord& rec : r.antennas[a].reads) {
-      const double phi0 = s.antennas[a].reader.phase_offsets_rad[rec.channel_index];
+      const double phi0 = s.antennas[a].reader.phase_offsets_rad[rec.hop_index];
       const double expected = wrap_to_2pi(phi0 + 4.0 * kPi * rec.distance_m / wavelength_m(rec.frequency_hz));
       // arg() of a product of rounded complex numbers: ~1e-12 rad relative to 4πD/λ ≈ 100 rad.
       ASSERT_NEAR(std::remainder(rec.reading.phase_rad - expected, kTwoPi), 0.0, 1e-9);

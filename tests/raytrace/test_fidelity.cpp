@@ -56,7 +56,7 @@ TEST(Fidelity, ZeroToleranceKeepsTheReferenceLevel) {
   const auto scene = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
   const auto sample = batches(aisle_poses(12), paper_tags());
   const FidelityChoice c = choose_fidelity(scene, sample, TraceOptions{}, {0.0, 0.0});
-  EXPECT_FALSE(c.picked.ideal);
+  EXPECT_NE(c.picked.level, ChannelLevel::kIdeal);
   EXPECT_EQ(c.picked.options.level, ChannelLevel::kSingleBounce);
   EXPECT_EQ(c.links, 120u);
   // Every cheaper rung was tried and rejected; the reference row has no error.
@@ -72,7 +72,7 @@ TEST(Fidelity, EmptySceneIsTheIdealChannel) {
   const auto scene = std::make_shared<const Scene>(std::vector<TriangleMesh>{}, MaterialAssignment{});
   const auto sample = batches(aisle_poses(5), paper_tags());
   const FidelityChoice c = choose_fidelity(scene, sample, TraceOptions{}, FidelityTolerance{});
-  EXPECT_TRUE(c.picked.ideal);
+  EXPECT_EQ(c.picked.level, ChannelLevel::kIdeal);
   ASSERT_EQ(c.rows.size(), 1u);  // the first rung passes: nothing else is evaluated against it
   EXPECT_EQ(c.rows[0].rays_per_link, 0.0);
   const auto channel = make_rung_channel(scene, c.picked);

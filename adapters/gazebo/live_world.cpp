@@ -1,0 +1,115 @@
+#include "adapters/gazebo/live_world.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "io/channel_factory.h"
+#include "core/error.h"
+#include "core/reader_model.h"
+
+namespace rfidray::gazebo {
+
+LiveWorld::LiveWorld(GazeboWorld world, const LiveOptions& options)
+    : world_(std::move(world)), options_(options) {
+  world_.scenario.seed = options_.seed;
+  world_.scenario.channel = options_.channel;
+  // `auto` judges levels on links sampled over a run's motion; live poses come from Gazebo tick by tick.
+  if (options_.channel == ChannelLevel::kAuto)
+    throw InputError("--channel auto: the live bridge needs a fixed level (ideal, los, los+blocked, single-bounce); "
+                     "pick one with `rfidray simulate --world ... --channel auto` on the same world");
+  moves_scene_.assign(world_.entities.size(), false);
+  for (const Collision& c : world_.collisions)
+    for (int e = static_cast<int>(c.link); e >= 0; e = world_.entities[e].parent) moves_scene_[e] = true;
+  next_tick_.assign(world_.scenario.antennas.size(), 0);
+  for (const AntennaSpec& a : world_.scenario.antennas)
+    needs_trace_ = needs_trace_ || (a.reader.model == ReaderModelKind::kPhysical && options_.channel != ChannelLevel::kIdeal);
+  for (size_t a = 0; a < world_.scenario.antennas.size(); ++a)
+    validate(world_.scenario.antennas[a].reader, "antenna '" + world_.scenario.antennas[a].reader.name + "'");
+}
+
+const Channel& LiveWorld::channel() {
+  if (!channel_ || (needs_trace_ && scene_dirty_)) {
+    channel_ = io::make_channel(options_.channel, world_.scenario.channel_options, build_scene(world_));
+    ++scene_builds_;
+  }
+  scene_dirty_ = false;
+  return *channel_;
+}
+
+void LiveWorld::emit_until(double t_s, const TickSink& sink, size_t& emitted) {
+  const Scenario& s = world_.scenario;
+  while (true) {
+    // The earliest pending tick before t_s (ties: lower antenna index first).
+    size_t best = s.antennas.size();
+    double best_t = 0.0;
+    for (size_t a = 0; a < s.antennas.size(); ++a) {
+      const double t = static_cast<double>(next_tick_[a]) / s.antennas[a].reader.update_rate_hz;
+      if (!(t < t_s) || t > options_.duration_s) continue;
+      if (best == s.antennas.size() || t < best_t) best = a, best_t = t;
+    }
+    if (best == s.antennas.size()) return;
+    world_.place_sensors();
+    std::vector<Pose> tag_poses(s.tags.size());
+    std::vector<size_t> present(s.tags.size());
+    for (size_t i = 0; i < s.tags.size(); ++i) tag_poses[i] = s.tags[i].motion.pose, present[i] = i;
+    const ReaderParams& reader = s.antennas[best].reader;
+    TickReadings out;
+    out.antenna = best;
+    out.tick = next_tick_[best];
+    out.time_s = best_t;
+    out.antenna_pose = s.antennas[best].motion.pose;
+    const size_t c = hop_index_at(reader, best_t);
+    out.frequency_hz = reader.frequencies_hz[c];
+    out.hop_index = static_cast<uint32_t>(c);
+    const Channel& ch = reader.model == ReaderModelKind::kPhysical ? channel() : static_cast<const Channel&>(ideal_);
+    out.reads = simulate_tick(s, ch, best, out.tick, out.antenna_pose, tag_poses, present);
+    ++next_tick_[best];
+    ++ticks_;
+    ++emitted;
+    sink(out);
+  }
+}
+
+size_t LiveWorld::apply(double t_s, const ignition::msgs::Pose_V& poses, const TickSink& sink) {
+  size_t emitted = 0;
+  if (!std::isfinite(t_s)) return 0;
+  // Simulation time a second or more back: Gazebo was reset. Ticks start again from there.
+  if (started_ && t_s + 1.0 < time_s_) {
+    started_ = false;
+    time_s_ = t_s;
+  }
+  if (!started_) {
+    started_ = true;
+    for (size_t a = 0; a < next_tick_.size(); ++a)
+      next_tick_[a] = static_cast<uint64_t>(std::ceil(t_s * world_.scenario.antennas[a].reader.update_rate_hz - 1e-9));
+  } else if (t_s > time_s_) {
+    emit_until(t_s, sink, emitted);
+  }
+  // An older stamp (the other pose topic, a step behind) still updates poses: the latest value wins.
+  time_s_ = std::max(time_s_, t_s);
+  for (const auto& p : poses.pose()) {
+    const auto ref = resolve(map_, world_, p);
+    if (!ref) continue;
+    const Pose pose = from_msg(p);
+    if (ref->kind == EntityRef::Kind::kAntenna) {
+      world_.antenna_mounts[ref->index].pose = pose;
+    } else if (ref->kind == EntityRef::Kind::kTag) {
+      world_.tag_mounts[ref->index].pose = pose;
+    } else {
+      Entity& e = world_.entities[ref->index];
+      if (moves_scene_[ref->index] && !(e.pose == pose)) scene_dirty_ = true;
+      e.pose = pose;
+    }
+  }
+  return emitted;
+}
+
+bool LiveWorld::finished() const {
+  if (!started_) return false;
+  for (size_t a = 0; a < next_tick_.size(); ++a)
+    if (static_cast<double>(next_tick_[a]) / world_.scenario.antennas[a].reader.update_rate_hz <= options_.duration_s)
+      return false;
+  return true;
+}
+
+}  // namespace rfidray::gazebo

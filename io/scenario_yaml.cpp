@@ -1,0 +1,581 @@
+#include "io/scenario_yaml.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "core/distribution.h"
+#include "io/checked_yaml.h"
+#include "core/error.h"
+#include "core/reader_model.h"
+#include "core/units.h"
+
+namespace rfidray::io {
+namespace {
+
+
+std::string indexed(const std::string& field, size_t i) { return field + "[" + std::to_string(i) + "]"; }
+
+// Names become file names (antennas) or CSV cells (tags): keep them plain.
+void check_name(const YamlFile& src, const YAML::Node& n, const std::string& field, const std::string& name,
+                bool file_safe) {
+  if (name.empty()) throw src.error(n, field, "must not be empty");
+  for (char c : name) {
+    const bool ok = std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.' ||
+                    (!file_safe && (c == ':' || c == '/' || c == '#' || c == '+'));
+    if (!ok)
+      throw src.error(n, field, "'" + name + "' may only contain letters, digits and _ - ." +
+                                    std::string(file_safe ? "" : " : / # +"));
+  }
+  if (file_safe && (name[0] == '.' || name == "tags" || name == "tags_trajectory"))
+    throw src.error(n, field, "'" + name + "' is reserved or hidden as an output file name");
+}
+
+// Orientation keys next to a position: rpy_deg [roll, pitch, yaw] (fixed axes X, Y, Z, applied in that
+// order, as in ROS/SDF), yaw_deg, or quaternion [x, y, z, w]. Identity when none is given.
+Quat parse_orientation(YamlMap& m) {
+  auto f = m.get_one({"rpy_deg", "yaw_deg", "quaternion"});
+  if (!f) return Quat::Identity();
+  const std::string field = m.field(f->first);
+  if (f->first == "yaw_deg")
+    return Quat(Eigen::AngleAxisd(m.src().number(f->second, field) * kPi / 180.0, Vec3::UnitZ()));
+  if (f->first == "rpy_deg") {
+    const Vec3 rpy = m.src().point(f->second, field) * (kPi / 180.0);
+    return Quat(Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) *
+                Eigen::AngleAxisd(rpy.x(), Vec3::UnitX()));
+  }
+  const std::vector<double> q = m.src().numbers(f->second, field);
+  if (q.size() != 4) throw m.src().error(f->second, field, "needs 4 numbers x, y, z, w");
+  const Quat quat(q[3], q[0], q[1], q[2]);
+  if (quat.norm() < 1e-9) throw m.src().error(f->second, field, "must not be zero");
+  return quat.normalized();
+}
+
+Pose parse_pose_map(const YamlFile& src, const YAML::Node& n, const std::string& field) {
+  YamlMap m(src, n, field);
+  Pose p;
+  if (auto pos = m.get("position")) p.position = src.point(*pos, m.field("position"));
+  p.orientation = parse_orientation(m);
+  m.finish();
+  return p;
+}
+
+AntennaPattern parse_pattern(const YamlFile& src, const YAML::Node& n, const std::string& field, double gain_dbi) {
+  AntennaPattern p = isotropic_pattern(gain_dbi);
+  if (n.IsScalar()) {
+    p.kind = src.located(n, [&] { return parse_pattern_kind(n.Scalar(), field); });
+  } else {
+    YamlMap m(src, n, field);
+    const YAML::Node kind = m.required("kind");
+    p.kind = src.located(kind, [&] { return parse_pattern_kind(src.scalar(kind, m.field("kind")), m.field("kind")); });
+    p.peak_gain_dbi = m.number("gain_dbi", gain_dbi);
+    p.beamwidth_deg = m.non_negative({"beamwidth_deg"}, p.beamwidth_deg);
+    p.front_to_back_db = m.number("front_to_back_db", p.front_to_back_db);
+    auto az = m.get("azimuth_deg");
+    auto el = m.get("elevation_deg");
+    auto gains = m.get("gain_table_dbi");
+    if (az || el || gains) {
+      if (!(az && el && gains))
+        throw src.error(n, field, "a table needs azimuth_deg, elevation_deg and gain_table_dbi (one row per elevation)");
+      auto table = std::make_shared<PatternTable>();
+      table->azimuth_deg = src.numbers(*az, m.field("azimuth_deg"));
+      table->elevation_deg = src.numbers(*el, m.field("elevation_deg"));
+      if (!gains->IsSequence()) throw src.error(*gains, m.field("gain_table_dbi"), "must be a list of rows");
+      for (size_t i = 0; i < gains->size(); ++i) {
+        const auto row = src.numbers((*gains)[i], indexed(m.field("gain_table_dbi"), i));
+        if (row.size() != table->azimuth_deg.size())
+          throw src.error((*gains)[i], indexed(m.field("gain_table_dbi"), i),
+                          "needs one gain per azimuth (" + std::to_string(table->azimuth_deg.size()) + ")");
+        table->gain_dbi.insert(table->gain_dbi.end(), row.begin(), row.end());
+      }
+      p.table = table;
+    }
+    m.finish();
+  }
+  src.located(n, [&] {
+    p.validate(field);
+    return 0;
+  });
+  return p;
+}
+
+Polarization parse_polarization(const YamlFile& src, const YAML::Node& n, const std::string& field) {
+  Polarization p;
+  if (n.IsScalar()) {
+    p.kind = src.located(n, [&] { return parse_polarization_kind(n.Scalar(), field); });
+    return p;
+  }
+  YamlMap m(src, n, field);
+  const YAML::Node kind = m.required("kind");
+  p.kind = src.located(kind, [&] { return parse_polarization_kind(src.scalar(kind, m.field("kind")), m.field("kind")); });
+  if (auto axis = m.get("axis")) {
+    p.axis_local = src.point(*axis, m.field("axis"));
+    if (p.axis_local.norm() < 1e-12) throw src.error(*axis, m.field("axis"), "must not be zero");
+  }
+  m.finish();
+  return p;
+}
+
+std::optional<MastParams> parse_mast(YamlMap& m) {
+  auto n = m.get("mast");
+  if (!n) return std::nullopt;
+  YamlMap mast(m.src(), *n, m.field("mast"));
+  MastParams p;
+  p.z_min_m = m.src().number(mast.required("z_min_m"), mast.field("z_min_m"));
+  const YAML::Node zmax = mast.required("z_max_m");
+  p.z_max_m = m.src().number(zmax, mast.field("z_max_m"));
+  if (p.z_max_m < p.z_min_m)
+    throw m.src().error(zmax, mast.field("z_max_m"),
+                        "must be >= z_min_m (" + num(p.z_min_m) + ") (got " + num(p.z_max_m) + ")");
+  if (!mast.has("speed_m_s")) throw m.src().error(*n, mast.field("speed_m_s"), "is required");
+  p.speed_m_s = mast.positive({"speed_m_s"}, 0.0);
+  p.start_s = mast.number("start_s", 0.0);
+  mast.finish();
+  return p;
+}
+
+// Where an antenna or tag is and how it moves (see MotionSpec).
+MotionSpec parse_motion(YamlMap& m, bool allow_robot, const std::set<std::string>& robot_names) {
+  const YamlFile& src = m.src();
+  MotionSpec spec;
+  m.allow({"position", "waypoints", "speed_m_s", "rpy_deg", "yaw_deg", "quaternion"});
+  if (allow_robot) m.allow({"robot", "mount", "mast"});
+  const bool has_pos = m.has("position"), has_robot = m.has("robot"), has_wp = m.has("waypoints");
+  if (int(has_pos) + int(has_robot) + int(has_wp) > 1)
+    throw src.error(m.node(), m.field("position"),
+                    "give one of position, robot (with mount), waypoints — not several");
+  if (has_robot) {
+    const YAML::Node r = *m.get("robot");
+    if (!allow_robot) throw src.error(r, m.field("robot"), "tags cannot ride a robot; use waypoints");
+    spec.kind = MotionSpec::Kind::kRobot;
+    spec.robot = src.scalar(r, m.field("robot"));
+    if (!robot_names.count(spec.robot)) {
+      std::string known;
+      for (const auto& name : robot_names) known += (known.empty() ? "" : ", ") + name;
+      throw src.error(r, m.field("robot"),
+                      "unknown robot '" + spec.robot + "' (defined: " + (known.empty() ? "none" : known) + ")");
+    }
+    if (auto mount = m.get("mount")) spec.pose = parse_pose_map(src, *mount, m.field("mount"));
+    for (const char* k : {"rpy_deg", "yaw_deg", "quaternion"})
+      if (m.has(k)) throw src.error(m.node()[k], m.field(k), "on a robot the orientation goes in mount: {" + std::string(k) + "}");
+  } else if (has_wp) {
+    const YAML::Node w = *m.get("waypoints");
+    spec.kind = MotionSpec::Kind::kWaypoints;
+    if (!w.IsSequence() || w.size() == 0) throw src.error(w, m.field("waypoints"), "must be a non-empty list of [x, y, z]");
+    for (size_t i = 0; i < w.size(); ++i) spec.waypoints.push_back(src.point(w[i], indexed(m.field("waypoints"), i)));
+    if (spec.waypoints.size() > 1 && !m.has("speed_m_s"))
+      throw src.error(w, m.field("speed_m_s"), "is required with waypoints");
+    spec.speed_m_s = m.positive({"speed_m_s"}, 0.0);
+    spec.pose.orientation = parse_orientation(m);
+  } else if (has_pos) {
+    spec.kind = MotionSpec::Kind::kFixed;
+    spec.pose.position = src.point(*m.get("position"), m.field("position"));
+    spec.pose.orientation = parse_orientation(m);
+  } else {
+    throw src.error(m.node(), m.field("position"),
+                    allow_robot ? "is required (or robot: NAME with mount:, or waypoints:)"
+                                : "is required (or waypoints:)");
+  }
+  if (spec.kind != MotionSpec::Kind::kRobot && m.has("mount"))
+    throw src.error(m.node(), m.field("mount"), "only with robot: NAME");
+  if (allow_robot) {
+    spec.mast = parse_mast(m);
+    if (spec.mast && spec.kind == MotionSpec::Kind::kWaypoints)
+      throw src.error(m.node(), m.field("mast"), "a mast needs a fixed position or a robot, not waypoints");
+  }
+  return spec;
+}
+
+RobotSpec parse_robot(const YamlFile& src, const YAML::Node& n, const std::string& field) {
+  YamlMap m(src, n, field);
+  RobotSpec r;
+  r.source_line = src.line(n);
+  r.name = m.string("name", "robot");
+  check_name(src, n, m.field("name"), r.name, false);
+  const YAML::Node w = m.required("waypoints");
+  if (!w.IsSequence() || w.size() == 0) throw src.error(w, m.field("waypoints"), "must be a non-empty list of [x, y]");
+  for (size_t i = 0; i < w.size(); ++i) r.waypoints.push_back(src.point(w[i], indexed(m.field("waypoints"), i), true));
+  DifferentialDriveParams& d = r.drive;
+  d.wheel_radius_m = m.positive({"wheel_radius_m"}, d.wheel_radius_m);
+  d.track_width_m = m.positive({"track_width_m"}, d.track_width_m);
+  // Speeds as body speeds (converted to wheel speeds by eq. 7–8) or as wheel speeds directly.
+  auto speed = m.get_one({"speed_m_s", "wheel_speed_rad_s"});
+  if (!speed) throw src.error(n, m.field("speed_m_s"), "is required (or wheel_speed_rad_s)");
+  const double v = src.number(speed->second, m.field(speed->first));
+  if (!(v > 0.0)) throw src.error(speed->second, m.field(speed->first), "must be > 0 (got " + num(v) + ")");
+  d.drive_wheel_speed_rad_s = speed->first == "speed_m_s" ? v / d.wheel_radius_m : v;
+  auto turn = m.get_one({"turn_rate_rad_s", "turn_wheel_speed_rad_s"});
+  if (turn) {
+    const double w_turn = src.number(turn->second, m.field(turn->first));
+    if (!(w_turn > 0.0)) throw src.error(turn->second, m.field(turn->first), "must be > 0 (got " + num(w_turn) + ")");
+    // ω = r (ω_R − ω_L) / d with ω_R = −ω_L (eq. 8).
+    d.turn_wheel_speed_rad_s = turn->first == "turn_rate_rad_s" ? w_turn * d.track_width_m / (2.0 * d.wheel_radius_m) : w_turn;
+  } else {
+    d.turn_wheel_speed_rad_s = 0.5 * d.track_width_m / (2.0 * d.wheel_radius_m);  // default ω = 0.5 rad/s
+  }
+  if (auto h = m.get("initial_heading_deg")) {
+    d.has_initial_heading = true;
+    d.initial_heading_rad = src.number(*h, m.field("initial_heading_deg")) * kPi / 180.0;
+  }
+  d.start_s = m.non_negative({"start_s"}, 0.0);
+  m.finish();
+  return r;
+}
+
+ReaderModelKind parse_model(const YamlFile& src, const YAML::Node& n, const std::string& field) {
+  const std::string s = src.scalar(n, field);
+  if (s == "paper") return ReaderModelKind::kPaper;
+  if (s == "physical") return ReaderModelKind::kPhysical;
+  throw src.error(n, field, "unknown reader model '" + s + "' (paper, physical)");
+}
+
+// optional_distribution_params: a list, one number, or the seed plugin's string "a b" / "a, b" / "none".
+std::vector<double> parse_params(const YamlFile& src, const YAML::Node& n, const std::string& field) {
+  if (n.IsSequence()) return src.numbers(n, field);
+  const std::string s = src.scalar(n, field);
+  if (s == "none" || s.empty()) return {};
+  std::string t = s;
+  std::replace(t.begin(), t.end(), ',', ' ');
+  std::istringstream in(t);
+  std::vector<double> v;
+  std::string word;
+  while (in >> word) {
+    char* end = nullptr;
+    const double x = std::strtod(word.c_str(), &end);
+    if (end == word.c_str() || *end != '\0' || !std::isfinite(x))
+      throw src.error(n, field, "must be numbers (got '" + s + "')");
+    v.push_back(x);
+  }
+  return v;
+}
+
+// The reader keys of an antenna (all but name, start_s and the place) into `r`; absent keys keep r's values.
+void parse_reader_keys(YamlMap& m, const YAML::Node& n, ReaderParams& r) {  // n: the map, for messages
+  const YamlFile& src = m.src();
+  if (m.has("model")) r.model = parse_model(src, *m.get("model"), m.field("model"));
+
+  // Frequencies: one fixed channel, a hopping list, or a named channel plan.
+  auto freq = m.get_one({"frequency", "frequency_hz", "frequencies_hz", "hopping"});
+  if (freq) {
+    const std::string f = m.field(freq->first);
+    if (freq->first == "frequencies_hz") {
+      r.frequencies_hz = src.numbers(freq->second, f);
+      if (r.frequencies_hz.empty()) throw src.error(freq->second, f, "needs at least one frequency");
+    } else if (freq->first == "hopping") {
+      const std::string plan = src.scalar(freq->second, f);
+      if (plan != "eu") throw src.error(freq->second, f, "unknown channel plan '" + plan + "' (eu)");
+      r.frequencies_hz = eu_channels_hz();
+    } else {
+      r.frequencies_hz = {src.number(freq->second, f)};
+    }
+    for (size_t i = 0; i < r.frequencies_hz.size(); ++i)
+      if (!(r.frequencies_hz[i] > 0.0))
+        throw src.error(freq->second, r.frequencies_hz.size() > 1 ? indexed(f, i) : f,
+                        "must be > 0 (got " + num(r.frequencies_hz[i]) + ")");
+  }
+  r.phase_offsets_rad.assign(r.frequencies_hz.size(), 0.0);
+  if (auto off = m.get_one({"phase_offset_rad", "phase_offsets_rad"})) {
+    const std::string f = m.field(off->first);
+    if (off->first == "phase_offset_rad") {
+      r.phase_offsets_rad.assign(r.frequencies_hz.size(), src.number(off->second, f));
+    } else {
+      r.phase_offsets_rad = src.numbers(off->second, f);
+      // Checked here, where the line of the list is known; validate() repeats it for readers built in code.
+      if (r.phase_offsets_rad.size() != r.frequencies_hz.size())
+        throw src.error(off->second, f, "needs one φ0 per channel (" + std::to_string(r.frequencies_hz.size()) +
+                                            " frequencies, got " + std::to_string(r.phase_offsets_rad.size()) + ")");
+    }
+  }
+  r.hop_dwell_s = m.positive({"hop_dwell_s"}, r.hop_dwell_s);
+  r.tx_power_dbm = m.number("tx_power_dbm", r.tx_power_dbm);
+  r.noise_phi_rad = m.non_negative({"noisephi", "noise_phi_rad"}, r.noise_phi_rad);
+  r.noise_rssi = m.non_negative({"noiserssi", "noise_rssi"}, r.noise_rssi);
+  r.noise_rssi_db = m.non_negative({"noise_rssi_db"}, r.noise_rssi_db);
+  r.range_m = m.positive({"range", "range_m"}, r.range_m);
+  r.range_sigma = m.non_negative({"range_sigma"}, r.range_sigma);
+  {
+    auto dist = m.get("optional_distribution");
+    auto params = m.get("optional_distribution_params");
+    if (dist || params) {
+      const std::string name = dist ? src.scalar(*dist, m.field("optional_distribution")) : "";
+      const std::vector<double> p =
+          params ? parse_params(src, *params, m.field("optional_distribution_params")) : std::vector<double>{};
+      // parse_distribution names optional_distribution (unknown name) or optional_distribution_params (bad values).
+      try {
+        r.optional_distribution = parse_distribution(name, p, m.field("optional_distribution"));
+      } catch (const InputError& e) {
+        const std::string msg = e.what();
+        const bool about_params = params && msg.find("_params") != std::string::npos;
+        throw InputError(src.at(about_params ? *params : (dist ? *dist : n)) + msg);
+      }
+    }
+  }
+  r.communication_gain = m.positive({"communication_gain"}, r.communication_gain);
+  r.update_rate_hz = m.positive({"update_rate", "update_rate_hz"}, r.update_rate_hz);
+  if (auto bits = m.get("phase_bits")) {
+    const long long b = src.integer(*bits, m.field("phase_bits"));
+    if (b < 0 || b > 32) throw src.error(*bits, m.field("phase_bits"), "must be in [0, 32] (got " + std::to_string(b) + ")");
+    r.phase_bits = static_cast<int>(b);
+  }
+  r.rssi_resolution_db = m.non_negative({"rssi_resolution_db"}, r.rssi_resolution_db);
+  r.sensitivity_dbm = m.number("sensitivity_dbm", r.sensitivity_dbm);
+  r.modulation_factor = m.positive({"modulation_factor"}, r.modulation_factor);
+  // An antenna without pattern and gain_dbi keeps the one it has (isotropic 0 dBi by default).
+  if (m.has("pattern") || m.has("gain_dbi")) {
+    const double gain_dbi = m.number("gain_dbi", 0.0);
+    r.pattern = m.has("pattern") ? parse_pattern(src, *m.get("pattern"), m.field("pattern"), gain_dbi)
+                                 : isotropic_pattern(gain_dbi);
+  }
+  if (auto pol = m.get("polarization")) r.polarization = parse_polarization(src, *pol, m.field("polarization"));
+}
+
+AntennaSpec parse_antenna(const YamlFile& src, const YAML::Node& n, const std::string& field, size_t index,
+                          ReaderModelKind default_model, const std::set<std::string>& robots) {
+  YamlMap m(src, n, field);
+  AntennaSpec a;
+  a.source_line = src.line(n);
+  ReaderParams& r = a.reader;
+  r.name = m.string("name", "antenna" + std::to_string(index));
+  check_name(src, m.has("name") ? *m.get("name") : n, m.field("name"), r.name, true);
+  r.model = default_model;
+  parse_reader_keys(m, n, r);
+  a.start_s = m.non_negative({"start_s"}, 0.0);
+  a.motion = parse_motion(m, true, robots);
+  m.finish();
+  src.located(n, [&] {
+    validate(r, field);
+    return 0;
+  });
+  return a;
+}
+
+// The radio keys of a tag (gain_dbi, chip_sensitivity_dbm, pattern, polarization) into `t`.
+void parse_tag_keys(YamlMap& m, TagParams& t) {
+  const YamlFile& src = m.src();
+  t.gain_dbi = m.number("gain_dbi", t.gain_dbi);
+  t.chip_sensitivity_dbm = m.number("chip_sensitivity_dbm", t.chip_sensitivity_dbm);
+  // The channel takes the tag gain from its pattern: an isotropic one with the tag's gain by default.
+  t.pattern = m.has("pattern") ? parse_pattern(src, *m.get("pattern"), m.field("pattern"), t.gain_dbi)
+                               : isotropic_pattern(t.gain_dbi);
+  if (auto pol = m.get("polarization")) t.polarization = parse_polarization(src, *pol, m.field("polarization"));
+}
+
+TagSpec parse_tag(const YamlFile& src, const YAML::Node& n, const std::string& field, size_t index) {
+  YamlMap m(src, n, field);
+  TagSpec t;
+  t.source_line = src.line(n);
+  t.tag.name = m.string("name", "tag" + std::to_string(index));
+  check_name(src, m.has("name") ? *m.get("name") : n, m.field("name"), t.tag.name, false);
+  parse_tag_keys(m, t.tag);
+  t.start_s = m.non_negative({"start_s"}, 0.0);
+  t.motion = parse_motion(m, false, {});
+  m.finish();
+  src.located(n, [&] {
+    validate(t.tag, field);
+    return 0;
+  });
+  return t;
+}
+
+SceneSpec parse_scene(const YamlFile& src, const YAML::Node& n, const std::filesystem::path& base_dir) {
+  YamlMap m(src, n, "scene");
+  SceneSpec s;
+  if (auto meshes = m.get("meshes")) {
+    if (!meshes->IsSequence()) throw src.error(*meshes, "scene.meshes", "must be a list of {file, material}");
+    for (size_t i = 0; i < meshes->size(); ++i) {
+      const YAML::Node mn = (*meshes)[i];
+      YamlMap mm(src, mn, indexed("scene.meshes", i));
+      MeshSpec mesh;
+      mesh.source_line = src.line(mn);
+      const YAML::Node file = mm.required("file");
+      const std::filesystem::path p = src.scalar(file, mm.field("file"));
+      mesh.file = (p.is_absolute() ? p : base_dir / p).lexically_normal().string();
+      if (!std::filesystem::is_regular_file(mesh.file))
+        throw src.error(file, mm.field("file"), "no such file '" + mesh.file + "'");
+      mesh.material = mm.string("material", "");
+      if (auto pos = mm.get("position")) mesh.pose.position = src.point(*pos, mm.field("position"));
+      mesh.pose.orientation = parse_orientation(mm);
+      if (auto sc = mm.get("scale")) {
+        mesh.scale = sc->IsSequence() ? src.point(*sc, mm.field("scale"))
+                                      : Vec3::Constant(src.number(*sc, mm.field("scale")));
+        if ((mesh.scale.array() <= 0.0).any()) throw src.error(*sc, mm.field("scale"), "must be > 0");
+      }
+      mm.finish();
+      s.meshes.push_back(mesh);
+    }
+  }
+  if (auto mats = m.get("materials")) {
+    if (!mats->IsSequence()) throw src.error(*mats, "scene.materials", "must be a list");
+    for (size_t i = 0; i < mats->size(); ++i) {
+      YamlMap mm(src, (*mats)[i], indexed("scene.materials", i));
+      MaterialSpec mat;
+      mat.source_line = src.line((*mats)[i]);
+      mat.name = src.scalar(mm.required("name"), mm.field("name"));
+      if (!mm.has("relative_permittivity"))
+        throw src.error((*mats)[i], mm.field("relative_permittivity"), "is required");
+      mat.relative_permittivity = mm.positive({"relative_permittivity"}, 1.0);
+      mat.conductivity_s_m = mm.non_negative({"conductivity_s_m"}, 0.0);
+      mat.thickness_m = mm.non_negative({"thickness_m"}, 0.0);
+      mm.finish();
+      s.materials.push_back(mat);
+    }
+  }
+  if (auto map = m.get("material_map")) {
+    if (!map->IsMap()) throw src.error(*map, "scene.material_map", "must be a map {mesh material: radio material}");
+    for (auto it = map->begin(); it != map->end(); ++it) {
+      const std::string from = it->first.Scalar();
+      s.material_map.push_back({from, src.scalar(it->second, "scene.material_map." + from)});
+    }
+  }
+  s.default_material = m.string("default_material", "");
+  m.finish();
+  return s;
+}
+
+ChannelOptionsSpec parse_channel_options(const YamlFile& src, const YAML::Node& node) {
+  YamlMap m(src, node, "channel_options");
+  ChannelOptionsSpec c;
+  c.source_line = src.line(node);
+  if (auto n = m.get("candidates")) {
+    const std::string v = src.scalar(*n, m.field("candidates"));
+    if (v != "fast" && v != "exhaustive")
+      throw src.error(*n, m.field("candidates"), "must be fast or exhaustive (got '" + v + "')");
+    c.candidates = v;
+  }
+  if (auto n = m.get("candidate_rays")) {
+    const long long v = src.integer(*n, m.field("candidate_rays"));
+    if (v < 0 || v > 10'000'000)
+      throw src.error(*n, m.field("candidate_rays"), "must be in 0…10000000 (got " + std::to_string(v) + ")");
+    c.candidate_rays = static_cast<int>(v);
+  }
+  if (m.has("candidate_spread")) c.candidate_spread = m.positive({"candidate_spread"}, 1.0);
+  if (m.has("drop_below_db")) c.drop_below_db = m.non_negative({"drop_below_db"}, 40.0);
+  if (m.has("max_path_length_m")) c.max_path_length_m = m.positive({"max_path_length_m"}, 1.0);
+  c.auto_phase_tolerance_rad = m.non_negative({"auto_phase_tolerance_rad"}, c.auto_phase_tolerance_rad);
+  c.auto_rssi_tolerance_db = m.non_negative({"auto_rssi_tolerance_db"}, c.auto_rssi_tolerance_db);
+  if (auto n = m.get("auto_sample_links")) {
+    const long long v = src.integer(*n, m.field("auto_sample_links"));
+    if (v < 1 || v > 10'000'000)
+      throw src.error(*n, m.field("auto_sample_links"), "must be in 1…10000000 (got " + std::to_string(v) + ")");
+    c.auto_sample_links = static_cast<size_t>(v);
+  }
+  m.finish();
+  return c;
+}
+
+}  // namespace
+
+Scenario parse_scenario(const std::string& text, const std::string& source) {
+  const YamlFile src(source);
+  const YAML::Node root = parse_yaml_text(text, source);
+  if (!root.IsDefined() || root.IsNull()) throw InputError(source + ": empty scenario");
+  YamlMap top(src, root, "");
+  Scenario s;
+  s.source = source;
+  const std::filesystem::path base_dir = std::filesystem::path(source).parent_path();
+
+  top.string("name", "");
+  top.string("description", "");
+  if (auto seed = top.get("seed")) {
+    const long long v = src.integer(*seed, "seed");
+    if (v < 0) throw src.error(*seed, "seed", "must be >= 0 (got " + std::to_string(v) + ")");
+    s.seed = static_cast<uint64_t>(v);
+  }
+  if (top.has("duration_s")) s.duration_s = top.non_negative({"duration_s"}, 0.0);
+  if (auto ch = top.get("channel")) {
+    const std::string name = src.scalar(*ch, "channel");
+    s.channel = src.located(*ch, [&] { return parse_channel_level(name, "channel"); });
+  }
+  if (auto co = top.get("channel_options")) s.channel_options = parse_channel_options(src, *co);
+  const ReaderModelKind default_model =
+      top.has("model") ? parse_model(src, *top.get("model"), "model") : ReaderModelKind::kPaper;
+  if (auto scene = top.get("scene")) s.scene = parse_scene(src, *scene, base_dir);
+
+  // Robots: `robot:` (one, named "robot" unless named) or `robots:` (a list).
+  std::set<std::string> robot_names;
+  if (auto one = top.get_one({"robot", "robots"})) {
+    if (one->first == "robot") {
+      s.robots.push_back(parse_robot(src, one->second, "robot"));
+    } else {
+      if (!one->second.IsSequence()) throw src.error(one->second, "robots", "must be a list");
+      for (size_t i = 0; i < one->second.size(); ++i)
+        s.robots.push_back(parse_robot(src, one->second[i], indexed("robots", i)));
+    }
+    for (const RobotSpec& r : s.robots)
+      if (!robot_names.insert(r.name).second)
+        throw InputError(src.file() + ":" + std::to_string(r.source_line) + ": field 'robots': duplicate name '" +
+                         r.name + "'");
+  }
+
+  const YAML::Node antennas = top.required("antennas");
+  if (!antennas.IsSequence() || antennas.size() == 0)
+    throw src.error(antennas, "antennas", "must be a non-empty list");
+  std::set<std::string> names;
+  for (size_t i = 0; i < antennas.size(); ++i) {
+    s.antennas.push_back(parse_antenna(src, antennas[i], indexed("antennas", i), i, default_model, robot_names));
+    if (!names.insert(s.antennas.back().reader.name).second)
+      throw src.error(antennas[i], indexed("antennas", i) + ".name",
+                      "duplicate antenna name '" + s.antennas.back().reader.name + "'");
+  }
+  if (auto tags = top.get("tags")) {
+    if (!tags->IsSequence()) throw src.error(*tags, "tags", "must be a list");
+    names.clear();
+    for (size_t i = 0; i < tags->size(); ++i) {
+      s.tags.push_back(parse_tag(src, (*tags)[i], indexed("tags", i), i));
+      if (!names.insert(s.tags.back().tag.name).second)
+        throw src.error((*tags)[i], indexed("tags", i) + ".name",
+                        "duplicate tag name '" + s.tags.back().tag.name + "'");
+    }
+  }
+  top.finish();
+  return s;
+}
+
+ReaderParams parse_reader_params(const YAML::Node& map, const std::string& where, const std::string& field,
+                                 const ReaderParams& defaults) {
+  const YamlFile src(where, false);
+  YamlMap m(src, map, field);
+  ReaderParams r = defaults;
+  parse_reader_keys(m, map, r);
+  m.finish();
+  src.located(map, [&] {
+    validate(r, field);
+    return 0;
+  });
+  return r;
+}
+
+TagParams parse_tag_params(const YAML::Node& map, const std::string& where, const std::string& field,
+                           const TagParams& defaults) {
+  const YamlFile src(where, false);
+  YamlMap m(src, map, field);
+  TagParams t = defaults;
+  parse_tag_keys(m, t);
+  m.finish();
+  src.located(map, [&] {
+    validate(t, field);
+    return 0;
+  });
+  return t;
+}
+
+Scenario load_scenario(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError(path + ": cannot open scenario file (not a regular file)");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open scenario file (" + (std::filesystem::exists(path) ? "unreadable" : "no such file") + ")");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scenario(text.str(), path);
+}
+
+}  // namespace rfidray::io

@@ -1,0 +1,17 @@
+#pragma once
+// Checks shared by the unwrapped-phase methods after they produced an estimate: residual, aperture angle,
+// mirror ambiguity (judged on the unwrapped range cost, re-converged by Levenberg–Marquardt).
+#include "localization/prepare.h"
+#include "localization/range_cost.h"
+
+namespace rfidray::loc {
+
+// The uncertainty gate: sets predicted_std_m and fails the result when it exceeds options.max_std_m.
+// sigma_m: the per-read range noise estimated from the fit.
+void gate_uncertainty(LocalizeResult& result, const PreparedTag& prep, const RangeCost& cost, double sigma_m,
+                      const LocalizeOptions& options);
+
+void finish_unwrapped(LocalizeResult& result, const PreparedTag& prep, const RangeCost& cost,
+                      const LocalizeOptions& options);
+
+}  // namespace rfidray::loc

@@ -1,0 +1,164 @@
+#include "localization/hyperbola.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "core/units.h"
+
+namespace rfidray::loc {
+
+double residual(const Hyperbola& h, const Vec3& x) {
+  return (x - h.f2).norm() - (x - h.f1).norm() - h.delta_m;
+}
+
+Vec3 gradient(const Hyperbola& h, const Vec3& x) {
+  const Vec3 d2 = x - h.f2, d1 = x - h.f1;
+  const double n2 = d2.norm(), n1 = d1.norm();
+  Vec3 g = Vec3::Zero();
+  if (n2 > 0.0) g += d2 / n2;
+  if (n1 > 0.0) g -= d1 / n1;
+  return g;
+}
+
+bool point_on_ray(const Hyperbola& h, double height_m, double psi_rad, int slot, Vec3& out) {
+  const Eigen::Vector2d e(std::cos(psi_rad), std::sin(psi_rad));
+  const Eigen::Vector2d delta = (h.f2 - h.f1).head<2>();
+  const double c1 = height_m - h.f1.z(), c2 = height_m - h.f2.z();
+  const double D = h.delta_m;
+  const double ed = e.dot(delta);
+  const double K = delta.squaredNorm() + c2 * c2 - c1 * c1 - D * D;
+  const double a = 4.0 * (ed * ed - D * D);
+  const double b = -4.0 * K * ed;
+  const double c = K * K - 4.0 * D * D * c1 * c1;
+  double rho;
+  if (std::abs(a) < 1e-14 * (std::abs(b) + std::abs(c) + 1e-300)) {
+    if (slot != 0 || b == 0.0) return false;
+    rho = -c / b;
+  } else {
+    double disc = b * b - 4.0 * a * c;
+    if (disc < 0.0) {
+      if (disc > -1e-12 * b * b) disc = 0.0;  // tangent ray: keep the double root
+      else return false;
+    }
+    const double s = std::sqrt(disc);
+    rho = slot == 0 ? (-b - s) / (2.0 * a) : (-b + s) / (2.0 * a);
+  }
+  if (!(rho >= 0.0) || !std::isfinite(rho)) return false;
+  // Sheet condition: Δ (K − 2ρ e·δ) ≥ 0 (tolerance: the squaring's rounding).
+  const double side = K - 2.0 * rho * ed;
+  if (D * side < -1e-9 * (std::abs(K) + 1.0)) return false;
+  out = Vec3(h.f1.x() + rho * e.x(), h.f1.y() + rho * e.y(), height_m);
+  return true;
+}
+
+PlaneSection sample_section(const Hyperbola& h, double height_m, int rays, double max_range_m) {
+  PlaneSection s;
+  s.rays = rays;
+  s.height_m = height_m;
+  s.points.resize(2 * rays);
+  s.valid.assign(2 * rays, 0);
+  for (int i = 0; i < rays; ++i) {
+    const double psi = kTwoPi * i / rays;
+    for (int slot = 0; slot < 2; ++slot) {
+      Vec3 p;
+      if (point_on_ray(h, height_m, psi, slot, p) && (p - h.f2).norm() <= max_range_m) {
+        s.points[2 * i + slot] = p;
+        s.valid[2 * i + slot] = 1;
+      }
+    }
+  }
+  return s;
+}
+
+namespace {
+
+// Newton on the two loci in the plane (unknowns x, y).
+bool polish_2d(const Hyperbola& h1, const Hyperbola& h2, Vec3& x) {
+  for (int it = 0; it < 20; ++it) {
+    const Eigen::Vector2d r(residual(h1, x), residual(h2, x));
+    if (r.lpNorm<Eigen::Infinity>() < 1e-12) return true;
+    Eigen::Matrix2d J;
+    J.row(0) = gradient(h1, x).head<2>().transpose();
+    J.row(1) = gradient(h2, x).head<2>().transpose();
+    if (std::abs(J.determinant()) < 1e-14) break;
+    const Eigen::Vector2d step = J.partialPivLu().solve(-r);
+    x.head<2>() += step;
+    if (step.norm() < 1e-13) break;
+  }
+  return std::abs(residual(h1, x)) < 1e-7 && std::abs(residual(h2, x)) < 1e-7;
+}
+
+}  // namespace
+
+std::vector<Vec3> intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyperbola& h2) {
+  std::vector<Vec3> out;
+  const int n = s1.rays;
+  std::vector<double> f(2 * n, 0.0);
+  for (int i = 0; i < 2 * n; ++i)
+    if (s1.valid[i]) f[i] = residual(h2, s1.points[i]);
+  const double dpsi = kTwoPi / n;
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    for (int slot = 0; slot < 2; ++slot) {
+      const int a = 2 * i + slot, b = 2 * j + slot;
+      if (!s1.valid[a] || !s1.valid[b]) continue;
+      if ((f[a] > 0.0) == (f[b] > 0.0)) continue;
+      // Far from the foci the section is nearly radial from F1, so one ray step may span metres of it:
+      // bisection on ψ is still valid along the continuous root track; a bracket across a track break
+      // (slot swap) converges to the break and is rejected by the polish below.
+      double lo = kTwoPi * i / n, hi = lo + dpsi, flo = f[a];
+      Vec3 p = s1.points[a];
+      bool ok = true;
+      for (int it = 0; it < 40; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        Vec3 pm;
+        if (!point_on_ray(h1, s1.height_m, mid, slot, pm)) {
+          ok = false;
+          break;
+        }
+        const double fm = residual(h2, pm);
+        p = pm;
+        if ((fm > 0.0) == (flo > 0.0)) lo = mid, flo = fm;
+        else hi = mid;
+      }
+      if (!ok) continue;
+      if (!polish_2d(h1, h2, p)) continue;
+      bool duplicate = false;
+      for (const Vec3& q : out) duplicate |= (q - p).norm() < 1e-6;
+      if (!duplicate) out.push_back(p);
+    }
+  }
+  return out;
+}
+
+bool intersect_3d(const Hyperbola& a, const Hyperbola& b, const Hyperbola& c, const Vec3& seed, Vec3& out) {
+  Vec3 x = seed;
+  for (int it = 0; it < 30; ++it) {
+    const Eigen::Vector3d r(residual(a, x), residual(b, x), residual(c, x));
+    if (r.lpNorm<Eigen::Infinity>() < 1e-12) break;
+    Eigen::Matrix3d J;
+    J.row(0) = gradient(a, x).transpose();
+    J.row(1) = gradient(b, x).transpose();
+    J.row(2) = gradient(c, x).transpose();
+    const Eigen::Vector3d step = J.colPivHouseholderQr().solve(-r);
+    if (!step.allFinite()) return false;
+    // Damped: never jump more than 1 m per iteration (keeps Newton on the local sheet).
+    x += step.norm() > 1.0 ? Vec3(step / step.norm()) : Vec3(step);
+    if (step.norm() < 1e-13) break;
+  }
+  out = x;
+  return std::abs(residual(a, x)) < 1e-7 && std::abs(residual(b, x)) < 1e-7 && std::abs(residual(c, x)) < 1e-7;
+}
+
+double intersection_quality(const std::vector<Vec3>& gradients, bool planar) {
+  const int dim = planar ? 2 : 3;
+  Eigen::MatrixXd J(gradients.size(), dim);
+  for (size_t i = 0; i < gradients.size(); ++i) J.row(i) = gradients[i].head(dim).transpose();
+  const Eigen::MatrixXd A = J.transpose() * J;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
+  if (!lu.isInvertible()) return 0.0;
+  const double tr = lu.inverse().trace();
+  return tr > 0.0 ? 1.0 / std::sqrt(tr) : 0.0;
+}
+
+}  // namespace rfidray::loc

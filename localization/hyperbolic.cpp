@@ -1,0 +1,205 @@
+#include "localization/hyperbolic.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include "localization/finish.h"
+#include "localization/range_cost.h"
+
+namespace rfidray::loc {
+
+std::vector<Hyperbola> build_conics(const PreparedTag& prep, const LocalizeOptions& options, double* stride_used) {
+  double path_length = 0.0;
+  for (const RangeSegment& s : prep.segments)
+    for (size_t k = 1; k < s.antenna_m.size(); ++k) path_length += (s.antenna_m[k] - s.antenna_m[k - 1]).norm();
+  const double stride = std::max(options.stride_m, path_length / std::max(1, options.max_conics));
+  if (stride_used) *stride_used = stride;
+  std::vector<Hyperbola> conics;
+  for (const RangeSegment& s : prep.segments) {
+    const Vec3& ref = s.antenna_m[0];
+    Vec3 last = ref;
+    for (size_t k = 1; k < s.antenna_m.size(); ++k) {
+      if ((s.antenna_m[k] - last).norm() < stride) continue;
+      last = s.antenna_m[k];
+      Hyperbola h{ref, s.antenna_m[k], s.range_m[k] - s.range_m[0], s.range_m[k]};
+      if (h.valid()) conics.push_back(h);
+    }
+  }
+  return conics;
+}
+
+std::vector<Intersection> intersect_conics(const std::vector<Hyperbola>& conics, const LocalizeOptions& options,
+                                           double plane_height_m) {
+  constexpr int kRays = 720;
+  std::vector<Intersection> out;
+  const int n = static_cast<int>(conics.size());
+  std::vector<PlaneSection> sections(n);
+  for (int i = 0; i < n; ++i) sections[i] = sample_section(conics[i], plane_height_m, kRays, options.max_range_m);
+  for (int b = 1; b < n; ++b) {     // the new conic
+    for (int a = 0; a < b; ++a) {   // every previous one
+      for (const Vec3& p2 : intersect_in_plane(conics[b], sections[b], conics[a])) {
+        Vec3 p = p2;
+        std::vector<Vec3> grads{gradient(conics[a], p), gradient(conics[b], p)};
+        if (!options.height_known) {
+          // 3-D: add a third conic from 8 evenly spread earlier anchors, the one with the best geometry.
+          int best_c = -1;
+          double best_q = 0.0;
+          for (int t = 0; t < 8 && b > 2; ++t) {
+            const int c = (t * (b - 1)) / 7;
+            if (c == a || c == b) continue;
+            std::vector<Vec3> g3 = grads;
+            g3.push_back(gradient(conics[c], p));
+            const double q = intersection_quality(g3, false);
+            if (q > best_q) best_q = q, best_c = c;
+          }
+          if (best_c < 0) continue;
+          Vec3 x;
+          if (!intersect_3d(conics[a], conics[b], conics[best_c], p, x)) continue;
+          p = x;
+          grads = {gradient(conics[a], p), gradient(conics[b], p), gradient(conics[best_c], p)};
+        }
+        if ((p - conics[a].f2).norm() > options.max_range_m || (p - conics[b].f2).norm() > options.max_range_m)
+          continue;
+        const double q = intersection_quality(grads, options.height_known);
+        if (q <= 0.0) continue;
+        out.push_back(Intersection{p, q, conics[b].phase_distance_m, a, b});
+      }
+    }
+  }
+  return out;
+}
+
+namespace {
+
+using Key = std::tuple<long, long, long>;
+using CellGrid = std::map<Key, std::vector<int>>;
+
+Key cell_key(const Vec3& p, double cell) {
+  return Key{static_cast<long>(std::floor(p.x() / cell)), static_cast<long>(std::floor(p.y() / cell)),
+             static_cast<long>(std::floor(p.z() / cell))};
+}
+
+CellGrid make_cells(const std::vector<Intersection>& set, double cell) {
+  CellGrid grid;
+  for (int i = 0; i < static_cast<int>(set.size()); ++i) grid[cell_key(set[i].point, cell)].push_back(i);
+  return grid;
+}
+
+// Quality-weighted Gaussian mean shift at bandwidth h, then h/2 and h/4.
+Vec3 shift_to_mode(const std::vector<Intersection>& set, const CellGrid& grid, double cell, Vec3 x, double bandwidth_m) {
+  for (double h : {bandwidth_m, bandwidth_m / 2.0, bandwidth_m / 4.0}) {
+    for (int it = 0; it < 30; ++it) {
+      const Key c = cell_key(x, cell);
+      const long reach = static_cast<long>(std::ceil(3.0 * h / cell));
+      Vec3 num = Vec3::Zero();
+      double den = 0.0;
+      for (long dx = -reach; dx <= reach; ++dx)
+        for (long dy = -reach; dy <= reach; ++dy)
+          for (long dz = -reach; dz <= reach; ++dz) {
+            auto found = grid.find({std::get<0>(c) + dx, std::get<1>(c) + dy, std::get<2>(c) + dz});
+            if (found == grid.end()) continue;
+            for (int i : found->second) {
+              const double w = set[i].quality * std::exp(-0.5 * (set[i].point - x).squaredNorm() / (h * h));
+              num += w * set[i].point;
+              den += w;
+            }
+          }
+      if (den <= 0.0) break;
+      const Vec3 next = num / den;
+      const double moved = (next - x).norm();
+      x = next;
+      if (moved < 1e-7) break;
+    }
+  }
+  return x;
+}
+
+}  // namespace
+
+Vec3 intersection_mode_near(const std::vector<Intersection>& set, const Vec3& start, double bandwidth_m) {
+  return shift_to_mode(set, make_cells(set, bandwidth_m), bandwidth_m, start, bandwidth_m);
+}
+
+std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, double bandwidth_m, int max_modes) {
+  std::vector<Vec3> modes;
+  if (set.empty()) return modes;
+  const double cell = bandwidth_m;
+  CellGrid grid = make_cells(set, cell);
+  // Kernel-density score of each occupied cell: quality summed over the 3×3×3 neighbourhood.
+  std::vector<std::pair<double, Key>> scored;
+  for (const auto& [k, idx] : grid) {
+    double s = 0.0;
+    for (long dx = -1; dx <= 1; ++dx)
+      for (long dy = -1; dy <= 1; ++dy)
+        for (long dz = -1; dz <= 1; ++dz) {
+          auto it = grid.find({std::get<0>(k) + dx, std::get<1>(k) + dy, std::get<2>(k) + dz});
+          if (it != grid.end())
+            for (int i : it->second) s += set[i].quality;
+        }
+    scored.emplace_back(s, k);
+  }
+  std::sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
+  });
+  for (const auto& [score, k] : scored) {
+    if (static_cast<int>(modes.size()) >= max_modes) break;
+    Vec3 start = Vec3::Zero();
+    double w = 0.0;
+    for (int i : grid[k]) start += set[i].quality * set[i].point, w += set[i].quality;
+    start /= w;
+    const Vec3 x = shift_to_mode(set, grid, cell, start, bandwidth_m);
+    bool distinct = true;
+    for (const Vec3& m : modes) distinct &= (m - x).norm() > 2.0 * bandwidth_m;
+    if (distinct) modes.push_back(x);
+  }
+  return modes;
+}
+
+LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& options) {
+  PreparedTag prep;
+  if (auto fail = prepare(tag, options, prep)) return *fail;
+  double plane_z = options.tag_height_m;
+  if (!options.height_known) {
+    plane_z = 0.0;
+    for (const Vec3& p : prep.positions) plane_z += p.z();
+    plane_z /= static_cast<double>(prep.positions.size());
+  }
+  double stride = 0.0;
+  const std::vector<Hyperbola> conics = build_conics(prep, options, &stride);
+  const int need = options.height_known ? 3 : 4;  // ≥ 2 (2-D) / 3 (3-D) conics plus one to cross-check
+  if (static_cast<int>(conics.size()) < need) {
+    std::ostringstream why;
+    why << conics.size() << " conics at stride " << stride << " m, need " << need;
+    LocalizeResult r = LocalizeResult::failure(FailReason::kApertureTooShort, why.str());
+    r.reads_used = prep.usable_reads;
+    return r;
+  }
+  const std::vector<Intersection> set = intersect_conics(conics, options, plane_z);
+  const std::vector<Vec3> modes = intersection_modes(set, options.cluster_bandwidth_m, 5);
+  if (modes.empty()) {
+    LocalizeResult r = LocalizeResult::failure(FailReason::kNoConvergence,
+                                               std::to_string(conics.size()) + " conics have no intersection in range");
+    r.reads_used = prep.usable_reads;
+    return r;
+  }
+  RangeCost cost(prep, options.height_known, options.tag_height_m);
+  LocalizeResult result;
+  double best = std::numeric_limits<double>::infinity();
+  for (const Vec3& m : modes) {
+    const double s = cost.ssr(m);
+    if (s < best) best = s, result.position = m;
+  }
+  result.ok = true;
+  const Vec3 own = result.position;
+  finish_unwrapped(result, prep, cost, options);
+  // A prior that picked the mirror side picked the least-squares mirror point: report instead the mode of
+  // this method's own intersection set there (the mirror cluster exists: conics are mirror-symmetric).
+  if (result.ok && !result.mirror_resolved_by.empty() && (result.position - own).norm() > 0.0)
+    result.position = intersection_mode_near(set, result.position, options.cluster_bandwidth_m);
+  return result;
+}
+
+}  // namespace rfidray::loc

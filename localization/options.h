@@ -1,0 +1,54 @@
+#pragma once
+// Options shared by the localization methods. Defaults are documented where they are chosen.
+#include "core/geometry.h"
+#include "localization/phase_unwrap.h"
+
+namespace rfidray::loc {
+
+// How to settle a detected mirror ambiguity (straight path in 2-D, planar path in 3-D).
+enum class MirrorPrior {
+  kNone,       // report failed / ambiguous mirror
+  kBoresight,  // keep the candidate in front of the antenna (local +X), averaged over the reads
+  kPoint,      // keep the candidate nearer `prior_point` (e.g. the truth file: an oracle, documented as such)
+};
+
+struct LocalizeOptions {
+  // 2-D case of the paper: antenna moves in a plane and the tag height is known (z fixed to tag_height_m).
+  bool height_known = false;
+  double tag_height_m = 0.0;
+
+  UnwrapOptions unwrap;        // frequency is set per group
+  int min_reads = 10;          // fewer usable reads → too few reads
+  int min_segment_reads = 5;   // segments shorter than this carry no usable range difference
+  double min_segment_extent_m = 0.01;   // segments whose antenna moved less carry no position information
+  double min_aperture_m = 0.3;          // antenna path extent below this → aperture too short
+  double min_aperture_angle_deg = 10.0; // path seen from the estimate under a smaller angle → too short
+                                        // (cross-range resolution λ/(4 sin(θ/2)) > λ at 10°)
+  double max_range_m = 10.0;   // search region: within this distance of the antenna positions
+
+  // Mirror test: a distinct candidate whose fit is within this many χ² units of the best is ambiguous.
+  double mirror_chi2 = 25.0;
+  // Quality gates: a result whose predicted 1-σ position uncertainty exceeds max_std_m is failed (aperture
+  // too short when the path is seen under < 60°, else phase too noisy); unwrapped methods also fail when
+  // more than max_slip_fraction of the reads sit > 0.75π from the fit (a cycle slip shifts reads by 2π).
+  double max_std_m = 0.02;
+  double max_slip_fraction = 0.02;
+  double noise_floor_m = 1e-4; // lower bound of the residual σ used by the χ² tests (quantisation level)
+  MirrorPrior mirror_prior = MirrorPrior::kNone;
+  Vec3 prior_point = Vec3::Zero();
+
+  // Hyperbolic intersection (the paper's method).
+  double stride_m = 0.10;      // new conic every antenna move ≥ stride (raised to keep ≤ max_conics)
+  int max_conics = 100;
+  double cluster_bandwidth_m = 0.05;
+
+  // Levenberg–Marquardt.
+  int lm_max_iterations = 100;
+
+  // SAR / holographic grid.
+  double sar_coarse_step_fraction = 0.25;  // coarse grid step as a fraction of λ
+  double sar_fine_step_m = 0.0005;         // stop refining below this step
+  int sar_peaks = 8;                       // coarse peaks refined
+};
+
+}  // namespace rfidray::loc

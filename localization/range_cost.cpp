@@ -1,0 +1,140 @@
+#include "localization/range_cost.h"
+
+#include <cmath>
+#include <limits>
+
+namespace rfidray::loc {
+
+RangeCost::RangeCost(const PreparedTag& prep, bool fixed_z, double z_m) : prep_(prep), fixed_z_(fixed_z), z_m_(z_m) {
+  for (const auto& s : prep.segments) n_ += static_cast<int>(s.range_m.size());
+}
+
+Vec3 RangeCost::to_position(const Eigen::VectorXd& u) const {
+  return fixed_z_ ? Vec3(u[0], u[1], z_m_) : Vec3(u[0], u[1], u[2]);
+}
+
+Eigen::VectorXd RangeCost::to_unknowns(const Vec3& x) const {
+  if (fixed_z_) return Eigen::Vector2d(x.x(), x.y());
+  return x;
+}
+
+void RangeCost::evaluate(const Vec3& x, Eigen::VectorXd& r, Eigen::MatrixXd* J) const {
+  r.resize(n_);
+  if (J) J->resize(n_, dof());
+  int row = 0;
+  for (const RangeSegment& s : prep_.segments) {
+    const int m = static_cast<int>(s.range_m.size());
+    double mean_e = 0.0;
+    Vec3 mean_u = Vec3::Zero();
+    for (int k = 0; k < m; ++k) {
+      const Vec3 d = x - s.antenna_m[k];
+      const double dist = d.norm();
+      r[row + k] = s.range_m[k] - dist;
+      mean_e += r[row + k];
+      if (J) {
+        const Vec3 u = dist > 0.0 ? Vec3(d / dist) : Vec3::Zero();
+        // ∂e/∂x = −∂D/∂x = −u (before centring)
+        for (int c = 0; c < dof(); ++c) (*J)(row + k, c) = -u[c];
+        mean_u += u;
+      }
+    }
+    mean_e /= m;
+    mean_u /= m;
+    for (int k = 0; k < m; ++k) {
+      r[row + k] -= mean_e;
+      if (J)
+        for (int c = 0; c < dof(); ++c) (*J)(row + k, c) += mean_u[c];
+    }
+    row += m;
+  }
+}
+
+double RangeCost::ssr(const Vec3& x) const {
+  double total = 0.0;
+  for (const RangeSegment& s : prep_.segments) {
+    const size_t m = s.range_m.size();
+    double sum = 0.0, sum2 = 0.0;
+    for (size_t k = 0; k < m; ++k) {
+      const double e = s.range_m[k] - (x - s.antenna_m[k]).norm();
+      sum += e;
+      sum2 += e * e;
+    }
+    total += sum2 - sum * sum / static_cast<double>(m);
+  }
+  return std::max(total, 0.0);
+}
+
+double RangeCost::offset_m(const Vec3& x, int segment) const {
+  const RangeSegment& s = prep_.segments[segment];
+  double sum = 0.0;
+  for (size_t k = 0; k < s.range_m.size(); ++k) sum += s.range_m[k] - (x - s.antenna_m[k]).norm();
+  return sum / static_cast<double>(s.range_m.size());
+}
+
+double predicted_std_m(const RangeCost& cost, const Vec3& x, double sigma_m) {
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  cost.evaluate(x, r, &J);
+  const Eigen::MatrixXd A = J.transpose() * J;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
+  if (!lu.isInvertible()) return std::numeric_limits<double>::infinity();
+  const double tr = lu.inverse().trace();
+  return tr > 0.0 ? sigma_m * std::sqrt(tr) : std::numeric_limits<double>::infinity();
+}
+
+LmResult levenberg_marquardt(const RangeCost& cost, const Vec3& start, int max_iterations) {
+  LmResult out;
+  Eigen::VectorXd u = cost.to_unknowns(start);
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  cost.evaluate(cost.to_position(u), r, &J);
+  double f = r.squaredNorm();
+  double mu = -1.0, nu = 2.0;
+  for (int it = 0; it < max_iterations; ++it) {
+    out.iterations = it + 1;
+    const Eigen::MatrixXd A = J.transpose() * J;
+    const Eigen::VectorXd g = J.transpose() * r;
+    if (mu < 0.0) mu = 1e-3 * A.diagonal().maxCoeff();
+    if (g.lpNorm<Eigen::Infinity>() < 1e-15) {
+      out.converged = true;
+      break;
+    }
+    Eigen::MatrixXd Ad = A;
+    Ad.diagonal() += mu * A.diagonal().cwiseMax(1e-12);
+    const Eigen::VectorXd step = Ad.ldlt().solve(-g);
+    if (!step.allFinite()) break;
+    const Eigen::VectorXd u_new = u + step;
+    Eigen::VectorXd r_new;
+    cost.evaluate(cost.to_position(u_new), r_new, nullptr);
+    const double f_new = r_new.squaredNorm();
+    // Gain ratio of actual to predicted decrease (Nielsen 1999).
+    const double predicted = step.dot(mu * A.diagonal().cwiseMax(1e-12).cwiseProduct(step) - g);
+    const double rho = predicted > 0.0 ? (f - f_new) / predicted : -1.0;
+    if (rho > 0.0) {
+      u = u_new;
+      const bool small_step = step.norm() < 1e-9 * (1.0 + u.norm());
+      const bool small_gain = (f - f_new) <= 1e-14 * f + 1e-30;
+      f = f_new;
+      cost.evaluate(cost.to_position(u), r, &J);
+      mu *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+      nu = 2.0;
+      if (small_step || small_gain) {
+        out.converged = true;
+        break;
+      }
+    } else {
+      if (step.norm() < 1e-12 * (1.0 + u.norm())) {
+        out.converged = true;
+        break;
+      }
+      mu *= nu;
+      nu *= 2.0;
+    }
+  }
+  out.position = cost.to_position(u);
+  out.ssr = f;
+  if (!out.position.allFinite()) out.converged = false;
+  return out;
+}
+
+}  // namespace rfidray::loc

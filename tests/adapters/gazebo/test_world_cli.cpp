@@ -1,0 +1,107 @@
+// `rfidray simulate --world` and `rfidray link --world` through the real binary: the CSV equals simulate() on
+// the imported world in process, link finds the antenna and tag by name, bad uses exit 2 with a message.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "io/channel_factory.h"
+#include "adapters/gazebo/gazebo_world.h"
+#include "io/readings_csv.h"
+#include "io/world_source.h"
+#include "core/simulation.h"
+
+namespace rfidray::gazebo {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kDir = std::string(RFIDRAY_SOURCE_DIR) + "/scenes/tests/gazebo";
+const std::string kWorld = "--world " + kDir + "/rfid_test.world --resource-path " + kDir + "/models";
+
+struct CliRun {
+  int status = -1;
+  std::string output;
+};
+CliRun run(const std::string& args) {
+  CliRun r;
+  FILE* p = popen((std::string(RFIDRAY_BINARY) + " " + args + " 2>&1").c_str(), "r");
+  char buf[4096];
+  size_t n;
+  while (p && (n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+  const int st = p ? pclose(p) : -1;
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(WorldCli, SimulateWorldEqualsSimulateOfTheImportedScenario) {
+  const fs::path dir = fs::temp_directory_path() / ("rfidray_world_cli_" + std::to_string(getpid()));
+  const CliRun r = run("simulate " + kWorld + " --materials " + kDir + "/rfid_test_materials.yaml" +
+                    " --channel single-bounce --duration 1 --seed 3 -q -o " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("invalid inertia"), std::string::npos) << r.output;  // shown, not fatal
+
+  WorldOptions o;
+  o.file = kDir + "/rfid_test.world";
+  o.resource_path = {kDir + "/models"};
+  o.materials_file = kDir + "/rfid_test_materials.yaml";
+  const GazeboWorld w = load_world(o);
+  Scenario s = w.scenario;
+  s.seed = 3;
+  s.duration_s = 1.0;
+  const auto channel = rfidray::io::make_channel(ChannelLevel::kSingleBounce, s.channel_options, build_scene(w));
+  const SimulationResult result = simulate(s, *channel);
+  for (size_t a = 0; a < s.antennas.size(); ++a) {
+    std::ostringstream expected;
+    io::write_readings_csv(expected, s, a, result.antennas[a]);
+    EXPECT_EQ(slurp(dir / (s.antennas[a].reader.name + ".csv")), expected.str()) << s.antennas[a].reader.name;
+    EXPECT_GT(result.antennas[a].reads.size(), 0u);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(WorldCli, LinkWorldByNames) {
+  const CliRun r = run("link " + kWorld + " --antenna reader --tag tag_1::link --json");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  EXPECT_EQ(j["scene"]["triangles"].get<int>(), 1126);
+  // reader at (0, 0, 1.5), tag_1 at (3, 0, 1.5): the direct path is 3 m, and the floor reflects at x = 1.5.
+  bool los = false, floor = false;
+  for (const auto& p : j["raytraced"]["paths"]) {
+    if (p["kind"] == "los") los = std::abs(p["length_m"].get<double>() - 3.0) < 1e-9;
+    if (p["kind"] == "reflection" && std::abs(p["point"][2].get<double>()) < 1e-9)
+      floor = std::abs(p["point"][0].get<double>() - 1.5) < 1e-6;
+  }
+  EXPECT_TRUE(los) << r.output;
+  EXPECT_TRUE(floor) << r.output;
+}
+
+TEST(WorldCli, BadUsesExitTwoWithAMessage) {
+  CliRun r = run("simulate " + kWorld);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--duration S is required"), std::string::npos) << r.output;
+  r = run("simulate --world /nonexistent.world --duration 1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("/nonexistent.world: cannot open world file"), std::string::npos) << r.output;
+  r = run("simulate --world " + kDir + "/rfid_test.world --duration 1");  // no resource path: model:// fails
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("model://rack_part"), std::string::npos) << r.output;
+  r = run("link " + kWorld + " --antenna nosuch --tag tag_1::link");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("neither X,Y,Z nor an antenna of the world (reader, gate)"), std::string::npos) << r.output;
+  r = run("gazebo --world " + kDir + "/rfid_test.world --resource-path " + kDir + "/models --topic-prefix rfid");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--topic-prefix"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace rfidray::gazebo

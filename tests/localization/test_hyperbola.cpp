@@ -1,0 +1,101 @@
+// Conics of the hyperbolic method against closed-form geometry.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "localization/hyperbola.h"
+#include "localization/hyperbolic.h"
+#include "core/units.h"
+
+namespace rfidray::loc {
+namespace {
+
+TEST(Hyperbola, PlaneSectionIsTheClosedFormHyperbola) {
+  // Foci (±c, 0) in the plane itself, Δr = 2a > 0: x²/a² − y²/b² = 1, b² = c² − a², on the branch x < 0
+  // (|x − F2| > |x − F1| means nearer F1 = (−c, 0)).
+  const double c = 1.0, a = 0.4, b2 = c * c - a * a, h = 1.5;
+  const Hyperbola hyp{Vec3(-c, 0, h), Vec3(c, 0, h), 2 * a};
+  int points = 0;
+  for (int i = 0; i < 360; ++i)
+    for (int slot = 0; slot < 2; ++slot) {
+      Vec3 p;
+      if (!point_on_ray(hyp, h, kTwoPi * i / 360, slot, p)) continue;
+      ++points;
+      EXPECT_NEAR(p.x() * p.x() / (a * a) - p.y() * p.y() / b2, 1.0, 1e-9);
+      EXPECT_LT(p.x(), 0.0);
+      EXPECT_NEAR(residual(hyp, p), 0.0, 1e-9);
+    }
+  EXPECT_GT(points, 100);
+}
+
+TEST(Hyperbola, SectionOfPlaneAboveFociSatisfies3dLocus) {
+  // Foci at 1.68 m and 1.2 m, tag plane at 2.05 m: every section point satisfies the 3-D distance difference.
+  const Hyperbola hyp{Vec3(-1, -2, 1.68), Vec3(-0.5, 1, 1.2), 0.7};
+  const PlaneSection s = sample_section(hyp, 2.05, 720, 20.0);
+  int n = 0;
+  for (size_t i = 0; i < s.points.size(); ++i)
+    if (s.valid[i]) {
+      ++n;
+      EXPECT_NEAR(s.points[i].z(), 2.05, 0);
+      EXPECT_NEAR(residual(hyp, s.points[i]), 0.0, 1e-8);
+    }
+  EXPECT_GT(n, 50);
+}
+
+TEST(Hyperbola, IntersectionOfTwoConicsThroughATagContainsTagAndMirror) {
+  // Three collinear antenna positions (a straight path along y): the intersections are the tag and its
+  // reflection across the path line, exactly.
+  const Vec3 tag(2.3, 0.7, 2.05);
+  const Vec3 p0(-1, -2, 1.68), p1(-1, 0, 1.68), p2(-1, 2.5, 1.68);
+  auto conic = [&](const Vec3& f2) { return Hyperbola{p0, f2, (tag - f2).norm() - (tag - p0).norm(), 0.0}; };
+  const Hyperbola h1 = conic(p1), h2 = conic(p2);
+  const auto pts = intersect_in_plane(h2, sample_section(h2, tag.z(), 720, 20.0), h1);
+  const Vec3 mirror(-1 - (tag.x() + 1), tag.y(), tag.z());
+  bool found_tag = false, found_mirror = false;
+  for (const Vec3& p : pts) {
+    EXPECT_NEAR(residual(h1, p), 0.0, 1e-8);
+    EXPECT_NEAR(residual(h2, p), 0.0, 1e-8);
+    found_tag |= (p - tag).norm() < 1e-7;
+    found_mirror |= (p - mirror).norm() < 1e-7;
+  }
+  EXPECT_TRUE(found_tag);
+  EXPECT_TRUE(found_mirror);
+}
+
+TEST(Hyperbola, ThreeHyperboloidsMeetAtTheTag) {
+  const Vec3 tag(1.5, 0.5, 2.4);
+  const Vec3 r(-1, -2, 0.6);
+  auto conic = [&](const Vec3& f2) { return Hyperbola{r, f2, (tag - f2).norm() - (tag - r).norm(), 0.0}; };
+  Vec3 out;
+  ASSERT_TRUE(intersect_3d(conic(Vec3(-1, 0, 2.0)), conic(Vec3(-1, 2, 0.8)), conic(Vec3(1, 3, 1.4)),
+                           tag + Vec3(0.3, -0.2, -0.3), out));
+  EXPECT_LT((out - tag).norm(), 1e-9);
+}
+
+TEST(Hyperbola, QualityIsInverseGdop) {
+  // Orthogonal unit gradients: (JᵀJ)⁻¹ = I → GDOP = √2.
+  EXPECT_NEAR(intersection_quality({Vec3(1, 0, 0), Vec3(0, 1, 0)}, true), 1 / std::sqrt(2.0), 1e-12);
+  // Gradients at 30°: det = sin 30°, trace((JᵀJ)⁻¹) = 2 / sin² 30° → quality = sin 30° / √2.
+  const double s = std::sin(kPi / 6);
+  EXPECT_NEAR(intersection_quality({Vec3(1, 0, 0), Vec3(std::cos(kPi / 6), s, 0)}, true), s / std::sqrt(2.0), 1e-12);
+  // Parallel: no fix.
+  EXPECT_EQ(intersection_quality({Vec3(1, 0, 0), Vec3(2, 0, 0)}, true), 0.0);
+}
+
+TEST(Hyperbola, GradientNormIsTwiceSineOfHalfAngle) {
+  const Hyperbola h{Vec3(0, 0, 0), Vec3(2, 0, 0), 0.0};
+  const Vec3 x(1, 1, 0);  // F1–x–F2 is a right angle
+  EXPECT_NEAR(gradient(h, x).norm(), 2 * std::sin(kPi / 4), 1e-12);
+}
+
+TEST(Hyperbola, ModesFindDenseWeightedCluster) {
+  std::vector<Intersection> set;
+  for (int i = 0; i < 50; ++i) set.push_back({Vec3(1 + 0.001 * (i % 5), 2 - 0.001 * (i % 7), 0), 1.0, 0, 0, 0});
+  for (int i = 0; i < 10; ++i) set.push_back({Vec3(5 + 0.3 * i, -3, 0), 1.0, 0, 0, 0});
+  const auto modes = intersection_modes(set, 0.05, 3);
+  ASSERT_FALSE(modes.empty());
+  EXPECT_LT((modes[0] - Vec3(1.002, 1.997, 0)).norm(), 0.003);
+}
+
+}  // namespace
+}  // namespace rfidray::loc
