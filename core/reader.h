@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "core/antenna_pattern.h"
+#include "core/geometry.h"
+#include "core/phase_pattern.h"
 #include "core/polarization.h"
 
 namespace rfidray {
@@ -42,6 +44,20 @@ struct ReaderParams {
   ReaderModelKind model = ReaderModelKind::kPaper;
   AntennaPattern pattern;           // physical model / ray-traced channels
   Polarization polarization;
+
+  // Hardware effects of real readers (README, "Simulating a real reader"). Defaults: off.
+  // Where the waves really start, in the antenna frame (boresight +X): the channel and the distance are
+  // computed from pose ∘ offset, while the reads report the mounting pose, as a real reader does.
+  Vec3 phase_centre_offset_m = Vec3::Zero();
+  PhasePattern phase_pattern;       // round-trip phase vs direction of the tag (core/phase_pattern.h)
+  // Physical model: the signal-to-noise ratio (dB) at exactly sensitivity_dbm; > 0 adds the receiver's
+  // noise, which grows as the signal nears sensitivity: SNR = SNR_s·P_rx/P_s, phase variance += 1/(2·SNR)
+  // rad² and RSSI σ² += (8.686/√(2·SNR))² dB² (a tone in complex white noise; Kay, Fundamentals of Statistical
+  // Signal Processing I, 1993, §3.11). 0: off.
+  double snr_at_sensitivity_db = 0.0;
+  // Probability that an attempt that could be read is reported, per carrier (index-aligned with frequencies_hz,
+  // or one value for all): real readers read some channels more often than others. Empty: always.
+  std::vector<double> read_probability;
 };
 
 struct TagParams {
@@ -50,6 +66,7 @@ struct TagParams {
   double chip_sensitivity_dbm = -20.0;
   AntennaPattern pattern;            // used by the physical model and ray-traced channels
   Polarization polarization;
+  PhasePattern phase_pattern;        // round-trip phase vs direction of the antenna, in the tag frame
 };
 
 // What one read attempt yields. `read == false` means the tag did not answer; phase/RSSI are then unset.

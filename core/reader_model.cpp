@@ -48,6 +48,15 @@ void validate_polarization(const Polarization& p, const std::string& field) {
     throw field_error(field + ".axis", "must be a finite, non-zero vector");
 }
 
+// The draw of read_probability: made on every attempt when the reader has one (after the model's own draws),
+// so the stream position never depends on the outcome; returns whether the attempt may be reported.
+bool drawn_reported(const ReaderParams& reader, const LinkState& link, Rng& rng) {
+  if (reader.read_probability.empty()) return true;
+  const double p = reader.read_probability.size() == 1 ? reader.read_probability[0]
+                                                       : reader.read_probability.at(link.hop_index);
+  return std::uniform_real_distribution<double>(0.0, 1.0)(rng) < p;
+}
+
 }  // namespace
 
 double quantize_phase(double phase_rad, int bits) {
@@ -78,6 +87,7 @@ Reading paper_reading(const ReaderParams& reader, const LinkState& link, Rng& rn
   const double n_phi = reader.noise_phi_rad * unit(rng);
   const double n_opt = sample(reader.optional_distribution, rng);
   const double n_rssi = reader.noise_rssi * unit(rng);
+  const bool reported = drawn_reported(reader, link, rng);
 
   const double lambda = wavelength_m(link.frequency_hz);
   const double d = link.distance_m;
@@ -87,9 +97,9 @@ Reading paper_reading(const ReaderParams& reader, const LinkState& link, Rng& rn
   // Eq. 5: RSSI = round(40·log10(G_RT·λ/(4πD) + n_RSSI)). The noise is added to the linear amplitude, so
   // it can drive the argument to ≤ 0; a real reader then reports nothing, so that attempt is no read.
   const double amplitude = reader.communication_gain * lambda / (4.0 * kPi * d) + n_rssi;
-  if (!(amplitude > 0.0)) return r;
-  // Eq. 4: φ = (φ0 + 4πD/λ + n_φ + n_opt) mod 2π, then quantized.
-  const double phase = link.phase_offset_rad + 4.0 * kPi * d / lambda + n_phi + n_opt;
+  if (!(amplitude > 0.0) || !reported) return r;
+  // Eq. 4: φ = (φ0 + 4πD/λ + n_φ + n_opt) mod 2π, then quantized (+ the phase patterns, 0 by default).
+  const double phase = link.phase_offset_rad + 4.0 * kPi * d / lambda + n_phi + n_opt + link.pattern_phase_rad;
   if (!std::isfinite(phase)) return r;  // e.g. a Cauchy draw overflowing: no usable phase
   r.read = true;
   r.phase_rad = quantize_phase(phase, reader.phase_bits);
@@ -103,9 +113,10 @@ Reading physical_reading(const ReaderParams& reader, const TagParams& tag, const
   if (!(std::isfinite(link.h_one_way.real()) && std::isfinite(link.h_one_way.imag())))
     throw field_error(link_field(reader, "h_one_way"), "channel must be finite");
   std::normal_distribution<double> unit(0.0, 1.0);
-  const double n_phi = reader.noise_phi_rad * unit(rng);
+  const double z_phi = unit(rng);
   const double n_opt = sample(reader.optional_distribution, rng);
-  const double n_rssi_db = reader.noise_rssi_db * unit(rng);
+  const double z_rssi = unit(rng);
+  const bool reported = drawn_reported(reader, link, rng);
 
   Reading r;
   const double p_tx_w = dbm_to_watt(reader.tx_power_dbm);
@@ -114,10 +125,21 @@ Reading physical_reading(const ReaderParams& reader, const TagParams& tag, const
   if (!(p_tx_w * gain2 >= dbm_to_watt(tag.chip_sensitivity_dbm))) return r;
   // Reverse link: backscattered power P_rx = P_tx·K·|h|⁴ (monostatic, round trip h²).
   const double p_rx_w = p_tx_w * reader.modulation_factor * gain2 * gain2;
-  if (!(p_rx_w >= dbm_to_watt(reader.sensitivity_dbm))) return r;  // noise-free power decides decoding
+  if (!(p_rx_w >= dbm_to_watt(reader.sensitivity_dbm)) || !reported) return r;  // noise-free power decides
+  double sigma_phi = reader.noise_phi_rad, sigma_rssi_db = reader.noise_rssi_db;
+  if (reader.snr_at_sensitivity_db > 0.0) {
+    // Receiver noise: SNR = SNR_s·P_rx/P_s; a tone in complex white noise has phase variance 1/(2·SNR) and
+    // relative amplitude variance 1/(2·SNR), i.e. 8.686/√(2·SNR) dB of power.
+    const double snr = std::pow(10.0, reader.snr_at_sensitivity_db / 10.0) * p_rx_w / dbm_to_watt(reader.sensitivity_dbm);
+    sigma_phi = std::sqrt(sigma_phi * sigma_phi + 0.5 / snr);
+    const double rssi_term = 8.685889638 / std::sqrt(2.0 * snr);
+    sigma_rssi_db = std::sqrt(sigma_rssi_db * sigma_rssi_db + rssi_term * rssi_term);
+  }
+  const double n_phi = sigma_phi * z_phi;
+  const double n_rssi_db = sigma_rssi_db * z_rssi;
   const std::complex<double> h2 = link.h_one_way * link.h_one_way;
-  // Round-trip phase φ0 − arg(h²): for the ideal channel this is φ0 + 4πD/λ (eq. 3).
-  const double phase = link.phase_offset_rad - std::arg(h2) + n_phi + n_opt;
+  // Round-trip phase φ0 − arg(h²): for the ideal channel this is φ0 + 4πD/λ (eq. 3); + the phase patterns.
+  const double phase = link.phase_offset_rad - std::arg(h2) + n_phi + n_opt + link.pattern_phase_rad;
   if (!std::isfinite(phase)) return r;
   r.read = true;
   r.phase_rad = quantize_phase(phase, reader.phase_bits);
@@ -171,6 +193,25 @@ void validate(const ReaderParams& reader, const std::string& field) {
     throw field_error(field + ".modulation_factor", "must be in (0, 1] (got " + num(reader.modulation_factor) + ")");
   reader.pattern.validate(field + ".pattern");
   validate_polarization(reader.polarization, field + ".polarization");
+  for (int k = 0; k < 3; ++k) require_finite(reader.phase_centre_offset_m[k], field + ".phase_centre_offset_m");
+  if (reader.phase_centre_offset_m.norm() > 10.0)
+    throw field_error(field + ".phase_centre_offset_m", "must be within 10 m of the antenna (got " +
+                                                            num(reader.phase_centre_offset_m.norm()) + " m)");
+  validate(reader.phase_pattern, field + ".phase_pattern");
+  require_non_negative(reader.snr_at_sensitivity_db, field + ".snr_at_sensitivity_db");
+  if (!reader.read_probability.empty() && reader.read_probability.size() != 1 &&
+      reader.read_probability.size() != reader.frequencies_hz.size())
+    throw field_error(field + ".read_probability", "needs one value or one per frequency (" +
+                                                       std::to_string(reader.frequencies_hz.size()) + ")");
+  for (double p : reader.read_probability)
+    if (!(p >= 0.0 && p <= 1.0)) throw field_error(field + ".read_probability", "must be in [0, 1] (got " + num(p) + ")");
+}
+
+void validate(const PhasePattern& pattern, const std::string& field) {
+  for (double a : pattern.azimuth_rad) require_finite(a, field + ".azimuth_rad");
+  for (double e : pattern.elevation_rad) require_finite(e, field + ".elevation_rad");
+  if (pattern.azimuth_rad.size() > 8 || pattern.elevation_rad.size() > 8)
+    throw field_error(field, "at most 8 coefficients per angle");
 }
 
 void validate(const TagParams& tag, const std::string& field) {
@@ -178,6 +219,7 @@ void validate(const TagParams& tag, const std::string& field) {
   require_finite(tag.chip_sensitivity_dbm, field + ".chip_sensitivity_dbm");
   tag.pattern.validate(field + ".pattern");
   validate_polarization(tag.polarization, field + ".polarization");
+  validate(tag.phase_pattern, field + ".phase_pattern");
 }
 
 }  // namespace rfidray

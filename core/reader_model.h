@@ -28,6 +28,8 @@ struct LinkState {
   double distance_m = 0.0;             // true antenna–tag distance (paper model, CSV `dist`)
   double frequency_hz = 865.7e6;
   double phase_offset_rad = 0.0;       // φ0 of the current channel
+  double pattern_phase_rad = 0.0;      // antenna and tag phase patterns along this link (round trip)
+  size_t hop_index = 0;                // carrier index (read_probability)
   std::complex<double> h_one_way{0.0, 0.0};  // from the Channel (physical model)
 };
 
@@ -51,5 +53,6 @@ double quantize_rssi(double rssi_db, double resolution_db);
 // Throws InputError naming `field`.
 void validate(const ReaderParams& reader, const std::string& field);
 void validate(const TagParams& tag, const std::string& field);
+void validate(const PhasePattern& pattern, const std::string& field);
 
 }  // namespace rfidray

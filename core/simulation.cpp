@@ -47,19 +47,34 @@ struct CachedLink {
 
 }  // namespace
 
+Pose phase_centre_pose(const ReaderParams& reader, const Pose& antenna_pose) {
+  if (reader.phase_centre_offset_m.isZero(0.0)) return antenna_pose;
+  return Pose{antenna_pose.transform_point(reader.phase_centre_offset_m), antenna_pose.orientation};
+}
+
 void read_attempts(const Scenario& scenario, size_t antenna, uint64_t tick, double t_s, const Pose& antenna_pose,
                    std::span<const size_t> present, std::span<const double> distance_m,
-                   std::span<const std::complex<double>> h_one_way, std::vector<ReadRecord>& out) {
+                   std::span<const Pose> tag_pose, std::span<const std::complex<double>> h_one_way,
+                   std::vector<ReadRecord>& out) {
   const ReaderParams& reader = scenario.antennas[antenna].reader;
   const size_t c = hop_index_at(reader, t_s);
   const bool physical = reader.model == ReaderModelKind::kPhysical;
+  const Pose centre = phase_centre_pose(reader, antenna_pose);
   Rng rng = make_stream(scenario.seed, {static_cast<uint64_t>(antenna), tick});
   for (size_t i : present) {
     LinkState link;
     link.distance_m = distance_m[i];
     link.frequency_hz = reader.frequencies_hz[c];
     link.phase_offset_rad = reader.phase_offsets_rad[c];
+    link.hop_index = c;
     link.h_one_way = physical ? h_one_way[i] : std::complex<double>{0.0, 0.0};
+    const PhasePattern& tag_pattern = scenario.tags[i].tag.phase_pattern;
+    if (!reader.phase_pattern.empty() || !tag_pattern.empty()) {
+      // Along the direct direction (a ray-traced channel's other paths get the same shift: an approximation).
+      const Vec3 to_tag = tag_pose[i].position - centre.position;
+      link.pattern_phase_rad = reader.phase_pattern.phase_rad(centre.to_local_direction(to_tag)) +
+                               tag_pattern.phase_rad(tag_pose[i].to_local_direction(-to_tag));
+    }
     const Reading reading = read_tag(reader, scenario.tags[i].tag, link, rng);
     if (!reading.read) continue;
     out.push_back({t_s, tick, static_cast<uint32_t>(i), antenna_pose, distance_m[i], link.frequency_hz,
@@ -76,8 +91,9 @@ std::vector<ReadRecord> simulate_tick(const Scenario& scenario, const Channel& c
   std::vector<double> dist(n_tags, 0.0);
   std::vector<std::complex<double>> h(n_tags, {0.0, 0.0});
   std::vector<Endpoint> batch;
+  const Pose centre = phase_centre_pose(reader, antenna_pose);
   for (size_t i : present) {
-    dist[i] = (tag_poses[i].position - antenna_pose.position).norm();
+    dist[i] = (tag_poses[i].position - centre.position).norm();
     if (!(dist[i] >= kMinLinkDistance_m))
       throw InputError("tag '" + scenario.tags[i].tag.name + "' is at antenna '" + reader.name + "' at t = " +
                        fmt(t_s) + " s (distance " + fmt(dist[i]) + " m; the models need D > 0)");
@@ -85,12 +101,12 @@ std::vector<ReadRecord> simulate_tick(const Scenario& scenario, const Channel& c
   }
   if (reader.model == ReaderModelKind::kPhysical && !batch.empty()) {
     std::vector<std::complex<double>> batch_h(batch.size());
-    channel.one_way({antenna_pose, reader.pattern, reader.polarization}, batch,
+    channel.one_way({centre, reader.pattern, reader.polarization}, batch,
                     reader.frequencies_hz[hop_index_at(reader, t_s)], batch_h);
     for (size_t m = 0; m < present.size(); ++m) h[present[m]] = batch_h[m];
   }
   std::vector<ReadRecord> out;
-  read_attempts(scenario, antenna, tick, t_s, antenna_pose, present, dist, h, out);
+  read_attempts(scenario, antenna, tick, t_s, antenna_pose, present, dist, tag_poses, h, out);
   return out;
 }
 
@@ -189,6 +205,7 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
       return 0;
     });
 
+  // `pose` is the antenna's phase centre (phase_centre_pose).
   auto antenna_endpoint = [&](size_t a, const Pose& pose) {
     const ReaderParams& r = scenario.antennas[a].reader;
     return Endpoint{pose, r.pattern, r.polarization};
@@ -220,7 +237,7 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
   for (size_t j = 0; j < static_jobs.size(); ++j) {
     const auto [a, c] = static_jobs[j];
     try {
-      const Pose ap = motion.antennas[a]->pose_at(0.0);
+      const Pose ap = phase_centre_pose(scenario.antennas[a].reader, motion.antennas[a]->pose_at(0.0));
       std::vector<Endpoint> ends;
       std::vector<size_t> index;
       for (size_t i = 0; i < n_tags; ++i) {
@@ -281,12 +298,13 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
         if (t < ant.start_s) continue;
         ++item.out.ticks;
         const Pose ap = motion.antennas[a]->pose_at(t);
+        const Pose centre = phase_centre_pose(reader, ap);
         const size_t c = hop_index_at(reader, t);
         present.clear();
         for (size_t i = 0; i < n_tags; ++i) {
           if (t < scenario.tags[i].start_s) continue;
           tag_pose[i] = motion.tags[i]->pose_at(t);
-          dist[i] = (tag_pose[i].position - ap.position).norm();
+          dist[i] = (tag_pose[i].position - centre.position).norm();
           if (!(dist[i] >= kMinLinkDistance_m)) throw coincident_error(a, i, t, dist[i]);
           present.push_back(i);
         }
@@ -300,7 +318,7 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
             }
             if (!cache.empty()) {
               const CachedLink& e = cache[c * n_tags + i];
-              if (e.valid && e.antenna_pose == ap && e.tag_pose == tag_pose[i]) {
+              if (e.valid && e.antenna_pose == centre && e.tag_pose == tag_pose[i]) {
                 h[i] = e.h;
                 continue;
               }
@@ -310,17 +328,17 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
           }
           if (!batch.empty()) {
             batch_h.resize(batch.size());
-            channel.one_way(antenna_endpoint(a, ap), batch, reader.frequencies_hz[c], batch_h);
+            channel.one_way(antenna_endpoint(a, centre), batch, reader.frequencies_hz[c], batch_h);
             item.evaluations += batch.size();
             for (size_t m = 0; m < missing.size(); ++m) {
               const size_t i = missing[m];
               h[i] = batch_h[m];
-              if (!cache.empty()) cache[c * n_tags + i] = {true, ap, tag_pose[i], batch_h[m]};
+              if (!cache.empty()) cache[c * n_tags + i] = {true, centre, tag_pose[i], batch_h[m]};
             }
           }
         }
         item.out.attempts += present.size();
-        read_attempts(scenario, a, k, t, ap, present, dist, h, item.out.reads);
+        read_attempts(scenario, a, k, t, ap, present, dist, tag_pose, h, item.out.reads);
       }
     } catch (...) {
       item.error = std::current_exception();

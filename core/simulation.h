@@ -80,13 +80,18 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
 // The same, building the motion.
 SimulationResult simulate(const Scenario& scenario, const Channel& channel, const SimulationOptions& options = {});
 
+// Where an antenna's waves start: its reported pose moved by the reader's phase-centre offset (antenna frame).
+Pose phase_centre_pose(const ReaderParams& reader, const Pose& antenna_pose);
+
 // The read attempts of one antenna tick, as simulate() makes them: tags `present` (ascending indices into
 // Scenario::tags) in that order, every draw from make_stream(seed, {antenna, tick}), the hop channel of t_s.
-// distance_m and h_one_way are indexed by tag (h only read for the physical model). Successful reads are
-// appended to `out`.
+// distance_m (from the phase centre), tag_pose and h_one_way are indexed by tag (h only read for the physical
+// model, tag_pose only when a phase pattern is set). antenna_pose is the reported (mounting) pose. Successful
+// reads are appended to `out`.
 void read_attempts(const Scenario& scenario, size_t antenna, uint64_t tick, double t_s, const Pose& antenna_pose,
                    std::span<const size_t> present, std::span<const double> distance_m,
-                   std::span<const std::complex<double>> h_one_way, std::vector<ReadRecord>& out);
+                   std::span<const Pose> tag_pose, std::span<const std::complex<double>> h_one_way,
+                   std::vector<ReadRecord>& out);
 
 // One tick of one antenna from poses given from outside (a live bridge), at t = tick / update_rate like
 // simulate(): the channel is evaluated for the present tags (physical model only) and read_attempts draws.

@@ -107,6 +107,16 @@ AntennaPattern parse_pattern(const YamlFile& src, const YAML::Node& n, const std
   return p;
 }
 
+// {azimuth_rad: [a1, a2, ...], elevation_rad: [e1, ...]} (core/phase_pattern.h)
+PhasePattern parse_phase_pattern(const YamlFile& src, const YAML::Node& n, const std::string& field) {
+  YamlMap m(src, n, field);
+  PhasePattern p;
+  if (auto a = m.get("azimuth_rad")) p.azimuth_rad = src.numbers(*a, m.field("azimuth_rad"));
+  if (auto e = m.get("elevation_rad")) p.elevation_rad = src.numbers(*e, m.field("elevation_rad"));
+  m.finish();
+  return p;
+}
+
 Polarization parse_polarization(const YamlFile& src, const YAML::Node& n, const std::string& field) {
   Polarization p;
   if (n.IsScalar()) {
@@ -335,6 +345,13 @@ void parse_reader_keys(YamlMap& m, const YAML::Node& n, ReaderParams& r) {  // n
                                  : isotropic_pattern(gain_dbi);
   }
   if (auto pol = m.get("polarization")) r.polarization = parse_polarization(src, *pol, m.field("polarization"));
+  // Hardware effects of real readers (core/reader.h).
+  if (auto off = m.get("phase_centre_offset_m")) r.phase_centre_offset_m = src.point(*off, m.field("phase_centre_offset_m"));
+  if (auto pp = m.get("phase_pattern")) r.phase_pattern = parse_phase_pattern(src, *pp, m.field("phase_pattern"));
+  r.snr_at_sensitivity_db = m.non_negative({"snr_at_sensitivity_db"}, r.snr_at_sensitivity_db);
+  if (auto rp = m.get("read_probability"))
+    r.read_probability = rp->IsSequence() ? src.numbers(*rp, m.field("read_probability"))
+                                          : std::vector<double>{src.number(*rp, m.field("read_probability"))};
 }
 
 AntennaSpec parse_antenna(const YamlFile& src, const YAML::Node& n, const std::string& field, size_t index,
@@ -366,6 +383,7 @@ void parse_tag_keys(YamlMap& m, TagParams& t) {
   t.pattern = m.has("pattern") ? parse_pattern(src, *m.get("pattern"), m.field("pattern"), t.gain_dbi)
                                : isotropic_pattern(t.gain_dbi);
   if (auto pol = m.get("polarization")) t.polarization = parse_polarization(src, *pol, m.field("polarization"));
+  if (auto pp = m.get("phase_pattern")) t.phase_pattern = parse_phase_pattern(src, *pp, m.field("phase_pattern"));
 }
 
 TagSpec parse_tag(const YamlFile& src, const YAML::Node& n, const std::string& field, size_t index) {

@@ -18,11 +18,13 @@
 //   · phase_offset_rad | phase_offsets_rad [..] · hop_dwell_s · tx_power_dbm · noisephi | noise_phi_rad ·
 //   noiserssi | noise_rssi · noise_rssi_db · range | range_m · range_sigma · optional_distribution ·
 //   optional_distribution_params · communication_gain · update_rate | update_rate_hz · phase_bits ·
-//   rssi_resolution_db · sensitivity_dbm · modulation_factor · gain_dbi · pattern · polarization · start_s
+//   rssi_resolution_db · sensitivity_dbm · modulation_factor · gain_dbi · pattern · polarization · start_s ·
+//   hardware effects: phase_centre_offset_m [x,y,z] · phase_pattern {azimuth_rad, elevation_rad} ·
+//   snr_at_sensitivity_db · read_probability (one value or one per frequency)
 //   and where it is — one of: position (+ rpy_deg | yaw_deg | quaternion [x,y,z,w]) · robot: NAME with
 //   mount: {position, rpy_deg…} · waypoints + speed_m_s; optionally mast: {z_min_m, z_max_m, speed_m_s,
 //   start_s} (fixed or robot base).
-// tag:        name · gain_dbi · chip_sensitivity_dbm · pattern · polarization · start_s · position (+ orientation)
+// tag:        name · gain_dbi · chip_sensitivity_dbm · pattern · polarization · phase_pattern · start_s · position (+ orientation)
 //   | waypoints + speed_m_s (+ orientation).
 #include <yaml-cpp/yaml.h>
 

@@ -131,6 +131,44 @@ antennas:
   EXPECT_NE(e.find("s.yaml:6: field 'antennas[0].phase_offsets_rad'"), std::string::npos) << e;
 }
 
+TEST(ScenarioYaml, HardwareEffects) {
+  const Scenario s = parse_scenario(R"(duration_s: 1
+antennas:
+  - name: a
+    position: [0, 0, 1]
+    frequencies_hz: [920.625e6, 921.125e6]
+    phase_centre_offset_m: [0.01, -0.02, 0.03]
+    phase_pattern: {azimuth_rad: [0.1, -0.2], elevation_rad: [0.05]}
+    snr_at_sensitivity_db: 8
+    read_probability: [0.5, 0.9]
+tags:
+  - name: t
+    position: [1, 0, 1]
+    phase_pattern: {azimuth_rad: [0.3]}
+)", "s.yaml");
+  const ReaderParams& r = s.antennas[0].reader;
+  EXPECT_EQ(r.phase_centre_offset_m, Vec3(0.01, -0.02, 0.03));
+  EXPECT_EQ(r.phase_pattern.azimuth_rad, (std::vector<double>{0.1, -0.2}));
+  EXPECT_EQ(r.phase_pattern.elevation_rad, (std::vector<double>{0.05}));
+  EXPECT_EQ(r.snr_at_sensitivity_db, 8.0);
+  EXPECT_EQ(r.read_probability, (std::vector<double>{0.5, 0.9}));
+  EXPECT_EQ(s.tags[0].tag.phase_pattern.azimuth_rad, (std::vector<double>{0.3}));
+  const std::string bad_key = error_of(R"(duration_s: 1
+antennas:
+  - name: a
+    position: [0, 0, 1]
+    phase_pattern: {azimuth: [0.1]}
+)");
+  EXPECT_NE(bad_key.find("s.yaml:5: field 'antennas[0].phase_pattern.azimuth'"), std::string::npos) << bad_key;
+  const std::string bad_p = error_of(R"(duration_s: 1
+antennas:
+  - name: a
+    position: [0, 0, 1]
+    read_probability: [0.5, 0.5, 0.5]
+)");
+  EXPECT_NE(bad_p.find("read_probability"), std::string::npos) << bad_p;
+}
+
 TEST(ScenarioYaml, MotionKinds) {
   const Scenario s = parse_scenario(R"(duration_s: 30
 robots:
