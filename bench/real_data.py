@@ -1,0 +1,327 @@
+#!/usr/bin/env python3
+"""rfidray on real reads: the public AdaRF set (real Impinj reads, one antenna at 50 stops along a 1 m stage,
+8 hopping carriers 920.625-924.125 MHz in the test splits, one in the training splits) against rfidray's own
+simulation of the same setup.
+
+The dataset carries no licence, so it is never part of this repository: fetch it yourself (the public
+repository dapowan/AdaRF on GitHub) and give its folder:
+
+    python3 bench/real_data.py --adarf PATH/TO/AdaRF [--rfidray build/rfidray] [-o bench/results/real]
+
+What it does, with rfidray's own commands only:
+ 1. every run folder (dataset/<d>/<split>/<run>/<stop>.csv) -> `rfidray import --layout per-stop` (antenna at
+    the stop positions, facing +y) and a truth CSV built from dataset/config.txt and the tag order in
+    codes/config.py, as the dataset's README describes (tags on a row at y = Y, x = X + S·(i - (n-1)/2), cm);
+ 2. `rfidray calibrate` over the D1 training runs (the only place tuning data comes from) -> antenna.yaml;
+ 3. for each test run of D1-D4, exactly the acceptance command:
+    `rfidray localize R.csv --truth T.csv --method all --height-known --mirror-prior boresight --max-range 3
+     --antenna-file antenna.yaml --json`;
+ 4. the same stage, tags and carriers simulated by rfidray (ideal channel, and single-bounce over a floor
+    with the calibrated antenna's hardware effects), localized the same way;
+ 5. real_vs_sim.csv, real_vs_sim.md (the README table), real_vs_sim.png and one JSON per run.
+
+--quick takes the first runs of each split only (for a smoke test); --layout-check only converts.
+"""
+import argparse
+import json
+import math
+import os
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+
+CARRIERS_HZ = [920.625e6 + 0.5e6 * k for k in range(8)]  # AdaRF README: 920.625 to 924.125 MHz, 0.5 MHz steps
+METHODS = ["hyperbolic", "nlls", "sar"]
+
+
+def fail(message):
+    print("real_data: error: " + message, file=sys.stderr)
+    sys.exit(2)
+
+
+def run(cmd, capture=True):
+    """Runs an rfidray command; exits with its message when it fails."""
+    r = subprocess.run(cmd, capture_output=capture, text=True)
+    if r.returncode != 0:
+        fail("command failed (exit %d): %s\n%s" % (r.returncode, " ".join(cmd), (r.stderr or "")[-2000:]))
+    return r.stdout
+
+
+def read_tag_orders(config_py):
+    """EPC_<C|T><d> lists of codes/config.py: the tags of each dataset in their order along the row."""
+    if not os.path.isfile(config_py):
+        fail(config_py + ": not found (give the AdaRF repository folder with --adarf)")
+    text = open(config_py, encoding="utf-8").read()
+    lists = {}
+    for name, body in re.findall(r"^(EPC_[CT]\d)\s*=\s*\[(.*?)\]", text, re.S | re.M):
+        lists[name] = re.findall(r"b'(\d+)'", body)
+    for name, alias in re.findall(r"^(EPC_[CT]\d)\s*=\s*(EPC_[CT]\d)\s*$", text, re.M):
+        lists[name] = lists[alias]
+    separations = {}
+    for d, split, sep in re.findall(r"CONFIG_D(\d)_(TRAIN|TEST)\s*=\s*\{[^}]*?'separation':\s*([\d.]+)", text):
+        separations[(int(d), split.lower())] = float(sep)
+    return lists, separations
+
+
+def read_run_config(config_txt):
+    """dataset/config.txt: 'A I:X Y P F [S]' -> {(MMDD, index): (X cm, Y cm, S cm or None)}."""
+    if not os.path.isfile(config_txt):
+        fail(config_txt + ": not found")
+    out = {}
+    with open(config_txt, encoding="utf-8-sig") as f:
+        for line_no, line in enumerate(f, 1):
+            items = line.split()
+            if line_no == 1 or not items:
+                continue
+            m = re.match(r"(\d+)-(\d+):([\d.]+)$", items[1]) if len(items) >= 5 else None
+            if not m:
+                fail("%s:%d: expected 'A I:X Y P F [S]'" % (config_txt, line_no))
+            sep = float(items[5]) if len(items) > 5 else None
+            for i in range(int(m.group(1)), int(m.group(2)) + 1):
+                out[(items[0], i)] = (float(m.group(3)), float(items[2]), sep)
+    return out
+
+
+def truth_of_run(run_name, d, split, run_config, tag_orders, separations):
+    """[(epc, x_m, y_m, z_m)] for a run folder 'YYMMDD-II-P-F' (README: tags on one row, adjacent S cm apart)."""
+    m = re.match(r"(\d\d)(\d{4})-(\d+)-(\d+)-(\d+)$", run_name)
+    if not m:
+        return None
+    key = (m.group(2), int(m.group(3)))
+    if key not in run_config:
+        return None
+    x_cm, y_cm, sep_cm = run_config[key]
+    tags = tag_orders.get("EPC_%s%d" % ("C" if split == "train" else "T", d))
+    if not tags:
+        return None
+    if sep_cm is None:
+        sep_cm = separations.get((d, split))
+    if not sep_cm:
+        return None
+    mid = (len(tags) - 1) / 2.0
+    return [(epc, (x_cm + sep_cm * (i - mid)) / 100.0, y_cm / 100.0, 0.0) for i, epc in enumerate(tags)]
+
+
+def filter_to_truth(readings, truth_names, out):
+    """Keeps the reads of tags with ground truth (a few runs saw tags not on the row), with the antenna on the
+    stage line y = z = 0: the dataset's README calls its y column ("1.63") invalid, default 0."""
+    kept = 0
+    with open(readings, encoding="utf-8") as src, open(out, "w", encoding="utf-8") as dst:
+        header = src.readline()
+        dst.write(header)
+        cols = header.strip().split(",")
+        name_col, y_col, z_col = cols.index("name"), cols.index("posy"), cols.index("posz")
+        for line in src:
+            cells = line.rstrip("\n").split(",")
+            if cells[name_col] in truth_names:
+                cells[y_col] = cells[z_col] = "0.000000"
+                dst.write(",".join(cells) + "\n")
+                kept += 1
+    return kept
+
+
+def convert(args, d, split, run_dir, truth, work):
+    name = os.path.basename(run_dir)
+    base = os.path.join(work, "D%d" % d, split, name)
+    os.makedirs(base, exist_ok=True)
+    raw = os.path.join(base, "imported.csv")
+    run([args.rfidray, "import", "--layout", "per-stop", run_dir, "--antenna-rpy", "0,0,90",
+         "--antenna-name", "stage", "-o", raw])
+    readings = os.path.join(base, "readings.csv")
+    if filter_to_truth(raw, {t[0] for t in truth}, readings) == 0:
+        return None
+    truth_csv = os.path.join(base, "truth.csv")
+    with open(truth_csv, "w") as f:
+        f.write("name,x,y,z\n")
+        for epc, x, y, z in truth:
+            f.write("%s,%.4f,%.4f,%.4f\n" % (epc, x, y, z))
+    return readings, truth_csv
+
+
+def localize(args, readings, truth_csv, antenna_file):
+    cmd = [args.rfidray, "localize", readings, "--truth", truth_csv, "--method", "all", "--height-known",
+           "--mirror-prior", "boresight", "--max-range", "3", "--json"]
+    if antenna_file:
+        cmd += ["--antenna-file", antenna_file]
+    return json.loads(run(cmd))
+
+
+def stats(results):
+    """Per method: ok fraction, error mean/median/p90/max of ok results, ok outside their uncertainty."""
+    out = {}
+    for m in METHODS:
+        rows = [r for r in results if r["method"] == m]
+        ok = [r for r in rows if r["status"] == "ok" and r.get("error_m") is not None]
+        errs = sorted(r["error_m"] for r in ok)
+        outside = sum(1 for r in ok if r.get("uncertainty_m") is not None and r["error_m"] > r["uncertainty_m"])
+        resid = [r["rms_residual_rad"] for r in ok if r.get("rms_residual_rad") is not None]
+        out[m] = {
+            "tags": len(rows), "ok": len(ok),
+            "mean_mm": 1e3 * statistics.fmean(errs) if errs else float("nan"),
+            "median_mm": 1e3 * statistics.median(errs) if errs else float("nan"),
+            "p90_mm": 1e3 * errs[min(len(errs) - 1, int(math.ceil(0.9 * len(errs))) - 1)] if errs else float("nan"),
+            "max_mm": 1e3 * errs[-1] if errs else float("nan"),
+            "ok_outside_uncertainty": outside,
+            "residual_rms_rad": statistics.fmean(resid) if resid else float("nan"),
+        }
+    return out
+
+
+def simulated_scenario(path, truth, antenna_file, channel):
+    """The AdaRF stage in rfidray's terms: 50 stops 2 cm apart over x in [0.02, 0.98] m at z = 0 facing +y,
+    8 carriers hopping, tags where the run's truth puts them, a concrete floor 0.75 m below (a table top)."""
+    stops = [[0.02 + k * 0.96 / 49, 0.0, 0.0] for k in range(50)]
+    lines = ["name: adarf_stage", "seed: 1", "channel: %s" % channel, "model: physical"]
+    if channel != "ideal":
+        here = os.path.dirname(os.path.abspath(path))
+        lines += ["scene:", "  meshes: [{file: %s, material: concrete, position: [0.5, 0.5, -0.75]}]"
+                  % os.path.join(here, "floor.obj")]
+    lines += ["antennas:", "  - name: stage", "    frequencies_hz: [%s]" % ", ".join("%.0f" % f for f in CARRIERS_HZ),
+              "    hop_dwell_s: 0.125", "    update_rate: 400", "    tx_power_dbm: 30",
+              "    noisephi: 0.1", "    phase_bits: 12", "    rssi_resolution_db: 0.5",
+              "    pattern: {kind: patch, gain_dbi: 8, beamwidth_deg: 70}",
+              "    polarization: rhcp", "    yaw_deg: 90",
+              "    waypoints: %s" % json.dumps(stops), "    speed_m_s: 0.02"]
+    if antenna_file:
+        lines += ["    antenna_file: %s" % os.path.abspath(antenna_file)]
+    lines += ["tags:"]
+    for epc, x, y, z in truth:
+        lines += ["  - {name: '%s', position: [%.4f, %.4f, %.4f], yaw_deg: -90, gain_dbi: 2.15}" % (epc, x, y, z)]
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def write_floor(path):
+    with open(path, "w") as f:  # 4 m x 4 m, centred where the scenario places it
+        f.write("v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\nf 1 2 3\nf 1 3 4\n")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--adarf", required=True, help="folder of the AdaRF repository (dataset/ and codes/ inside)")
+    ap.add_argument("--rfidray", default=os.path.join("build", "rfidray"))
+    ap.add_argument("-o", "--output", default=os.path.join("bench", "results", "real"))
+    ap.add_argument("--datasets", default="1,2,3,4")
+    ap.add_argument("--train-runs", type=int, default=0, help="D1 training runs used by calibrate (0: all)")
+    ap.add_argument("--quick", action="store_true", help="two runs per split (smoke test)")
+    ap.add_argument("--no-sim", action="store_true", help="skip the simulated counterpart")
+    ap.add_argument("--keep", help="keep the converted files in this folder (never inside the repository)")
+    args = ap.parse_args()
+    if not os.path.isfile(args.rfidray):
+        fail(args.rfidray + ": no rfidray binary (build first, or give --rfidray)")
+    dataset = os.path.join(args.adarf, "dataset")
+    if not os.path.isdir(dataset):
+        fail("%s: no dataset/ folder. The AdaRF set is public but unlicensed, so rfidray does not ship it: fetch "
+             "the GitHub repository dapowan/AdaRF and pass its folder with --adarf" % args.adarf)
+    tag_orders, separations = read_tag_orders(os.path.join(args.adarf, "codes", "config.py"))
+    run_config = read_run_config(os.path.join(dataset, "config.txt"))
+    os.makedirs(args.output, exist_ok=True)
+    work = args.keep or tempfile.mkdtemp(prefix="rfidray-real-")
+    datasets = [int(x) for x in args.datasets.split(",")]
+
+    def runs(d, split):
+        folder = os.path.join(dataset, str(d), split)
+        names = sorted(os.listdir(folder)) if os.path.isdir(folder) else []
+        if args.quick:
+            names = names[:2]
+        out = []
+        for n in names:
+            truth = truth_of_run(n, d, split, run_config, tag_orders, separations)
+            if truth is None:
+                print("real_data: note: %s/%s: no config line or tag list, skipped" % (split, n), file=sys.stderr)
+                continue
+            conv = convert(args, d, split, os.path.join(folder, n), truth, work)
+            if conv:
+                out.append((n, conv[0], conv[1], truth))
+        return out
+
+    # 2. Calibration on D1 training runs only.
+    train = runs(1, "train")
+    if args.train_runs > 0:
+        train = train[: args.train_runs]
+    if not train:
+        fail("no D1 training run could be converted")
+    antenna_file = os.path.join(args.output, "antenna.yaml")
+    cal_cmd = [args.rfidray, "calibrate", "--height-known", "-o", antenna_file]
+    for _, readings, truth_csv, _ in train:
+        cal_cmd += ["--pair", readings + "," + truth_csv]
+    print(run(cal_cmd).strip())
+
+    # 3.-4. Test splits: real, and simulated with the same geometry.
+    table = []
+    write_floor(os.path.join(work, "floor.obj"))
+    for d in datasets:
+        tests = runs(d, "test")
+        real, uncal, sim_ideal, sim_traced = [], [], [], []
+        for name, readings, truth_csv, truth in tests:
+            j = localize(args, readings, truth_csv, antenna_file)
+            json.dump(j, open(os.path.join(args.output, "D%d_%s.json" % (d, name)), "w"), indent=1)
+            real += j["results"]
+            uncal += localize(args, readings, truth_csv, None)["results"]
+            if args.no_sim or d != 1:
+                continue
+            for channel, bucket, hw in (("ideal", sim_ideal, None), ("single-bounce", sim_traced, antenna_file)):
+                folder = os.path.join(work, "sim", channel, name)
+                os.makedirs(folder, exist_ok=True)
+                scenario = os.path.join(work, "sim_%s_%s.yaml" % (channel, name))
+                simulated_scenario(scenario, truth, hw, channel)
+                run([args.rfidray, "simulate", scenario, "-o", folder, "-q"])
+                bucket += localize(args, os.path.join(folder, "stage.csv"), truth_csv, hw)["results"]
+        rows = [("real, calibrated", real), ("real, uncalibrated", uncal)]
+        if d == 1 and not args.no_sim:
+            rows += [("simulated, ideal", sim_ideal), ("simulated, single-bounce + hardware", sim_traced)]
+        for label, results in rows:
+            for m, s in stats(results).items():
+                table.append(dict(dataset="D%d" % d, data=label, method=m, **s))
+
+    fields = ["dataset", "data", "method", "tags", "ok", "mean_mm", "median_mm", "p90_mm", "max_mm",
+              "ok_outside_uncertainty", "residual_rms_rad"]
+    with open(os.path.join(args.output, "real_vs_sim.csv"), "w") as f:
+        f.write(",".join(fields) + "\n")
+        for r in table:
+            f.write(",".join(("%.1f" % r[k]) if isinstance(r[k], float) else str(r[k]) for k in fields) + "\n")
+    with open(os.path.join(args.output, "real_vs_sim.md"), "w") as f:
+        f.write("| dataset | data | method | ok / tags | mean mm | median mm | p90 mm | max mm | ok outside uncertainty "
+                "| residual RMS rad |\n|---|---|---|---|---|---|---|---|---|---|\n")
+        for r in table:
+            f.write("| %s | %s | %s | %d / %d | %.1f | %.1f | %.1f | %.1f | %d | %.3f |\n" % (
+                r["dataset"], r["data"], r["method"], r["ok"], r["tags"], r["mean_mm"], r["median_mm"], r["p90_mm"],
+                r["max_mm"], r["ok_outside_uncertainty"], r["residual_rms_rad"]))
+    plot(args.output, table)
+    if not args.keep:
+        shutil.rmtree(work, ignore_errors=True)
+    print(open(os.path.join(args.output, "real_vs_sim.md")).read())
+
+
+def plot(out_dir, table):
+    """Mean and p90 error per method, real vs simulated (D1), with gnuplot (Debian gnuplot-nox)."""
+    if not shutil.which("gnuplot"):
+        print("real_data: note: gnuplot not found, no PNG", file=sys.stderr)
+        return
+    d1 = [r for r in table if r["dataset"] == "D1"]
+    labels = sorted({r["data"] for r in d1}, key=lambda s: [r["data"] for r in d1].index(s))
+    dat = os.path.join(out_dir, "real_vs_sim.dat")
+    with open(dat, "w") as f:
+        f.write("method " + " ".join('"%s"' % l for l in labels) + "\n")
+        for m in METHODS:
+            vals = []
+            for l in labels:
+                v = [r["mean_mm"] for r in d1 if r["data"] == l and r["method"] == m]
+                vals.append("%.2f" % v[0] if v and v[0] == v[0] else "0")
+            f.write("%s %s\n" % (m, " ".join(vals)))
+    gp = os.path.join(out_dir, "real_vs_sim.gp")
+    with open(gp, "w") as f:
+        f.write('set terminal pngcairo size 1000,500\nset output "%s"\n' % os.path.join(out_dir, "real_vs_sim.png"))
+        f.write('set title "AdaRF D1 test: mean localization error of ok results, real vs simulated"\n')
+        f.write('set ylabel "mean error (mm)"\nset style data histograms\nset style fill solid 0.8\nset key top left\n')
+        f.write('set logscale y\nset grid ytics\n')
+        f.write("plot " + ", ".join('"%s" using %d:xtic(1) title columnheader(%d)' % (dat, i + 2, i + 2)
+                                     for i in range(len(labels))) + "\n")
+    subprocess.run(["gnuplot", gp], check=False)
+
+
+if __name__ == "__main__":
+    main()
