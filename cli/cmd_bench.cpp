@@ -32,7 +32,7 @@ namespace fs = std::filesystem;
 
 struct BenchOptions {
   bool quick = false;
-  std::string output_dir = "bench/results";
+  std::string output_dir;  // "": bench/results for a full run; a quick run goes to out/bench-quick
   std::string only;  // comma-separated subset of the programs
 };
 
@@ -127,7 +127,9 @@ std::vector<std::string> ray_ratios(const fs::path& dir) {
 }
 
 int run_bench(const BenchOptions& o) {
-  const fs::path dir = fs::absolute(o.output_dir);
+  // A quick run never lands on the committed full-run results (bench/results/), which a user would then see as
+  // changes to the repository.
+  const fs::path dir = fs::absolute(!o.output_dir.empty() ? o.output_dir : o.quick ? "out/bench-quick" : "bench/results");
   const fs::path progs = bench_dir();
   const std::vector<std::string> programs{"bench_rays", "bench_sweep", "bench_accuracy", "localize_paper",
                                           "localize_sweeps"};
@@ -202,7 +204,8 @@ std::function<int()> setup_bench(CLI::App& app) {
       "  localize_sweeps  localization error and failure rate vs noise, sample spacing, aperture, distance\n"
       "The full run takes several minutes on 2 cores; --quick takes about a minute. Measure on an idle machine.");
   cmd->add_flag("--quick", opts->quick, "Smaller scenes, fewer runs and settings");
-  cmd->add_option("-o,--output", opts->output_dir, "Output directory")->capture_default_str();
+  cmd->add_option("-o,--output", opts->output_dir,
+                  "Output directory (default: bench/results for a full run, out/bench-quick with --quick)");
   cmd->add_option("--only", opts->only,
                   "Comma-separated subset: bench_rays,bench_sweep,bench_accuracy,localize_paper,localize_sweeps");
   return [opts] { return run_bench(*opts); };
