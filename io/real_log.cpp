@@ -388,7 +388,16 @@ struct Column {
 };
 
 struct Resolved {
-  std::array<Column, kFieldCount> f;
+  std::array<Column, kFieldCount> f;  // the first column found per field
+  // Every column found per field, in the layout's order: a row whose first column is empty (a JSON report
+  // without that key) uses the next (ImpinjPhase where ImpinjRFPhaseAngle is missing).
+  std::array<std::vector<Column>, kFieldCount> alts;
+
+  const Column& pick(Field f, const std::vector<std::string>& fields) const {
+    for (const Column& c : alts[f])
+      if (c.constant || !trim(fields[c.index]).empty()) return c;
+    return this->f[f];
+  }
 };
 
 std::string header_list(const Table& t) {
@@ -418,20 +427,30 @@ Resolved resolve(const Table& t, LogLayout layout, const ColumnMap& user, std::v
         throw InputError(located(t.file, t.header_line) + "column '" + src.column + "' (--columns " + kFieldKeys[f] +
                          "=" + src.column + "): not in the header (" + header_list(t) + ")");
     } else {
-      for (const char* n : names[f])
-        if ((c.index = find(n)) >= 0) break;
+      for (const char* n : names[f]) {
+        Column alt;
+        if ((alt.index = find(n)) < 0) continue;
+        alt.name = t.header[alt.index];
+        r.alts[f].push_back(alt);
+      }
+      if (!r.alts[f].empty()) c = r.alts[f].front();
     }
     if (c.index >= 0) c.name = t.header[c.index];
+    if (r.alts[f].empty() && c.present()) r.alts[f].push_back(c);
   }
   // Units: the column map, then the name, then the layout.
   const std::pair<Field, LogUnit> explicit_units[] = {{kPhase, user.phase_unit}, {kFrequency, user.frequency_unit},
                                                      {kTime, user.time_unit}, {kRssi, user.rssi_unit}};
-  for (const auto& [f, u] : explicit_units) {
-    Column& c = r.f[f];
-    if (!c.present()) continue;
-    c.unit = u != LogUnit::kAuto ? u : c.index >= 0 ? unit_from_name(f, c.name) : LogUnit::kAuto;
-    if (c.unit == LogUnit::kAuto) c.unit = layout_unit(layout, f);
-  }
+  for (const auto& [f, u] : explicit_units)
+    for (Column* c : [&] {
+           std::vector<Column*> all{&r.f[f]};
+           for (Column& a : r.alts[f]) all.push_back(&a);
+           return all;
+         }()) {
+      if (!c->present()) continue;
+      c->unit = u != LogUnit::kAuto ? u : c->index >= 0 ? unit_from_name(f, c->name) : LogUnit::kAuto;
+      if (c->unit == LogUnit::kAuto) c->unit = layout_unit(layout, f);
+    }
   if (r.f[kPhase].constant) throw InputError("--columns: phase must be a column, not a constant");
   // Missing essentials, reported at the header.
   const std::string at = located(t.file, t.header_line);
@@ -502,7 +521,7 @@ struct Converter {
           throw InputError(at + num(v) + " is above 2pi but the phase is taken as radians (mixed units? for degrees "
                                          "give --columns phase_unit=deg)");
         if (v < -kPi - 1e-6) throw InputError(at + num(v) + " rad is below -pi (expected [0, 2pi) or (-pi, pi])");
-        rad = v;
+        rad = v >= kTwoPi ? 0.0 : v;  // 2π printed with rounding is 0
     }
     if (options.negate_phase) rad = -rad;
     return wrap_to_2pi(rad);
@@ -516,7 +535,7 @@ struct Converter {
       unit = std::abs(v) < 1e4 ? LogUnit::kMhz : std::abs(v) < 1e7 ? LogUnit::kKhz : LogUnit::kHz;
       const int cls = static_cast<int>(unit);
       if (frequency_class.cls < 0) {
-        frequency_class = {cls, where};
+        frequency_class = {cls, t.file + ":" + std::to_string(row.line)};
         notes.push_back(t.file + ": column '" + c.name + "' read as " + unit_name(unit) + " (by magnitude)");
       } else if (frequency_class.cls != cls) {
         throw InputError(where + "column '" + c.name + "': " + num(v) + " looks like " + unit_name(unit) +
@@ -567,7 +586,7 @@ struct Converter {
       unit = a >= 1e17 ? LogUnit::kNs : a >= 1e14 ? LogUnit::kUs : a >= 1e11 ? LogUnit::kMs : LogUnit::kS;
       const int cls = static_cast<int>(unit);
       if (time_class.cls < 0) {
-        time_class = {cls, where};
+        time_class = {cls, t.file + ":" + std::to_string(row.line)};
         notes.push_back(t.file + ": column '" + c.name + "' read as " + unit_name(unit) + " (by magnitude)");
       } else if (time_class.cls != cls && v != 0.0) {
         throw InputError(where + "column '" + c.name + "': " + num(v) + " looks like " + unit_name(unit) +
@@ -612,18 +631,20 @@ struct Converter {
     RealRead out;
     out.file = t.file;
     out.line = row.line;
-    out.epc = epc(t, r.f[kEpc], row);
-    out.phase_rad = phase(t, r.f[kPhase], row);
-    const double rssi = number(t, r.f[kRssi], row);
-    out.rssi_dbm = r.f[kRssi].unit == LogUnit::kCentiDbm ? rssi / 100.0 : rssi;
+    const std::vector<std::string>& fields = row.fields;
+    out.epc = epc(t, r.pick(kEpc, fields), row);
+    out.phase_rad = phase(t, r.pick(kPhase, fields), row);
+    const Column& rssi_column = r.pick(kRssi, fields);
+    const double rssi = number(t, rssi_column, row);
+    out.rssi_dbm = rssi_column.unit == LogUnit::kCentiDbm ? rssi / 100.0 : rssi;
     if (out.rssi_dbm < -200.0 || out.rssi_dbm > 100.0)
-      throw InputError(located(t.file, row.line) + "column '" + r.f[kRssi].name + "': " + num(rssi) +
+      throw InputError(located(t.file, row.line) + "column '" + rssi_column.name + "': " + num(rssi) +
                        " is not an RSSI in dBm (Impinj's 1/100 dBm? give --columns rssi_unit=cdbm)");
-    if (r.f[kFrequency].present()) out.frequency_hz = frequency_hz(t, r.f[kFrequency], row);
-    else if (r.f[kChannel].present()) out.frequency_hz = channel_frequency_hz(t, r.f[kChannel], row);
+    if (r.f[kFrequency].present()) out.frequency_hz = frequency_hz(t, r.pick(kFrequency, fields), row);
+    else if (r.f[kChannel].present()) out.frequency_hz = channel_frequency_hz(t, r.pick(kChannel, fields), row);
     else out.frequency_hz = options.default_frequency_hz;
-    if (with_time) out.time_s = time_s(t, r.f[kTime], row);
-    if (r.f[kAntenna].present()) out.antenna = antenna(t, r.f[kAntenna], row);
+    if (with_time) out.time_s = time_s(t, r.pick(kTime, fields), row);
+    if (r.f[kAntenna].present()) out.antenna = antenna(t, r.pick(kAntenna, fields), row);
     if (r.f[kX].present()) {
       out.position = Vec3(number(t, r.f[kX], row), number(t, r.f[kY], row), number(t, r.f[kZ], row));
       if (r.f[kQx].present()) {
