@@ -197,7 +197,7 @@ bool looks_like_data(const std::vector<std::string>& fields) {
 }
 
 // Python literal (`sllurp inventory` prints tag dicts with repr) → JSON: quotes, b'' prefixes, True/False/None,
-// tuples. Strings keep their content; \x escapes become \u00.
+// tuples, trailing commas. Strings keep their content; \x escapes become \u00.
 std::string python_to_json(const std::string& s) {
   std::string out;
   for (size_t i = 0; i < s.size(); ++i) {
@@ -228,6 +228,12 @@ std::string python_to_json(const std::string& s) {
       out += word == "True" ? "true" : word == "False" ? "false" : word == "None" ? "null" : word;
       i = j - 1;
       continue;
+    }
+    if (c == ')' || c == ']' || c == '}') {
+      // Python allows a trailing comma ((2,) is a 1-tuple); JSON does not.
+      size_t e = out.size();
+      while (e > 0 && out[e - 1] == ' ') --e;
+      if (e > 0 && out[e - 1] == ',') out.erase(e - 1);
     }
     out += c == '(' ? '[' : c == ')' ? ']' : c;
   }

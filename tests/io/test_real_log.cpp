@@ -25,12 +25,12 @@ fs::path temp_dir() {
   return d;
 }
 
-fs::path write(const fs::path& p, const std::string& text) {
+fs::path write_at(const fs::path& p, const std::string& text) {
   fs::create_directories(p.parent_path());
   std::ofstream(p, std::ios::binary) << text;
   return p;
 }
-fs::path write(const std::string& name, const std::string& text) { return write(temp_dir() / name, text); }
+fs::path write(const std::string& name, const std::string& text) { return write_at(temp_dir() / name, text); }
 
 RealLogOptions with_columns(const std::string& spec) {
   RealLogOptions o;
@@ -190,9 +190,9 @@ fs::path write_stops(const std::string& name, int stops, const std::string& time
     const double x = 0.02 * (n + 1);
     s << "1001,1,921125000," << time << ",-46.5,0.8222,0,0," << x << ",1.63,0,-5399.9\n";
     s << "1002,1,920625000," << time << ",-48.5,6.28318530717959,0,0," << x << ",1.63,0,-5399.9\n";
-    write(d / (std::to_string(n) + ".csv"), s.str());
+    write_at(d / (std::to_string(n) + ".csv"), s.str());
   }
-  write(d / "notes.txt", "not a stop file\n");
+  write_at(d / "notes.txt", "not a stop file\n");
   return d;
 }
 
@@ -228,25 +228,25 @@ TEST(ImportRealLog, PerStopDirectoryGivesEachStopsAntennaPositionAndSkipsTheBom)
 
 TEST(ImportRealLog, PerStopUsesNonZeroFileTimesAndRejectsTimeGoingBack) {
   const fs::path d = write_stops("stops_timed", 3, "5");
-  write(d / "1.csv", kStopHeader + "1001,1,921125000,7.5,-46,0.5,0,0,0.04,0,0,0\n");
-  write(d / "2.csv", kStopHeader + "1001,1,921125000,9,-46,0.5,0,0,0.06,0,0,0\n");
+  write_at(d / "1.csv", kStopHeader + "1001,1,921125000,7.5,-46,0.5,0,0,0.04,0,0,0\n");
+  write_at(d / "2.csv", kStopHeader + "1001,1,921125000,9,-46,0.5,0,0,0.06,0,0,0\n");
   const RealLog log = read_real_log(d, {});
   ASSERT_EQ(log.reads.size(), 4u);
   EXPECT_EQ(log.reads[0].time_s, 5.0);
   EXPECT_EQ(log.reads[2].time_s, 7.5);
   EXPECT_EQ(log.reads[3].time_s, 9.0);
-  write(d / "2.csv", kStopHeader + "1001,1,921125000,6,-46,0.5,0,0,0.06,0,0,0\n");
+  write_at(d / "2.csv", kStopHeader + "1001,1,921125000,6,-46,0.5,0,0,0.06,0,0,0\n");
   const std::string m = error_of(d);
   EXPECT_NE(m.find("2.csv:2: column 'time': time goes backwards"), std::string::npos) << m;
 }
 
 TEST(ImportRealLog, ColumnMapWithUnitsAndConstants) {
   const fs::path p = write("mapped.csv",
-                           "Tag ID,Port,Freq,Sig,PhaseAngle,Timestamp,X,Y,Z\n"
+                           "Tag ID,Port,Freq,Sig,Angle,Timestamp,X,Y,Z\n"
                            "t1,A,902.75,-50,180,1500,1,2,3\n");
   // Names match case-insensitively, ignoring blanks and '_': spelled differently in the map.
   RealLogOptions o = with_columns(
-      "epc=tag_id,phase=phaseangle,phase_unit=deg,frequency=Freq,frequency_unit=mhz,rssi=Sig,time=Timestamp,"
+      "epc=tag_id,phase=ANGLE,phase_unit=deg,frequency=Freq,frequency_unit=mhz,rssi=Sig,time=Timestamp,"
       "time_unit=ms,antenna=Port,x=X,y=Y,z=0.5");
   o.layout = LogLayout::kColumns;
   const RealLog log = read_real_log(p, o);
@@ -335,7 +335,7 @@ TEST(ImportRealLog, BadValuesNameFileLineAndColumn) {
   EXPECT_NE(error_of(write("header.csv", h)).find("header.csv: empty file (a header but no reads)"), std::string::npos);
   const fs::path empty_dir = temp_dir() / "no_stops";
   fs::create_directories(empty_dir);
-  write(empty_dir / "readme.txt", "x");
+  write_at(empty_dir / "readme.txt", "x");
   EXPECT_NE(error_of(empty_dir).find("no_stops: no N.csv files"), std::string::npos);
   EXPECT_NE(error_of(temp_dir() / "missing.csv").find("no such file"), std::string::npos);
 }
