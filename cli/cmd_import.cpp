@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -81,6 +82,13 @@ void write_atomically(const fs::path& target, const std::function<void(std::ostr
 
 std::string mhz(double hz) { return io::num(hz / 1e6); }
 
+// Times to the millisecond (epoch times have ten digits before the point).
+std::string seconds(double t) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3f", t);
+  return buf;
+}
+
 int run_import(const ImportState& s) {
   io::RealLogOptions o;
   o.layout = io::parse_log_layout(s.layout);
@@ -147,8 +155,8 @@ int run_import(const ImportState& s) {
   std::cout << "imported " << rows.size() << " reads, " << by_tag.size() << " tags, " << carriers.size()
             << (carriers.size() == 1 ? " carrier (" : " carriers (") << mhz(*carriers.begin())
             << (carriers.size() > 1 ? " .. " + mhz(*carriers.rbegin()) : std::string()) << " MHz), " << antennas.size()
-            << (antennas.size() == 1 ? " antenna (" : " antennas (") << antenna_list << "), time " << io::num(t0)
-            << " .. " << io::num(t1) << " s (span " << io::num(t1 - t0) << " s), layout " << io::to_string(log.layout)
+            << (antennas.size() == 1 ? " antenna (" : " antennas (") << antenna_list << "), time " << seconds(t0)
+            << " .. " << seconds(t1) << " s (span " << seconds(t1 - t0) << " s), layout " << io::to_string(log.layout)
             << " -> " << s.output << "\n";
   return 0;
 }

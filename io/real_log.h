@@ -7,9 +7,9 @@
 //    ChannelInMhz, PeakRssiInDbm, PhaseAngleInRadians, FirstSeenTime / LastSeenTime (`.Utc`: µs since 1970) —
 //    e.g. getAntennaPortNumber(), getPeakRssiInDbm(), getPhaseAngleInRadians() in azaitw/impinjCtrl
 //    (src/main/java/com/impinjCtrl/ReportFormat.java); tag.ChannelInMhz, tag.FirstSeenTime.Utc,
-//    tag.PhaseAngleInRadians logged by C# Octane SDK programs such as saintnever/impinjR420. ItemTest writes `// Timestamp, EPC, TID, Antenna, RSSI, Frequency, Hostname,
-//    PhaseAngle, DopplerFrequency` as a comment line before the rows, an ISO 8601 Timestamp with a UTC offset,
-//    Frequency in MHz, PhaseAngle in radians, and a decimal comma in quoted fields under comma-decimal locales
+//    tag.PhaseAngleInRadians logged by C# Octane SDK programs such as saintnever/impinjR420. ItemTest writes
+//    `// Timestamp, EPC, TID, Antenna, RSSI, Frequency, Hostname, PhaseAngle, DopplerFrequency` as a comment
+//    line before the rows, an ISO 8601 Timestamp with a UTC offset, Frequency in MHz, PhaseAngle in radians, and a decimal comma in quoted fields under comma-decimal locales
 //    (rtb30/Gesture-Recognition, "1 Lat Raise/1_3s_2_2024-07-02_11-22-52.csv").
 //  - sllurp: LLRP TagReportData as sllurp decodes it (sllurp/sllurp: sllurp/llrp_decoder.py TVE names
 //    AntennaID, FirstSeenTimestampUTC, LastSeenTimestampUTC (µs), PeakRSSI (dBm), ChannelIndex, EPC-96;
@@ -27,8 +27,8 @@
 //    otherwise the files' times are used (seconds unless time_unit says otherwise) and must not decrease.
 //  - columns: any CSV through a ColumnMap.
 // Units: the ColumnMap's unit wins, then a name that states one (…InRadians, …deg, …InMhz, …khz, …Hz, …_us,
-// …_ms, …_s, …SeenTime…, ImpinjPeakRSSI), then the layout's; a frequency without any is taken by magnitude (< 1e4: MHz,
-// < 1e7: kHz, else Hz), a numeric time by magnitude as time since 1970 (≥ 1e17 ns, ≥ 1e14 µs, ≥ 1e11 ms, else
+// …_ms, …_s, …SeenTime…, ImpinjPeakRSSI), then the layout's; a frequency without any is taken by magnitude
+// (< 1e4: MHz, < 1e7: kHz, else Hz), a numeric time by magnitude as time since 1970 (≥ 1e17 ns, ≥ 1e14 µs, ≥ 1e11 ms, else
 // s) and every row must then fall in the same class. ISO 8601 times (2024-07-02T11:32:44.6458200+03:00; no
 // offset = UTC) are read as seconds since 1970 UTC. Phase is returned in [0, 2π); the reader never knows the
 // distance, so readings get dist = 0.
