@@ -498,7 +498,7 @@ struct Converter {
   const RealLogOptions& options;
   MagnitudeClass frequency_class, time_class;
   std::vector<std::string>& notes;
-  bool noted_frequency = false, noted_time = false, noted_iso_utc = false;
+  bool noted_iso_utc = false;
 
   double number(const Table& t, const Column& c, const Table::Row& row) const {
     if (c.constant) return *c.constant;

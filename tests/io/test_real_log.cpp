@@ -258,6 +258,14 @@ TEST(ImportRealLog, ColumnMapWithUnitsAndConstants) {
   EXPECT_EQ(r.frequency_hz, 902.75e6);
   EXPECT_EQ(r.time_s, 1.5);
   EXPECT_EQ(*r.position, Vec3(1, 2, 0.5));
+  // Quaternion columns (x,y,z,w) give each read its own orientation.
+  const RealLog q = read_real_log(
+      write("mapped_q.csv", "Tag ID,Port,Freq,Sig,Angle,Timestamp,X,Y,Z,qx,qy,qz,qw\n"
+                            "t1,A,902.75,-50,180,1500,1,2,3,0,0,0.7071067811865476,0.7071067811865476\n"),
+      o);
+  ASSERT_TRUE(q.reads[0].orientation);
+  EXPECT_TRUE((*q.reads[0].orientation * Vec3::UnitX()).isApprox(Vec3::UnitY(), 1e-12));
+  EXPECT_EQ(to_reading_rows(q, {})[0].antenna_pose.orientation.coeffs(), q.reads[0].orientation->coeffs());
   // --columns alone picks the columns layout for a header no layout knows.
   RealLogOptions auto_o = o;
   auto_o.layout = LogLayout::kAuto;
