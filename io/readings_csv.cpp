@@ -32,31 +32,48 @@ void write_readings_csv(std::ostream& out, const Scenario& scenario, size_t ante
   write_readings_rows(out, scenario, antenna, result.reads);
 }
 
+namespace {
+
+// One row; the one place that fixes the columns' formatting.
+void put_row(std::ostream& out, double time_s, const Pose& pose, const std::string& tag, double distance_m,
+             double phase_rad, double rssi, const std::string& antenna, double frequency_hz, int hop_index) {
+  const Vec3& p = pose.position;
+  const Quat& q = pose.orientation;
+  put(out, time_s, 6);
+  for (double v : {p.x(), p.y(), p.z()}) {
+    out << ',';
+    put(out, v, 6);
+  }
+  for (double v : {q.x(), q.y(), q.z(), q.w()}) {
+    out << ',';
+    put(out, v, 9);
+  }
+  out << ',' << tag << ',';
+  put(out, distance_m, 6);
+  out << ',';
+  put(out, phase_rad, 6);
+  out << ',';
+  put(out, rssi, 4);
+  out << ',' << antenna << ',';
+  put(out, frequency_hz, 0);
+  out << ',' << hop_index << '\n';
+}
+
+}  // namespace
+
 void write_readings_rows(std::ostream& out, const Scenario& scenario, size_t antenna,
                          const std::vector<ReadRecord>& reads) {
   const std::string& name = scenario.antennas.at(antenna).reader.name;
-  for (const ReadRecord& r : reads) {
-    const Vec3& p = r.antenna_pose.position;
-    const Quat& q = r.antenna_pose.orientation;
-    put(out, r.time_s, 6);
-    for (double v : {p.x(), p.y(), p.z()}) {
-      out << ',';
-      put(out, v, 6);
-    }
-    for (double v : {q.x(), q.y(), q.z(), q.w()}) {
-      out << ',';
-      put(out, v, 9);
-    }
-    out << ',' << scenario.tags.at(r.tag).tag.name << ',';
-    put(out, r.distance_m, 6);
-    out << ',';
-    put(out, r.reading.phase_rad, 6);
-    out << ',';
-    put(out, r.reading.rssi_dbm, 4);
-    out << ',' << name << ',';
-    put(out, r.frequency_hz, 0);
-    out << ',' << r.hop_index << '\n';
-  }
+  for (const ReadRecord& r : reads)
+    put_row(out, r.time_s, r.antenna_pose, scenario.tags.at(r.tag).tag.name, r.distance_m, r.reading.phase_rad,
+            r.reading.rssi_dbm, name, r.frequency_hz, r.hop_index);
+}
+
+void write_readings_csv(std::ostream& out, const std::vector<ReadingRow>& rows) {
+  out << kReadingsHeader << '\n';
+  for (const ReadingRow& r : rows)
+    put_row(out, r.time_s, r.antenna_pose, r.tag, r.distance_m, r.phase_rad, r.rssi, r.antenna, r.frequency_hz,
+            r.hop_index);
 }
 
 void write_tags_csv(std::ostream& out, const Scenario& scenario, const SceneMotion& motion) {

@@ -50,6 +50,10 @@ struct ReadingRow {
   int hop_index = -1;         // the `channel` column; −1 when absent
 };
 
+// Header and rows of readings that did not come from a simulation (`rfidray import`): the same columns and
+// number formatting as the writer above. `line` is not written.
+void write_readings_csv(std::ostream& out, const std::vector<ReadingRow>& rows);
+
 // The 12 seed columns are required in order; `antenna`, `frequency_hz` (or `frequency`, Hz) and `channel` are
 // read when present, other columns ignored.
 std::vector<ReadingRow> read_readings_csv(const std::filesystem::path& file);

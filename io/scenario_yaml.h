@@ -1,7 +1,8 @@
 #pragma once
 // Module io — owns the files: the checked YAML reader (checked_yaml.h), scenarios (this file), readings CSV,
-// the channel factory (level → channel), plots, and the hook through which an adapter supplies world files
-// (world_source.h). Includes core/, raytrace/ and localization/.
+// real reader logs (real_log.h) and recorded trajectories (trajectory_csv.h), the channel factory (level →
+// channel), plots, and the hook through which an adapter supplies world files (world_source.h). Includes core/,
+// raytrace/ and localization/.
 //
 // Scenario files (YAML). Every error is an InputError "FILE:LINE: field 'antennas[1].frequency': ..."; keys
 // that are not part of the format are errors too (a typo must not silently fall back to a default).
