@@ -106,19 +106,15 @@ def truth_of_run(run_name, d, split, run_config, tag_orders, separations):
 
 
 def filter_to_truth(readings, truth_names, out):
-    """Keeps the reads of tags with ground truth (a few runs saw tags not on the row), with the antenna on the
-    stage line y = z = 0: the dataset's README calls its y column ("1.63") invalid, default 0."""
+    """Keeps the reads of tags with ground truth (runs also saw tags that are not on the row)."""
     kept = 0
     with open(readings, encoding="utf-8") as src, open(out, "w", encoding="utf-8") as dst:
         header = src.readline()
         dst.write(header)
-        cols = header.strip().split(",")
-        name_col, y_col, z_col = cols.index("name"), cols.index("posy"), cols.index("posz")
+        name_col = header.strip().split(",").index("name")
         for line in src:
-            cells = line.rstrip("\n").split(",")
-            if cells[name_col] in truth_names:
-                cells[y_col] = cells[z_col] = "0.000000"
-                dst.write(",".join(cells) + "\n")
+            if line.split(",")[name_col] in truth_names:
+                dst.write(line)
                 kept += 1
     return kept
 
@@ -128,8 +124,9 @@ def convert(args, d, split, run_dir, truth, work):
     base = os.path.join(work, "D%d" % d, split, name)
     os.makedirs(base, exist_ok=True)
     raw = os.path.join(base, "imported.csv")
-    run([args.rfidray, "import", "--layout", "per-stop", run_dir, "--antenna-rpy", "0,0,90",
-         "--antenna-name", "stage", "-o", raw])
+    # The README of the set calls its y column ("1.63") invalid, default 0: a constant replaces it.
+    run([args.rfidray, "import", "--layout", "per-stop", run_dir, "--columns", "y=0", "--antenna-rpy", "0,0,90",
+         "--antenna-name", "stage", "-q", "-o", raw])
     readings = os.path.join(base, "readings.csv")
     if filter_to_truth(raw, {t[0] for t in truth}, readings) == 0:
         return None
