@@ -13,7 +13,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0 through CLI11; every other parse error is bad input: exit 2, naming the flag
+    // (CLI11's messages do: "--rows: ...", "Could not convert: --rows = ...").
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    std::cerr << "rfidray: error: " << rfidray::clip(e.what(), 300) << "\nRun with --help for more information.\n";
+    return 2;
   }
   try {
     return rfidray::cli::run_selected(app);
