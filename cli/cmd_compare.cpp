@@ -200,7 +200,7 @@ std::function<int()> setup_compare(CLI::App& app) {
   cmd->add_option("--tags", o->tags, "Tags to plot, comma-separated names (default: the first two)");
   cmd->add_option("--antenna", o->antenna, "Antenna to plot (default: the first)");
   cmd->add_option("--channel", o->channel, "Ray-traced level: los | los+blocked | single-bounce");
-  cmd->add_option("--threads", o->threads, "OpenMP threads (default: all)");
+  cmd->add_option("--threads", o->threads, "OpenMP threads (default: all), 1…1024")->check(CLI::Range(1, 1024));
   cmd->add_option("-o,--output", o->output_dir, "Output directory (compare.csv, compare.png)");
   return [o] { return run_compare(*o); };
 }

@@ -234,8 +234,8 @@ std::function<int()> setup_simulate(CLI::App& app) {
   cmd->add_option("--duration", opts->duration_s, "Simulated time (s), overrides `duration_s`; required with --world");
   cmd->add_option("--seed", opts->seed, "Random seed (overrides the scenario's `seed`), >= 0")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--threads", opts->threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
-      ->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", opts->threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores), 1…1024")
+      ->check(CLI::Range(1, 1024));
   cmd->add_option("-o,--output", opts->output_dir, "Output directory, created if missing")->capture_default_str();
   cmd->add_option("--channel", opts->channel, "Channel model, overrides the scenario's `channel` (" + channels + ")");
   cmd->add_option("--model", opts->model, "Reader model of every antenna, overrides the scenario (paper | physical)")

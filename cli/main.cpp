@@ -1,6 +1,7 @@
 // rfidray: one subcommand per use. Each subcommand lives in its own cli/cmd_*.cpp and registers itself here.
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <new>
 
 #include "cli/commands.h"
 #include "core/error.h"
@@ -24,6 +25,11 @@ int main(int argc, char** argv) {
   } catch (const rfidray::InputError& e) {
     std::cerr << "rfidray: error: " << e.what() << "\n";
     return 2;
+  } catch (const std::bad_alloc&) {
+    // Sizes that come from input are checked where they enter; this is what remains (the machine's memory).
+    std::cerr << "rfidray: error: out of memory (the input's size is within rfidray's limits but not this "
+                 "machine's; see README, \"Limits and errors\")\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "rfidray: error: " << e.what() << "\n";
     return 1;
