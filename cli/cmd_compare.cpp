@@ -16,6 +16,7 @@
 #include <optional>
 #include <sstream>
 
+#include "io/atomic_file.h"
 #include "io/channel_factory.h"
 #include "io/plot.h"
 #include "io/scenario_yaml.h"
@@ -106,8 +107,8 @@ int run_compare(const CompareOptions& o) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw InputError(o.output_dir + ": cannot create output directory (" + ec.message() + ")");
-  std::ofstream csv(dir / "compare.csv");
-  if (!csv) throw InputError((dir / "compare.csv").string() + ": cannot write");
+  io::check_output_path(dir / "compare.csv", "compare.csv");
+  std::ostringstream csv;  // written atomically at the end (io/atomic_file.h)
   csv << "antenna,tag,reads_ideal,reads_raytraced,both,phase_err_mean_rad,phase_err_rms_rad,phase_err_max_abs_rad,"
          "rssi_diff_mean_db,rssi_diff_rms_db,rssi_diff_min_db,rssi_diff_max_db\n";
   csv.precision(6);
@@ -152,6 +153,11 @@ int run_compare(const CompareOptions& o) {
     if (a != plot_antenna) continue;
     for (size_t t : plot_tags) {
       const std::string& tn = scenario.tags[t].tag.name;
+      if (per_tag[t].reads_ideal == 0 && per_tag[t].reads_traced == 0) {
+        std::printf("  tag '%s' has no reads at antenna %s (ideal or %s): nothing to plot for it\n", tn.c_str(),
+                    an.c_str(), o.channel.c_str());
+        continue;
+      }
       io::Panel phase{"antenna " + an + ", " + tn + ": phase", "time along the trajectory (s)", "phase (rad)", {}};
       io::Panel rssi{"antenna " + an + ", " + tn + ": RSSI", "time along the trajectory (s)", "RSSI (dBm)", {}};
       for (int which = 0; which < 2; ++which) {
@@ -165,6 +171,7 @@ int run_compare(const CompareOptions& o) {
             sr.x.push_back(r.time_s);
             sr.y.push_back(r.reading.rssi_dbm);
           }
+        if (sp.x.empty()) continue;  // this run never read the tag: only the other is drawn
         phase.series.push_back(std::move(sp));
         rssi.series.push_back(std::move(sr));
       }
@@ -172,10 +179,11 @@ int run_compare(const CompareOptions& o) {
       panels.push_back(std::move(rssi));
     }
   }
-  csv.flush();
-  if (!csv) throw InputError((dir / "compare.csv").string() + ": write failed");
+  io::write_file_atomic(dir / "compare.csv", [&](std::ostream& out) { out << csv.str(); }, "compare.csv");
   std::printf("\n-> %s\n", (dir / "compare.csv").string().c_str());
-  if (!panels.empty()) {
+  if (panels.empty()) {
+    std::printf("-> no chart: the plotted tags have no reads\n");
+  } else {
     io::write_png(dir / "compare.png", panels, 1100, 300);
     std::printf("-> %s\n", (dir / "compare.png").string().c_str());
   }
@@ -188,11 +196,11 @@ std::function<int()> setup_compare(CLI::App& app) {
   auto o = std::make_shared<CompareOptions>();
   CLI::App* cmd = app.add_subcommand("compare", "Same scenario and seed, ideal vs ray-traced channel: phase/RSSI differences per tag");
   cmd->add_option("scenario", o->scenario, "Scenario YAML file")->required();
-  cmd->add_option("--seed", o->seed, "Random seed (overrides the scenario's)");
+  cmd->add_option("--seed", o->seed, "Random seed (overrides the scenario's), >= 0")->check(CLI::NonNegativeNumber);
   cmd->add_option("--tags", o->tags, "Tags to plot, comma-separated names (default: the first two)");
   cmd->add_option("--antenna", o->antenna, "Antenna to plot (default: the first)");
   cmd->add_option("--channel", o->channel, "Ray-traced level: los | los+blocked | single-bounce");
-  cmd->add_option("--threads", o->threads, "OpenMP threads (default: all)");
+  cmd->add_option("--threads", o->threads, "OpenMP threads (default: all), 1…1024")->check(CLI::Range(1, 1024));
   cmd->add_option("-o,--output", o->output_dir, "Output directory (compare.csv, compare.png)");
   return [o] { return run_compare(*o); };
 }

@@ -3,8 +3,10 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <memory>
+#include <sstream>
 
 #include "core/error.h"
+#include "io/atomic_file.h"
 #include "raytrace/obj_loader.h"
 #include "raytrace/warehouse.h"
 
@@ -18,6 +20,13 @@ struct GenOptions {
 };
 
 int run_gen(const GenOptions& o) {
+  // Outputs first (before generating anything): regular files or new names, the .mtl distinct from the .obj.
+  std::filesystem::path mtl = o.output;
+  mtl.replace_extension(".mtl");
+  if (mtl == std::filesystem::path(o.output))
+    throw InputError("option -o: '" + clip(o.output) + "' would be both the OBJ and its .mtl (use a .obj name)");
+  io::check_output_path(o.output, "the OBJ scene");
+  io::check_output_path(mtl, "the MTL file");
   std::vector<TriangleMesh> meshes;
   if (o.preset == "paper") {
     meshes = paper_warehouse_meshes();
@@ -26,11 +35,36 @@ int run_gen(const GenOptions& o) {
   } else if (o.preset == "parametric") {
     WarehouseParams p = o.params;
     p.walls = !o.no_walls;
-    meshes = generate_warehouse(p);
+    try {
+      meshes = generate_warehouse(p);  // checks the size estimate before allocating
+    } catch (const InputError& e) {
+      // Name the flag of the parameter (validate() names the WarehouseParams field).
+      std::string msg = e.what();
+      static const std::pair<const char*, const char*> kFlags[] = {
+          {"rows", "--rows"}, {"racks_per_row", "--racks"}, {"shelves", "--shelves"},
+          {"tessellation", "--tessellation"}, {"rack_length_m", "--rack-length"}, {"rack_depth_m", "--rack-depth"},
+          {"shelf_spacing_m", "--shelf-spacing"}, {"aisle_m", "--aisle"}};
+      for (const auto& [field, flag] : kFlags) {
+        const std::string quoted = std::string("field '") + field + "'";
+        if (msg.rfind(quoted, 0) == 0) msg = std::string("option ") + flag + " (" + field + ")" + msg.substr(quoted.size());
+      }
+      throw InputError("gen-warehouse --preset parametric: " + msg);
+    }
   } else {
     throw InputError("option --preset: unknown preset '" + o.preset + "' (paper, ground-wall, parametric)");
   }
-  write_obj(o.output, meshes);
+  // Both files complete or not at all (io/atomic_file.h): the OBJ streamed to a temporary and renamed, then
+  // its .mtl; if the .mtl cannot be written the OBJ is removed again.
+  std::ostringstream mtl_text;
+  io::write_file_atomic(o.output, [&](std::ostream& out) { write_obj(out, mtl_text, mtl.filename().string(), meshes); },
+                        "OBJ file");
+  try {
+    io::write_file_atomic(mtl, [&](std::ostream& out) { out << mtl_text.str(); }, "MTL file");
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(o.output, ec);
+    throw;
+  }
   size_t n = 0;
   for (const auto& m : meshes) n += m.triangle_count();
   std::printf("wrote %s: %zu meshes, %zu triangles\n", o.output.c_str(), meshes.size(), n);

@@ -12,6 +12,7 @@
 
 #include "core/channel.h"
 #include "core/error.h"
+#include "core/limits.h"
 #include "core/reader.h"
 #include "core/units.h"
 #include "raytrace/raytraced_channel.h"
@@ -34,7 +35,7 @@ std::vector<double> parse_numbers(const std::string& text, const std::string& op
       used = 0;
     }
     if (used == 0 || used != item.size() || !std::isfinite(v))
-      throw InputError("option " + option + ": '" + item + "' is not a number (in '" + text + "')");
+      throw InputError("option " + option + ": '" + clip(item) + "' is not a number (in '" + clip(text) + "')");
     out.push_back(v);
   }
   return out;
@@ -42,7 +43,7 @@ std::vector<double> parse_numbers(const std::string& text, const std::string& op
 
 Vec3 parse_vec3(const std::string& text, const std::string& option) {
   const auto v = parse_numbers(text, option);
-  if (v.size() != 3) throw InputError("option " + option + ": expected X,Y,Z (got '" + text + "')");
+  if (v.size() != 3) throw InputError("option " + option + ": expected X,Y,Z (got '" + clip(text) + "')");
   return Vec3(v[0], v[1], v[2]);
 }
 
@@ -53,10 +54,13 @@ Polarization parse_polarization(const std::string& text, const std::string& opti
   p.kind = parse_polarization_kind(text.substr(0, colon), option);
   if (p.kind == PolarizationKind::kLinear) {
     if (colon != std::string::npos) p.axis_local = parse_vec3(text.substr(colon + 1), option);
-    if (!(p.axis_local.norm() > 0.0)) throw InputError("option " + option + ": linear axis must be non-zero");
+    // A direction: scaled by its largest component first, so 1e308,1e308,0 is (1, 1, 0)/√2 (its norm overflows).
+    const double largest = p.axis_local.cwiseAbs().maxCoeff();
+    if (!(largest > 0.0)) throw InputError("option " + option + ": linear axis must be non-zero");
+    p.axis_local /= largest;
     p.axis_local.normalize();
   } else if (colon != std::string::npos) {
-    throw InputError("option " + option + ": circular polarization takes no axis (got '" + text + "')");
+    throw InputError("option " + option + ": circular polarization takes no axis (got '" + clip(text) + "')");
   }
   return p;
 }
@@ -233,9 +237,11 @@ int run_link(const LinkOptions& o) {
     throw InputError("option --level: '" + o.level + "' is not traced (link shows one of los, los+blocked, "
                      "single-bounce; the ideal channel is printed beside it)");
   trace.candidates = parse_candidate_mode(o.candidates, "--candidates");
-  if (!(o.drop_db >= 0.0)) throw InputError("option --drop-db: must be ≥ 0 dB");
+  if (!(o.drop_db >= 0.0 && o.drop_db <= 1000.0)) throw InputError("option --drop-db: must be in [0, 1000] dB");
   trace.drop_below_db = o.drop_db;
-  if (!(o.frequency_hz > 0.0) || !std::isfinite(o.frequency_hz)) throw InputError("option --frequency: must be > 0 Hz");
+  limits::check_range(o.frequency_hz, limits::kMinFrequencyHz, limits::kMaxFrequencyHz, "--frequency", "Hz");
+  limits::check_range(o.tx_power_dbm, -limits::kMaxPowerDbm, limits::kMaxPowerDbm, "--tx-power", "dBm");
+  if (o.thickness_m >= 0.0) limits::check_range(o.thickness_m, 0.0, 100.0, "--thickness", "m");
 
   const io::WorldSource* w = world ? &*world : nullptr;
   // An end: a world's antenna or tag by name, or X,Y,Z with its own orientation; then polarization and pattern.
@@ -247,6 +253,10 @@ int run_link(const LinkOptions& o) {
       e.pose = *p;
     } else {
       e.pose.position = parse_vec3(where, "--" + prefix);
+      for (int k = 0; k < 3; ++k)
+        if (!limits::coordinate_ok(e.pose.position[k]))
+          throw InputError("option --" + prefix + ": coordinates must be within ±" +
+                           limits::num(limits::kMaxCoordinateM) + " m (got '" + clip(where) + "')");
       e.pose.orientation = parse_rpy(rpy, "--" + prefix + "-rpy");
     }
     e.polarization = parse_polarization(pol, "--" + prefix + "-pol");

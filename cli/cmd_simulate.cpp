@@ -1,8 +1,12 @@
 // rfidray simulate SCENARIO: run a scenario, write one readings CSV per antenna and the tags' ground truth.
 #include <omp.h>
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
+#include <csignal>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -12,6 +16,7 @@
 #include <memory>
 #include <optional>
 
+#include "io/atomic_file.h"
 #include "io/channel_factory.h"
 #include "io/readings_csv.h"
 #include "io/scenario_yaml.h"
@@ -35,16 +40,51 @@ struct SimulateOptions {
   std::optional<double> duration_s;  // overrides the scenario's duration_s
 };
 
-void write_file(const std::filesystem::path& path, const std::function<void(std::ostream&)>& body) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw InputError(path.string() + ": cannot write (check -o DIR)");
-  body(out);
-  out.flush();
-  if (!out) throw InputError(path.string() + ": write failed");
+// SIGINT / SIGTERM: the handler removes the temporary being written (io/atomic_file.h), says what was
+// finished and exits 130 / 143. Files already renamed are complete; nothing partial stays under a final name.
+// The progress line is prepared by the main thread (two buffers, switched atomically) so the handler only
+// calls write(2), unlink(2) and _exit(2).
+char g_progress[2][8192];
+std::atomic<int> g_progress_slot{-1};
+
+void set_progress(const std::string& text) {
+  const int slot = g_progress_slot.load() == 0 ? 1 : 0;
+  const size_t n = std::min(text.size(), sizeof g_progress[slot] - 1);
+  std::memcpy(g_progress[slot], text.data(), n);
+  g_progress[slot][n] = '\0';
+  g_progress_slot.store(slot);
+}
+
+extern "C" void on_signal(int sig) {
+  rfidray::io::remove_partial_output();
+  const char* head = sig == SIGINT ? "\nrfidray: interrupted (SIGINT): " : "\nrfidray: terminated (SIGTERM): ";
+  (void)!::write(2, head, std::strlen(head));
+  const int slot = g_progress_slot.load();
+  if (slot >= 0) (void)!::write(2, g_progress[slot], std::strlen(g_progress[slot]));
+  (void)!::write(2, "\n", 1);
+  ::_exit(128 + sig);
+}
+
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+void write_file(const std::filesystem::path& path, const std::function<void(std::ostream&)>& body,
+                std::string& done) {
+  set_progress("writing " + path.string() + " (removed, not complete)" +
+               (done.empty() ? std::string("; no output file was finished") : "; finished: " + done));
+  io::write_file_atomic(path, body, "output file (check -o DIR)");
+  done += (done.empty() ? "" : ", ") + path.string();
 }
 
 int run(const SimulateOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
+  set_progress("while loading the scenario; no output written");
+  install_signal_handlers();
   Scenario scenario;
   std::shared_ptr<const Scene> world_scene;  // --world: the world's surfaces (a scenario loads its own scene)
   if (!o.world.file.empty()) {
@@ -83,23 +123,25 @@ int run(const SimulateOptions& o) {
                   : io::make_channel(scenario.channel, scenario, motion, &channel_report);
   SimulationOptions sim;
   sim.threads = o.threads;
+  set_progress("during the simulation; no output written");
   const SimulationResult result = simulate(scenario, motion, *channel, sim);
 
   const std::filesystem::path dir(o.output_dir);
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw InputError(o.output_dir + ": cannot create output directory (" + ec.message() + ")");
+  std::string done;
   for (size_t a = 0; a < scenario.antennas.size(); ++a)
     write_file(dir / (scenario.antennas[a].reader.name + ".csv"),
-               [&](std::ostream& out) { io::write_readings_csv(out, scenario, a, result.antennas[a]); });
-  write_file(dir / "tags.csv", [&](std::ostream& out) { io::write_tags_csv(out, scenario, motion); });
+               [&](std::ostream& out) { io::write_readings_csv(out, scenario, a, result.antennas[a]); }, done);
+  write_file(dir / "tags.csv", [&](std::ostream& out) { io::write_tags_csv(out, scenario, motion); }, done);
   const bool moving = io::has_moving_tags(motion);
   if (moving) {
     double rate = 0.0;
     for (const AntennaSpec& a : scenario.antennas) rate = std::max(rate, a.reader.update_rate_hz);
     write_file(dir / "tags_trajectory.csv", [&](std::ostream& out) {
       io::write_tag_trajectories_csv(out, scenario, motion, result.duration_s, rate);
-    });
+    }, done);
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (o.quiet) return 0;
@@ -190,9 +232,10 @@ std::function<int()> setup_simulate(CLI::App& app) {
   cmd->add_option("SCENARIO", opts->scenario, "Scenario YAML file (e.g. scenes/paper_warehouse.yaml), or --world");
   add_world_options(*cmd, opts->world);
   cmd->add_option("--duration", opts->duration_s, "Simulated time (s), overrides `duration_s`; required with --world");
-  cmd->add_option("--seed", opts->seed, "Random seed (overrides the scenario's `seed`)");
-  cmd->add_option("--threads", opts->threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
-      ->check(CLI::PositiveNumber);
+  cmd->add_option("--seed", opts->seed, "Random seed (overrides the scenario's `seed`), >= 0")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--threads", opts->threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores), 1…1024")
+      ->check(CLI::Range(1, 1024));
   cmd->add_option("-o,--output", opts->output_dir, "Output directory, created if missing")->capture_default_str();
   cmd->add_option("--channel", opts->channel, "Channel model, overrides the scenario's `channel` (" + channels + ")");
   cmd->add_option("--model", opts->model, "Reader model of every antenna, overrides the scenario (paper | physical)")

@@ -5,6 +5,7 @@
 #include <tuple>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "core/units.h"
 
 namespace rfidray {
@@ -90,14 +91,13 @@ double AntennaPattern::gain_linear(const Vec3& d) const {
 }
 
 void AntennaPattern::validate(const std::string& field) const {
-  if (!std::isfinite(peak_gain_dbi)) throw field_error(field + ".gain_dbi", "must be a finite number");
+  limits::check_range(peak_gain_dbi, -limits::kMaxGainDbi, limits::kMaxGainDbi, field + ".gain_dbi", "dBi");
   if (kind == PatternKind::kPatch) {
     if (!(beamwidth_deg >= 0.0 && beamwidth_deg < 180.0))
       throw field_error(field + ".beamwidth_deg", "must be in [0, 180) degrees");
     if (beamwidth_deg == 0.0 && peak_gain_dbi <= linear_to_db(2.0))
       throw field_error(field + ".gain_dbi", "a patch without beamwidth needs a gain above 3 dBi");
-    if (!(std::isfinite(front_to_back_db) && front_to_back_db >= 0.0))
-      throw field_error(field + ".front_to_back_db", "must be finite and >= 0 dB");
+    limits::check_range(front_to_back_db, 0.0, 200.0, field + ".front_to_back_db", "dB");
   }
   if (kind == PatternKind::kTable) {
     if (!table) throw field_error(field + ".table", "a table pattern needs a table");
@@ -114,7 +114,7 @@ void AntennaPattern::validate(const std::string& field) const {
         t.elevation_deg.back() > 90.0)
       throw field_error(field + ".table", "azimuth must lie in [-180, 180] and elevation in [-90, 90] degrees");
     for (double g : t.gain_dbi)
-      if (!std::isfinite(g)) throw field_error(field + ".table", "gains must be finite");
+      limits::check_range(g, -limits::kMaxGainDbi, limits::kMaxGainDbi, field + ".table", "dBi");
   }
 }
 
@@ -129,7 +129,7 @@ PatternKind parse_pattern_kind(const std::string& name, const std::string& field
   if (name == "dipole") return PatternKind::kDipole;
   if (name == "patch") return PatternKind::kPatch;
   if (name == "table") return PatternKind::kTable;
-  throw field_error(field, "unknown pattern '" + name + "' (isotropic, dipole, patch, table)");
+  throw field_error(field, "unknown pattern '" + clip(name) + "' (isotropic, dipole, patch, table)");
 }
 
 const char* to_string(PatternKind kind) {

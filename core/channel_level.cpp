@@ -35,7 +35,7 @@ std::optional<ChannelLevel> parse_channel_level(std::string_view name) {
 
 ChannelLevel parse_channel_level(const std::string& name, const std::string& field) {
   if (const auto l = parse_channel_level(std::string_view(name))) return *l;
-  throw field_error(field, "unknown channel '" + name + "' (known: " + channel_level_names() + ")");
+  throw field_error(field, "unknown channel '" + clip(name) + "' (known: " + channel_level_names() + ")");
 }
 
 }  // namespace rfidray

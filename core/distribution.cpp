@@ -70,7 +70,7 @@ OptionalDistribution parse_distribution(const std::string& name, const std::vect
   const Spec* spec = nullptr;
   for (const Spec& sp : kSpecs)
     if (canonical == sp.name) spec = &sp;
-  if (!spec) throw field_error(field, "unknown distribution '" + name + "' (valid: " + valid_names() + ")");
+  if (!spec) throw field_error(field, "unknown distribution '" + clip(name) + "' (valid: " + valid_names() + ")");
 
   const std::string pfield = field + "_params";
   auto fail = [&](const std::string& why) {

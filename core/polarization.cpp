@@ -50,7 +50,7 @@ PolarizationKind parse_polarization_kind(const std::string& name, const std::str
   if (name == "linear") return PolarizationKind::kLinear;
   if (name == "rhcp" || name == "circular") return PolarizationKind::kCircularRight;
   if (name == "lhcp") return PolarizationKind::kCircularLeft;
-  throw field_error(field, "unknown polarization '" + name + "' (linear, rhcp, lhcp; circular = rhcp)");
+  throw field_error(field, "unknown polarization '" + clip(name) + "' (linear, rhcp, lhcp; circular = rhcp)");
 }
 
 const char* to_string(PolarizationKind kind) {

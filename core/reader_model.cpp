@@ -4,9 +4,11 @@
 #include <cmath>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/distribution.h"
 #include "core/error.h"
+#include "core/limits.h"
 #include "core/units.h"
 
 namespace rfidray {
@@ -44,7 +46,7 @@ void require_non_negative(double v, const std::string& field) {
 }
 
 void validate_polarization(const Polarization& p, const std::string& field) {
-  if (!p.axis_local.allFinite() || p.axis_local.norm() < 1e-12)
+  if (!p.axis_local.allFinite() || !std::isfinite(p.axis_local.norm()) || p.axis_local.norm() < 1e-12)
     throw field_error(field + ".axis", "must be a finite, non-zero vector");
 }
 
@@ -111,7 +113,10 @@ Reading paper_reading(const ReaderParams& reader, const LinkState& link, Rng& rn
 Reading physical_reading(const ReaderParams& reader, const TagParams& tag, const LinkState& link, Rng& rng) {
   check_link(reader, link);
   if (!(std::isfinite(link.h_one_way.real()) && std::isfinite(link.h_one_way.imag())))
-    throw field_error(link_field(reader, "h_one_way"), "channel must be finite");
+    // Inputs are range-checked where they enter, so this is a bug, not bad input (exit 1, not 2).
+    throw std::logic_error("internal error: the channel of antenna '" + reader.name + "' gave a non-finite h (" +
+                           num(link.h_one_way.real()) + ", " + num(link.h_one_way.imag()) + ") at " +
+                           num(link.frequency_hz) + " Hz, distance " + num(link.distance_m) + " m");
   std::normal_distribution<double> unit(0.0, 1.0);
   const double z_phi = unit(rng);
   const double n_opt = sample(reader.optional_distribution, rng);
@@ -164,7 +169,9 @@ Reading read_tag(const ReaderParams& reader, const TagParams& tag, const LinkSta
 void validate(const ReaderParams& reader, const std::string& field) {
   if (reader.frequencies_hz.empty()) throw field_error(field + ".frequency", "needs at least one frequency");
   for (size_t i = 0; i < reader.frequencies_hz.size(); ++i)
-    require_positive(reader.frequencies_hz[i], field + ".frequency[" + std::to_string(i) + "]");
+    limits::check_range(reader.frequencies_hz[i], limits::kMinFrequencyHz, limits::kMaxFrequencyHz,
+                        field + (reader.frequencies_hz.size() == 1 ? ".frequency" : ".frequency[" + std::to_string(i) + "]"),
+                        "Hz");
   if (reader.phase_offsets_rad.size() != reader.frequencies_hz.size())
     throw field_error(field + ".phase_offset", "needs one φ0 per frequency (" +
                                                    std::to_string(reader.frequencies_hz.size()) + " frequencies, " +
@@ -172,10 +179,10 @@ void validate(const ReaderParams& reader, const std::string& field) {
   for (size_t i = 0; i < reader.phase_offsets_rad.size(); ++i)
     require_finite(reader.phase_offsets_rad[i], field + ".phase_offset[" + std::to_string(i) + "]");
   require_positive(reader.hop_dwell_s, field + ".hop_dwell_s");
-  require_finite(reader.tx_power_dbm, field + ".tx_power_dbm");
-  require_non_negative(reader.noise_phi_rad, field + ".noisephi");
-  require_non_negative(reader.noise_rssi, field + ".noiserssi");
-  require_non_negative(reader.noise_rssi_db, field + ".noise_rssi_db");
+  limits::check_range(reader.tx_power_dbm, -limits::kMaxPowerDbm, limits::kMaxPowerDbm, field + ".tx_power_dbm", "dBm");
+  limits::check_range(reader.noise_phi_rad, 0.0, limits::kMaxNoisePhaseRad, field + ".noisephi", "rad");
+  limits::check_range(reader.noise_rssi, 0.0, limits::kMaxNoiseRssiLinear, field + ".noiserssi", "(σ of n_RSSI)");
+  limits::check_range(reader.noise_rssi_db, 0.0, limits::kMaxNoiseRssiDb, field + ".noise_rssi_db", "dB");
   require_positive(reader.range_m, field + ".range");
   require_non_negative(reader.range_sigma, field + ".range_sigma");
   // Re-parse so that a hand-built OptionalDistribution gets the same checks as a parsed one.
@@ -184,11 +191,12 @@ void validate(const ReaderParams& reader, const std::string& field) {
                          : to_string(reader.optional_distribution.kind),
                      reader.optional_distribution.params, field + ".optional_distribution");
   require_positive(reader.communication_gain, field + ".communication_gain");
+  limits::check_range(reader.communication_gain, 0.0, 1e10, field + ".communication_gain", "(linear)");
   require_positive(reader.update_rate_hz, field + ".update_rate");
   if (reader.phase_bits < 0 || reader.phase_bits > 32)
     throw field_error(field + ".phase_bits", "must be in [0, 32] (got " + std::to_string(reader.phase_bits) + ")");
-  require_non_negative(reader.rssi_resolution_db, field + ".rssi_resolution_db");
-  require_finite(reader.sensitivity_dbm, field + ".sensitivity_dbm");
+  limits::check_range(reader.rssi_resolution_db, 0.0, 100.0, field + ".rssi_resolution_db", "dB");
+  limits::check_range(reader.sensitivity_dbm, -limits::kMaxPowerDbm, limits::kMaxPowerDbm, field + ".sensitivity_dbm", "dBm");
   if (!(std::isfinite(reader.modulation_factor) && reader.modulation_factor > 0.0 && reader.modulation_factor <= 1.0))
     throw field_error(field + ".modulation_factor", "must be in (0, 1] (got " + num(reader.modulation_factor) + ")");
   reader.pattern.validate(field + ".pattern");
@@ -198,7 +206,7 @@ void validate(const ReaderParams& reader, const std::string& field) {
     throw field_error(field + ".phase_centre_offset_m", "must be within 10 m of the antenna (got " +
                                                             num(reader.phase_centre_offset_m.norm()) + " m)");
   validate(reader.phase_pattern, field + ".phase_pattern");
-  require_non_negative(reader.snr_at_sensitivity_db, field + ".snr_at_sensitivity_db");
+  limits::check_range(reader.snr_at_sensitivity_db, 0.0, 100.0, field + ".snr_at_sensitivity_db", "dB");
   if (!reader.read_probability.empty() && reader.read_probability.size() != 1 &&
       reader.read_probability.size() != reader.frequencies_hz.size())
     throw field_error(field + ".read_probability", "needs one value or one per frequency (" +
@@ -215,8 +223,9 @@ void validate(const PhasePattern& pattern, const std::string& field) {
 }
 
 void validate(const TagParams& tag, const std::string& field) {
-  require_finite(tag.gain_dbi, field + ".gain_dbi");
-  require_finite(tag.chip_sensitivity_dbm, field + ".chip_sensitivity_dbm");
+  limits::check_range(tag.gain_dbi, -limits::kMaxGainDbi, limits::kMaxGainDbi, field + ".gain_dbi", "dBi");
+  limits::check_range(tag.chip_sensitivity_dbm, -limits::kMaxPowerDbm, limits::kMaxPowerDbm,
+                      field + ".chip_sensitivity_dbm", "dBm");
   tag.pattern.validate(field + ".pattern");
   validate_polarization(tag.polarization, field + ".polarization");
   validate(tag.phase_pattern, field + ".phase_pattern");

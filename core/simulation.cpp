@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "core/mast.h"
 #include "core/random.h"
 #include "core/reader_model.h"
@@ -197,6 +198,15 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
       validate(r, "antennas[" + std::to_string(a) + "]");
       return 0;
     });
+    // Ticks k = 0 … ⌊duration·rate⌋: bounded before anything is allocated (a duration of 1e20 s must not wrap
+    // the tick count to one tick).
+    const double ticks = std::floor(result.duration_s * r.update_rate_hz + 1e-9) + 1.0;
+    if (!(ticks <= limits::kMaxTicks))
+      throw InputError(where(scenario, scenario.duration_s ? 0 : scenario.antennas[a].source_line) +
+                       "field '" + (scenario.duration_s ? std::string("duration_s") : "antennas[" + std::to_string(a) + "].update_rate") +
+                       "': " + fmt(result.duration_s) + " s at " + fmt(r.update_rate_hz) + " Hz is " + fmt(ticks) +
+                       " ticks for antenna '" + r.name + "' (up to " + fmt(ticks * double(std::max<size_t>(1, n_tags)) * double(sizeof(ReadRecord)) / 1e9) +
+                       " GB of readings); at most " + fmt(limits::kMaxTicks) + " ticks per antenna");
   }
 
   for (size_t i = 0; i < n_tags; ++i)

@@ -16,6 +16,7 @@
 
 #include "core/error.h"
 #include "core/geometry.h"
+#include "core/limits.h"
 
 namespace rfidray::io {
 
@@ -85,9 +86,9 @@ class YamlFile {
     try {
       v = n.as<double>();
     } catch (const YAML::Exception&) {
-      throw error(n, field, "must be a number (got '" + s + "')");
+      throw error(n, field, "must be a number (got '" + clip(s) + "')");
     }
-    if (!std::isfinite(v)) throw error(n, field, "must be a finite number (got '" + s + "')");
+    if (!std::isfinite(v)) throw error(n, field, "must be a finite number (got '" + clip(s) + "')");
     return v;
   }
   long long integer(const YAML::Node& n, const std::string& field) const {
@@ -95,7 +96,7 @@ class YamlFile {
     try {
       return n.as<long long>();
     } catch (const YAML::Exception&) {
-      throw error(n, field, "must be an integer (got '" + s + "')");
+      throw error(n, field, "must be an integer (got '" + clip(s) + "')");
     }
   }
   bool boolean(const YAML::Node& n, const std::string& field) const {
@@ -103,7 +104,7 @@ class YamlFile {
     try {
       return n.as<bool>();
     } catch (const YAML::Exception&) {
-      throw error(n, field, "must be true or false (got '" + s + "')");
+      throw error(n, field, "must be true or false (got '" + clip(s) + "')");
     }
   }
   std::vector<double> numbers(const YAML::Node& n, const std::string& field) const {
@@ -114,10 +115,19 @@ class YamlFile {
   }
   Vec3 point(const YAML::Node& n, const std::string& field, bool allow_2d = false) const {
     const std::vector<double> v = numbers(n, field);
-    if (allow_2d && v.size() == 2) return Vec3(v[0], v[1], 0.0);
+    if (allow_2d && v.size() == 2) {
+      for (size_t i = 0; i < 2; ++i)
+        if (!limits::coordinate_ok(v[i]))
+          throw error(n[i], field, "must be within ±" + num(limits::kMaxCoordinateM) + " (got " + num(v[i]) + ")");
+      return Vec3(v[0], v[1], 0.0);
+    }
     if (v.size() != 3)
       throw error(n, field, std::string("needs ") + (allow_2d ? "2 or 3" : "3") + " numbers (got " +
                                 std::to_string(v.size()) + ")");
+    // Positions (and every other 3-vector) within the coordinate range: no overflow downstream.
+    for (size_t i = 0; i < v.size(); ++i)
+      if (!limits::coordinate_ok(v[i]))
+        throw error(n[i], field, "must be within ±" + num(limits::kMaxCoordinateM) + " (got " + num(v[i]) + ")");
     return Vec3(v[0], v[1], v[2]);
   }
 
@@ -190,7 +200,7 @@ class YamlMap {
     for (auto it = node_.begin(); it != node_.end(); ++it) {
       const std::string k = it->first.Scalar();
       if (!known_.count(k) && edit_distance(k, key) <= 2)
-        throw src_.error(it->first, field(k), "unknown key '" + k + "' (did you mean '" + key + "'?)");
+        throw src_.error(it->first, field(clip(k)), "unknown key '" + clip(k) + "' (did you mean '" + key + "'?)");
     }
     throw src_.error(node_, field(key), "is required");
   }
@@ -207,7 +217,7 @@ class YamlMap {
     if (unknown.empty()) return;
     std::string msg = "unknown key";
     msg += unknown.size() > 1 ? "s " : " ";
-    for (size_t i = 0; i < unknown.size(); ++i) msg += (i ? ", '" : "'") + unknown[i] + "'";
+    for (size_t i = 0; i < unknown.size(); ++i) msg += (i ? ", '" : "'") + clip(unknown[i]) + "'";
     // Suggest the closest known key for the first one (typos).
     std::string best;
     size_t best_d = 3;
@@ -219,7 +229,7 @@ class YamlMap {
     std::string known;
     for (const std::string& k : known_) known += (known.empty() ? "" : ", ") + k;
     msg += "; known keys here: " + known;
-    throw src_.error(first, field(unknown[0]), msg);
+    throw src_.error(first, field(clip(unknown[0])), msg);
   }
 
  private:

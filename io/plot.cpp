@@ -70,8 +70,10 @@ void write_png(const std::filesystem::path& png, const std::vector<Panel>& panel
   g.close();
   const std::string dir = png.has_parent_path() ? png.parent_path().string() : ".";
   const std::string cmd = "cd " + quoted(dir) + " && gnuplot " + quoted(gp.filename().string()) + " 2>&1";
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)
+    throw std::runtime_error("cannot draw " + png.string() + ": gnuplot not found (install it: apt-get install gnuplot-nox)");
   if (std::system(cmd.c_str()) != 0)
-    throw std::runtime_error("gnuplot failed on " + gp.string() + " (install it: apt-get install gnuplot-nox)");
+    throw std::runtime_error("gnuplot failed on " + gp.string() + " (its messages are above; data in " + dat.string() + ")");
 }
 
 }  // namespace rfidray::io

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <stdexcept>
 #include <tuple>
 
 #include "core/error.h"
@@ -16,7 +17,11 @@ namespace {
 
 // Fixed-point text, correctly rounded (std::to_chars: same digits as printf "%.*f", several times faster);
 // values that print as zero print as "0.…" (never "-0.…").
-void put(std::ostream& out, double v, int decimals) {
+// A non-finite value is a bug upstream (inputs are range-checked where they enter): refuse to write it.
+void put(std::ostream& out, double v, int decimals, const char* file, const char* column) {
+  if (!std::isfinite(v))
+    throw std::logic_error(std::string("internal error: ") + file + " column '" + column + "': non-finite value " +
+                           (std::isnan(v) ? "nan" : v > 0 ? "inf" : "-inf") + " (not written)");
   char buf[400];  // fixed notation of the largest double: 309 digits + decimals
   const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
   if (ec != std::errc()) throw InputError("readings CSV: cannot format value");
@@ -39,23 +44,28 @@ void put_row(std::ostream& out, double time_s, const Pose& pose, const std::stri
              double phase_rad, double rssi, const std::string& antenna, double frequency_hz, int hop_index) {
   const Vec3& p = pose.position;
   const Quat& q = pose.orientation;
-  put(out, time_s, 6);
+  constexpr const char* kFile = "readings CSV";
+  put(out, time_s, 6, kFile, "time");
+  const char* pos_col[] = {"posx", "posy", "posz"};
+  const char* quat_col[] = {"q1", "q2", "q3", "q4"};
+  int k = 0;
   for (double v : {p.x(), p.y(), p.z()}) {
     out << ',';
-    put(out, v, 6);
+    put(out, v, 6, kFile, pos_col[k++]);
   }
+  k = 0;
   for (double v : {q.x(), q.y(), q.z(), q.w()}) {
     out << ',';
-    put(out, v, 9);
+    put(out, v, 9, kFile, quat_col[k++]);
   }
   out << ',' << tag << ',';
-  put(out, distance_m, 6);
+  put(out, distance_m, 6, kFile, "dist");
   out << ',';
-  put(out, phase_rad, 6);
+  put(out, phase_rad, 6, kFile, "phase");
   out << ',';
-  put(out, rssi, 4);
+  put(out, rssi, 4, kFile, "rssi");
   out << ',' << antenna << ',';
-  put(out, frequency_hz, 0);
+  put(out, frequency_hz, 0, kFile, "frequency_hz");
   out << ',' << hop_index << '\n';
 }
 
@@ -81,9 +91,11 @@ void write_tags_csv(std::ostream& out, const Scenario& scenario, const SceneMoti
   for (size_t i = 0; i < scenario.tags.size(); ++i) {
     const Vec3 p = motion.tags[i]->pose_at(0.0).position;
     out << scenario.tags[i].tag.name;
+    const char* col[] = {"x", "y", "z"};
+    int k = 0;
     for (double v : {p.x(), p.y(), p.z()}) {
       out << ',';
-      put(out, v, 6);
+      put(out, v, 6, "tags.csv", col[k++]);
     }
     out << '\n';
   }
@@ -104,11 +116,13 @@ void write_tag_trajectories_csv(std::ostream& out, const Scenario& scenario, con
     for (size_t i = 0; i < scenario.tags.size(); ++i) {
       if (motion.tags[i]->is_static() || t < scenario.tags[i].start_s) continue;
       const Vec3 p = motion.tags[i]->pose_at(t).position;
-      put(out, t, 6);
+      put(out, t, 6, "tags_trajectory.csv", "time");
       out << ',' << scenario.tags[i].tag.name;
+      const char* col[] = {"x", "y", "z"};
+      int k = 0;
       for (double v : {p.x(), p.y(), p.z()}) {
         out << ',';
-        put(out, v, 6);
+        put(out, v, 6, "tags_trajectory.csv", col[k++]);
       }
       out << '\n';
     }

@@ -32,11 +32,11 @@ void check_name(const YamlFile& src, const YAML::Node& n, const std::string& fie
     const bool ok = std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.' ||
                     (!file_safe && (c == ':' || c == '/' || c == '#' || c == '+'));
     if (!ok)
-      throw src.error(n, field, "'" + name + "' may only contain letters, digits and _ - ." +
+      throw src.error(n, field, "'" + clip(name) + "' may only contain letters, digits and _ - ." +
                                     std::string(file_safe ? "" : " : / # +"));
   }
   if (file_safe && (name[0] == '.' || name == "tags" || name == "tags_trajectory"))
-    throw src.error(n, field, "'" + name + "' is reserved or hidden as an output file name");
+    throw src.error(n, field, "'" + clip(name) + "' is reserved or hidden as an output file name");
 }
 
 // Orientation keys next to a position: rpy_deg [roll, pitch, yaw] (fixed axes X, Y, Z, applied in that
@@ -244,7 +244,7 @@ ReaderModelKind parse_model(const YamlFile& src, const YAML::Node& n, const std:
   const std::string s = src.scalar(n, field);
   if (s == "paper") return ReaderModelKind::kPaper;
   if (s == "physical") return ReaderModelKind::kPhysical;
-  throw src.error(n, field, "unknown reader model '" + s + "' (paper, physical)");
+  throw src.error(n, field, "unknown reader model '" + clip(s) + "' (paper, physical)");
 }
 
 // optional_distribution_params: a list, one number, or the seed plugin's string "a b" / "a, b" / "none".
@@ -261,7 +261,7 @@ std::vector<double> parse_params(const YamlFile& src, const YAML::Node& n, const
     char* end = nullptr;
     const double x = std::strtod(word.c_str(), &end);
     if (end == word.c_str() || *end != '\0' || !std::isfinite(x))
-      throw src.error(n, field, "must be numbers (got '" + s + "')");
+      throw src.error(n, field, "must be numbers (got '" + clip(s) + "')");
     v.push_back(x);
   }
   return v;
@@ -281,7 +281,7 @@ void parse_reader_keys(YamlMap& m, const YAML::Node& n, ReaderParams& r) {  // n
       if (r.frequencies_hz.empty()) throw src.error(freq->second, f, "needs at least one frequency");
     } else if (freq->first == "hopping") {
       const std::string plan = src.scalar(freq->second, f);
-      if (plan != "eu") throw src.error(freq->second, f, "unknown channel plan '" + plan + "' (eu)");
+      if (plan != "eu") throw src.error(freq->second, f, "unknown channel plan '" + clip(plan) + "' (eu)");
       r.frequencies_hz = eu_channels_hz();
     } else {
       r.frequencies_hz = {src.number(freq->second, f)};
@@ -417,7 +417,8 @@ SceneSpec parse_scene(const YamlFile& src, const YAML::Node& n, const std::files
       const std::filesystem::path p = src.scalar(file, mm.field("file"));
       mesh.file = (p.is_absolute() ? p : base_dir / p).lexically_normal().string();
       if (!std::filesystem::is_regular_file(mesh.file))
-        throw src.error(file, mm.field("file"), "no such file '" + mesh.file + "'");
+        throw src.error(file, mm.field("file"), (std::filesystem::exists(mesh.file) ? "not a regular file '" : "no such file '") +
+                                                    clip(mesh.file, 200) + "'");
       mesh.material = mm.string("material", "");
       if (auto pos = mm.get("position")) mesh.pose.position = src.point(*pos, mm.field("position"));
       mesh.pose.orientation = parse_orientation(mm);
@@ -465,7 +466,7 @@ ChannelOptionsSpec parse_channel_options(const YamlFile& src, const YAML::Node& 
   if (auto n = m.get("candidates")) {
     const std::string v = src.scalar(*n, m.field("candidates"));
     if (v != "fast" && v != "exhaustive")
-      throw src.error(*n, m.field("candidates"), "must be fast or exhaustive (got '" + v + "')");
+      throw src.error(*n, m.field("candidates"), "must be fast or exhaustive (got '" + clip(v) + "')");
     c.candidates = v;
   }
   if (auto n = m.get("candidate_rays")) {

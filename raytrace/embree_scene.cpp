@@ -12,7 +12,8 @@ void check(RTCDevice device, const char* what) {
 
 }  // namespace
 
-EmbreeScene::EmbreeScene(std::span<const TriangleMesh> meshes, const std::string& config) {
+EmbreeScene::EmbreeScene(std::span<const TriangleMesh> meshes, const std::string& config, const Vec3& origin)
+    : origin_(origin) {
   device_ = rtcNewDevice(config.empty() ? nullptr : config.c_str());
   if (!device_) throw std::runtime_error("Embree: cannot create device (config '" + config + "')");
   rtcSetDeviceMemoryMonitorFunction(
@@ -38,7 +39,7 @@ EmbreeScene::EmbreeScene(std::span<const TriangleMesh> meshes, const std::string
                                                                  3 * sizeof(uint32_t), mesh.triangles.size()));
       check(device_, "geometry buffers");
       for (size_t i = 0; i < mesh.vertices.size(); ++i)
-        for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(mesh.vertices[i][k]);
+        for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(mesh.vertices[i][k] - origin_[k]);
       for (size_t t = 0; t < mesh.triangles.size(); ++t)
         for (int k = 0; k < 3; ++k) idx[3 * t + k] = mesh.triangles[t][k];
       rtcCommitGeometry(g);

@@ -32,8 +32,11 @@ struct RayHit {
 class EmbreeScene {
  public:
   // Builds and commits the BVH. `config` is passed to rtcNewDevice (e.g. "threads=2"; "" = Embree default).
-  // Throws std::runtime_error if Embree reports an error.
-  explicit EmbreeScene(std::span<const TriangleMesh> meshes, const std::string& config = "");
+  // Embree stores float vertices relative to `origin` (Scene passes the bounding-box centre of scenes far from
+  // the world origin, e.g. in UTM coordinates, so float precision is spent on the scene, not on its offset);
+  // every query below takes world coordinates. Throws std::runtime_error if Embree reports an error.
+  explicit EmbreeScene(std::span<const TriangleMesh> meshes, const std::string& config = "",
+                       const Vec3& origin = Vec3::Zero());
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
@@ -44,7 +47,7 @@ class EmbreeScene {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh;
-    fill_ray(rh.ray, origin, dir, tnear, tfar);
+    fill_ray(rh.ray, origin - origin_, dir, tnear, tfar);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene_, &context, &rh);
@@ -65,12 +68,13 @@ class EmbreeScene {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay ray;
-    fill_ray(ray, origin, dir, tnear, tfar);
+    fill_ray(ray, origin - origin_, dir, tnear, tfar);
     rtcOccluded1(scene_, &context, &ray);
     return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
   }
 
-  RTCScene handle() const { return scene_; }  // for raw-Embree baselines in bench/
+  RTCScene handle() const { return scene_; }  // for raw-Embree baselines in bench/ (coordinates − origin())
+  const Vec3& origin() const { return origin_; }
   size_t triangle_count() const { return triangle_count_; }
   // Bytes Embree holds for this scene (geometry buffers and BVH), from its memory monitor.
   size_t embree_bytes() const { return static_cast<size_t>(std::max<int64_t>(0, embree_bytes_.load())); }
@@ -92,6 +96,7 @@ class EmbreeScene {
   }
 
   std::atomic<int64_t> embree_bytes_{0};  // updated by Embree's build threads
+  Vec3 origin_ = Vec3::Zero();
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   size_t triangle_count_ = 0;

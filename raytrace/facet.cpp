@@ -14,17 +14,19 @@ struct GridKey {
 };
 struct GridHash {
   size_t operator()(const GridKey& k) const {
-    return static_cast<size_t>(k.x * 73856093LL) ^ static_cast<size_t>(k.y * 19349663LL) ^
-           static_cast<size_t>(k.z * 83492791LL);
+    // Unsigned arithmetic: wraps instead of overflowing (the keys of georeferenced meshes reach ~1e13).
+    return static_cast<size_t>(static_cast<uint64_t>(k.x) * 73856093ULL) ^
+           static_cast<size_t>(static_cast<uint64_t>(k.y) * 19349663ULL) ^
+           static_cast<size_t>(static_cast<uint64_t>(k.z) * 83492791ULL);
   }
 };
 
-std::vector<uint32_t> weld(const TriangleMesh& mesh) {
+std::vector<uint32_t> weld(const TriangleMesh& mesh, const Vec3& origin) {
   std::unordered_map<GridKey, uint32_t, GridHash> ids;
   ids.reserve(mesh.vertices.size());
   std::vector<uint32_t> welded(mesh.vertices.size());
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const Vec3& v = mesh.vertices[i];
+    const Vec3 v = mesh.vertices[i] - origin;  // finite and within ±2e8 m (Scene checks): no overflow below
     const GridKey k{std::llround(v.x() * 1e6), std::llround(v.y() * 1e6), std::llround(v.z() * 1e6)};
     welded[i] = ids.emplace(k, static_cast<uint32_t>(ids.size())).first->second;
   }
@@ -35,7 +37,7 @@ std::vector<uint32_t> weld(const TriangleMesh& mesh) {
 
 FacetSet merge_facets(const std::vector<TriangleMesh>& meshes,
                       const std::vector<std::vector<uint32_t>>& material_of_triangle,
-                      const std::vector<uint32_t>& triangle_offset, const FacetOptions& opt) {
+                      const std::vector<uint32_t>& triangle_offset, const FacetOptions& opt, const Vec3& origin) {
   FacetSet out;
   size_t total = 0;
   for (const auto& m : meshes) total += m.triangles.size();
@@ -46,7 +48,7 @@ FacetSet merge_facets(const std::vector<TriangleMesh>& meshes,
     const TriangleMesh& mesh = meshes[mi];
     const size_t n = mesh.triangles.size();
     if (n == 0) continue;
-    const std::vector<uint32_t> welded = weld(mesh);
+    const std::vector<uint32_t> welded = weld(mesh, origin);
     // Unit normals and areas.
     std::vector<Vec3> normal(n);
     std::vector<double> area(n);

@@ -42,6 +42,7 @@ struct FacetSet {
 // the mesh's first triangle.
 FacetSet merge_facets(const std::vector<TriangleMesh>& meshes,
                       const std::vector<std::vector<uint32_t>>& material_of_triangle,
-                      const std::vector<uint32_t>& triangle_offset, const FacetOptions& options = {});
+                      const std::vector<uint32_t>& triangle_offset, const FacetOptions& options = {},
+                      const Vec3& origin = Vec3::Zero());  // vertices are welded relative to `origin`
 
 }  // namespace rfidray

@@ -2,15 +2,18 @@
 
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "core/error.h"
+#include "core/limits.h"
 
 namespace rfidray {
 namespace {
@@ -49,6 +52,9 @@ bool parse_int(std::string_view t, long long& v) {
 
 // Validates the file line by line; returns the face records in file order.
 std::vector<FaceRecord> validate_obj(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError(path.string() + ": cannot open OBJ file (not a regular file)");
   std::ifstream in(path);
   if (!in) throw InputError(path.string() + ": cannot open OBJ file");
   const std::string file = path.string();
@@ -70,11 +76,18 @@ std::vector<FaceRecord> validate_obj(const std::filesystem::path& path) {
       for (size_t i = 1; i < tok.size() && i <= 3 + (key == "v" ? 4 : 0); ++i) {
         double x;
         if (!parse_double(tok[i], x))
-          throw fail(line_no, "malformed number '" + std::string(tok[i]) + "' in '" + std::string(key) + "' line");
+          throw fail(line_no, "malformed number '" + clip(tok[i]) + "' in '" + std::string(key) + "' line");
+        if (key == "v" && i <= 3 && !limits::coordinate_ok(x))
+          throw fail(line_no, "vertex coordinate " + limits::num(x) + " m is outside ±" +
+                                  limits::num(limits::kMaxCoordinateM) + " m");
       }
       (key == "v" ? nv : key == "vt" ? nvt : nvn)++;
     } else if (key == "f") {
       if (tok.size() < 4) throw fail(line_no, "a face needs at least 3 vertices");
+      // The OBJ parser counts a face's vertices in one byte.
+      if (tok.size() - 1 > 255)
+        throw fail(line_no, "a face with " + std::to_string(tok.size() - 1) +
+                                " vertices; at most 255 per face (split it into smaller faces)");
       for (size_t i = 1; i < tok.size(); ++i) {
         std::string_view ref = tok[i];
         const long long counts[3] = {nv, nvt, nvn};
@@ -84,21 +97,28 @@ std::vector<FaceRecord> validate_obj(const std::filesystem::path& path) {
           if (!(part > 0 && idx.empty())) {
             long long k;
             if (!parse_int(idx, k) || k == 0)
-              throw fail(line_no, "malformed face index '" + std::string(tok[i]) + "'");
+              throw fail(line_no, "malformed face index '" + clip(tok[i]) + "'");
             const long long resolved = k > 0 ? k : counts[part] + k + 1;
             if (resolved < 1 || resolved > counts[part])
               throw fail(line_no, "face index " + std::to_string(k) + " out of range (" +
-                                      std::to_string(counts[part]) + " defined so far) in '" + std::string(tok[i]) + "'");
+                                      std::to_string(counts[part]) + " defined so far) in '" + clip(tok[i]) + "'");
           }
           if (slash == std::string_view::npos) break;
           ref.remove_prefix(slash + 1);
-          if (part == 2) throw fail(line_no, "malformed face index '" + std::string(tok[i]) + "'");
+          if (part == 2) throw fail(line_no, "malformed face index '" + clip(tok[i]) + "'");
         }
       }
       faces.push_back({line_no, static_cast<int>(tok.size() - 1), usemtl});
     } else if (key == "usemtl") {
       if (tok.size() < 2) throw fail(line_no, "'usemtl' without a material name");
       usemtl = std::string(tok[1]);
+    } else if (key == "mtllib") {
+      // The OBJ parser reads the material library whole: a device or FIFO would never end.
+      for (size_t i = 1; i < tok.size(); ++i) {
+        const std::filesystem::path lib = path.parent_path() / std::string(tok[i]);
+        if (std::filesystem::exists(lib, ec) && !std::filesystem::is_regular_file(lib, ec))
+          throw fail(line_no, "mtllib '" + clip(tok[i]) + "': not a regular file");
+      }
     }
   }
   return faces;
@@ -140,7 +160,9 @@ ObjScene load_obj(const std::filesystem::path& path) {
   const auto& attrib = reader.GetAttrib();
   const size_t vertex_count = attrib.vertices.size() / 3;
   std::map<std::string, size_t> mesh_of_name;
-  std::vector<std::vector<int32_t>> local_index;  // per mesh: global vertex → local (−1: not yet used)
+  // Per mesh: global vertex → local index, holding only the vertices the mesh uses (a dense array per mesh
+  // would cost meshes × vertices: quadratic for files with one `o` group per object).
+  std::vector<std::unordered_map<int, uint32_t>> local_index;
   size_t k = 0;
   for (const auto& shape : reader.GetShapes()) {
     if (shape.mesh.num_face_vertices.empty()) continue;
@@ -148,22 +170,24 @@ ObjScene load_obj(const std::filesystem::path& path) {
     auto [it, inserted] = mesh_of_name.emplace(name, out.meshes.size());
     if (inserted) {
       out.meshes.emplace_back().name = name;
-      local_index.emplace_back(vertex_count, -1);
+      local_index.emplace_back();
     }
     TriangleMesh& mesh = out.meshes[it->second];
     auto& local = local_index[it->second];
     auto vertex = [&](const tinyobj::index_t& idx) {
       const int g = idx.vertex_index;
-      if (local[g] < 0) {
-        local[g] = static_cast<int32_t>(mesh.vertices.size());
+      if (g < 0 || static_cast<size_t>(g) >= vertex_count)
+        throw InputError(file + ": face " + std::to_string(k) + " refers to a vertex the parser did not load");
+      const auto [it, inserted] = local.try_emplace(g, static_cast<uint32_t>(mesh.vertices.size()));
+      if (inserted)
         mesh.vertices.emplace_back(attrib.vertices[3 * g], attrib.vertices[3 * g + 1], attrib.vertices[3 * g + 2]);
-      }
-      return static_cast<uint32_t>(local[g]);
+      return it->second;
     };
     size_t offset = 0;
     for (const unsigned char n : shape.mesh.num_face_vertices) {
       if (k >= records.size() || records[k].vertex_count != n)
-        throw InputError(file + ": face " + std::to_string(k + 1) + " could not be matched to its line");
+        throw InputError(file + (k < records.size() ? ":" + std::to_string(records[k].line) : std::string()) +
+                         ": face " + std::to_string(k + 1) + " could not be matched to its line");
       const FaceRecord& rec = records[k++];
       const uint32_t mat = material_slot(mesh, rec.usemtl);
       const uint32_t v0 = vertex(shape.mesh.indices[offset]);
@@ -179,39 +203,52 @@ ObjScene load_obj(const std::filesystem::path& path) {
   return out;
 }
 
-void write_obj(const std::filesystem::path& path, const std::vector<TriangleMesh>& meshes) {
-  std::filesystem::path mtl = path;
-  mtl.replace_extension(".mtl");
-  std::FILE* f = std::fopen(path.string().c_str(), "w");
-  if (!f) throw InputError(path.string() + ": cannot write OBJ file");
-  std::fprintf(f, "# rfidray scene: %zu meshes; usemtl names are radio material names\nmtllib %s\n", meshes.size(),
-               mtl.filename().string().c_str());
+void write_obj(std::ostream& obj, std::ostream& mtl, const std::string& mtl_name, const std::vector<TriangleMesh>& meshes) {
+  char buf[160];
+  auto put = [&](std::ostream& out, int n) { out.write(buf, std::min<int>(n, sizeof buf - 1)); };
+  put(obj, std::snprintf(buf, sizeof buf, "# rfidray scene: %zu meshes; usemtl names are radio material names\n", meshes.size()));
+  obj << "mtllib " << mtl_name << "\n";
   std::map<std::string, int> all_materials;
   size_t base = 1;
   for (const TriangleMesh& m : meshes) {
-    std::fprintf(f, "o %s\n", m.name.c_str());
-    for (const Vec3& v : m.vertices) std::fprintf(f, "v %.10g %.10g %.10g\n", v.x(), v.y(), v.z());
+    obj << "o " << m.name << "\n";
+    for (const Vec3& v : m.vertices) {
+      if (!v.allFinite())
+        throw std::logic_error("internal error: mesh '" + m.name + "' has a non-finite vertex; OBJ not written");
+      put(obj, std::snprintf(buf, sizeof buf, "v %.10g %.10g %.10g\n", v.x(), v.y(), v.z()));
+    }
     int64_t current = -1;
     for (size_t t = 0; t < m.triangles.size(); ++t) {
       if (static_cast<int64_t>(m.triangle_material[t]) != current) {
         current = m.triangle_material[t];
-        std::fprintf(f, "usemtl %s\n", m.material_names[current].c_str());
+        obj << "usemtl " << m.material_names[current] << "\n";
         all_materials.emplace(m.material_names[current], 0);
       }
       const auto& tri = m.triangles[t];
-      std::fprintf(f, "f %zu %zu %zu\n", base + tri[0], base + tri[1], base + tri[2]);
+      put(obj, std::snprintf(buf, sizeof buf, "f %zu %zu %zu\n", base + tri[0], base + tri[1], base + tri[2]));
     }
     base += m.vertices.size();
   }
-  const bool ok = std::fclose(f) == 0;
-  std::FILE* g = std::fopen(mtl.string().c_str(), "w");
-  if (!ok || !g) throw InputError(mtl.string() + ": cannot write MTL file");
-  std::fprintf(g, "# Names are ITU-R P.2040 radio materials (raytrace/material_map.h); colours are for viewers only.\n");
+  mtl << "# Names are ITU-R P.2040 radio materials (raytrace/material_map.h); colours are for viewers only.\n";
   for (const auto& [name, unused] : all_materials) {
     const bool metal = name.find("metal") != std::string::npos;
-    std::fprintf(g, "newmtl %s\nKd %s\n\n", name.c_str(), metal ? "0.55 0.6 0.65" : "0.7 0.68 0.62");
+    mtl << "newmtl " << name << "\nKd " << (metal ? "0.55 0.6 0.65" : "0.7 0.68 0.62") << "\n\n";
   }
-  if (std::fclose(g) != 0) throw InputError(mtl.string() + ": cannot write MTL file");
+}
+
+void write_obj(const std::filesystem::path& path, const std::vector<TriangleMesh>& meshes) {
+  std::filesystem::path mtl = path;
+  mtl.replace_extension(".mtl");
+  std::ofstream obj_out(path, std::ios::binary), mtl_out;
+  if (!obj_out) throw InputError(path.string() + ": cannot write OBJ file");
+  std::ostringstream mtl_text;
+  write_obj(obj_out, mtl_text, mtl.filename().string(), meshes);
+  obj_out.close();
+  if (!obj_out) throw InputError(path.string() + ": cannot write OBJ file");
+  mtl_out.open(mtl, std::ios::binary);
+  mtl_out << mtl_text.str();
+  mtl_out.close();
+  if (!mtl_out) throw InputError(mtl.string() + ": cannot write MTL file");
 }
 
 }  // namespace rfidray

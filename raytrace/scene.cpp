@@ -1,14 +1,37 @@
 #include "raytrace/scene.h"
 
 #include <cstdio>
+#include <limits>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "raytrace/obj_loader.h"
 
 namespace rfidray {
 
 Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignment, const SceneOptions& options)
     : meshes_(std::move(meshes)) {
+  // Every vertex finite and within the coordinate range (meshes come from files, transforms, SDF poses).
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  size_t total_triangles = 0;
+  for (const TriangleMesh& m : meshes_) {
+    total_triangles += m.triangles.size();
+    for (const Vec3& v : m.vertices) {
+      if (!(limits::coordinate_ok(v.x()) && limits::coordinate_ok(v.y()) && limits::coordinate_ok(v.z())))
+        throw InputError("mesh '" + clip(m.name) + "': vertex (" + limits::num(v.x()) + ", " + limits::num(v.y()) +
+                         ", " + limits::num(v.z()) + ") is outside ±" + limits::num(limits::kMaxCoordinateM) +
+                         " m (check its position, scale and pose)");
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+  }
+  if (double(total_triangles) > limits::kMaxTriangles || total_triangles >= kNoFacet)
+    throw InputError("scene: " + std::to_string(total_triangles) + " triangles; at most " +
+                     limits::num(limits::kMaxTriangles));
+  if (lo.x() <= hi.x()) {
+    const Vec3 centre = 0.5 * (lo + hi);
+    if (centre.cwiseAbs().maxCoeff() > kRecentreBeyondM) origin_ = centre;
+  }
   ResolvedMaterials resolved = resolve_materials(meshes_, assignment);
   materials_ = std::move(resolved.materials);
   notes_ = std::move(resolved.notes);
@@ -26,10 +49,10 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
       triangle_normal_.push_back(len > 0.0 ? Vec3(c / len) : Vec3::Zero());
     }
   }
-  FacetSet fs = merge_facets(meshes_, resolved.per_triangle, triangle_offset_, options.facets);
+  FacetSet fs = merge_facets(meshes_, resolved.per_triangle, triangle_offset_, options.facets, origin_);
   facets_ = std::move(fs.facets);
   facet_of_triangle_ = std::move(fs.facet_of_triangle);
-  bvh_ = std::make_unique<EmbreeScene>(meshes_, options.embree_config);
+  bvh_ = std::make_unique<EmbreeScene>(meshes_, options.embree_config, origin_);
 }
 
 std::array<Vec3, 3> Scene::corners(uint32_t triangle) const {

@@ -36,6 +36,11 @@ class Scene {
   const std::vector<RadioMaterial>& materials() const { return materials_; }
   const std::vector<Facet>& facets() const { return facets_; }
   const EmbreeScene& bvh() const { return *bvh_; }
+  // Where the BVH and the vertex weld are centred: the bounding-box centre when the scene lies more than
+  // kRecentreBeyondM from the world origin (georeferenced meshes), else the origin itself (so scenes near the
+  // origin trace exactly as they always did). Queries always take world coordinates.
+  const Vec3& local_origin() const { return origin_; }
+  static constexpr double kRecentreBeyondM = 1e4;
   // Defaults applied and other remarks from material resolution, for the user.
   const std::vector<std::string>& notes() const { return notes_; }
 
@@ -61,6 +66,7 @@ class Scene {
   std::vector<Facet> facets_;
   std::vector<std::string> notes_;
   std::unique_ptr<EmbreeScene> bvh_;
+  Vec3 origin_ = Vec3::Zero();
 };
 
 // One line per scene material whose ITU-R P.2040 fit is extrapolated at this frequency (several are specified

@@ -11,7 +11,7 @@ const char* to_string(CandidateMode mode) {
 CandidateMode parse_candidate_mode(const std::string& name, const std::string& field) {
   if (name == "exhaustive") return CandidateMode::kExhaustive;
   if (name == "fast") return CandidateMode::kFast;
-  throw field_error(field, "unknown candidate mode '" + name + "' (exhaustive, fast)");
+  throw field_error(field, "unknown candidate mode '" + clip(name) + "' (exhaustive, fast)");
 }
 
 }  // namespace rfidray

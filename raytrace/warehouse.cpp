@@ -1,9 +1,11 @@
 #include "raytrace/warehouse.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iterator>
 
 #include "core/error.h"
+#include "core/limits.h"
 
 namespace rfidray {
 namespace {
@@ -117,18 +119,42 @@ std::vector<TriangleMesh> ground_and_wall_meshes() {
   return out;
 }
 
+namespace {
+
+// The triangle count in floating point (no overflow for any int parameters).
+double triangle_estimate(const WarehouseParams& p) {
+  const double n2 = double(p.tessellation) * p.tessellation;
+  return double(p.rows) * p.racks_per_row * (12.0 * p.shelves + 40.0) * n2 + 2 * n2 + (p.walls ? 8 * n2 : 0);
+}
+
+}  // namespace
+
 void validate(const WarehouseParams& p) {
-  if (p.rows < 1) throw field_error("rows", "must be ≥ 1");
-  if (p.racks_per_row < 1) throw field_error("racks_per_row", "must be ≥ 1");
-  if (p.shelves < 1) throw field_error("shelves", "must be ≥ 1");
-  if (p.tessellation < 1 || p.tessellation > 1000) throw field_error("tessellation", "must be in 1…1000");
-  if (!(p.rack_length_m > 0.2) || !(p.rack_depth_m > 0.2)) throw field_error("rack size", "must be > 0.2 m");
-  if (!(p.shelf_spacing_m > 0.1)) throw field_error("shelf_spacing_m", "must be > 0.1 m");
-  if (!(p.aisle_m > 0.0)) throw field_error("aisle_m", "must be > 0 m");
-  if (warehouse_triangle_count(p) > 200'000'000) throw field_error("size", "more than 200 M triangles");
+  if (p.rows < 1) throw field_error("rows", "must be ≥ 1 (got " + std::to_string(p.rows) + ")");
+  if (p.racks_per_row < 1) throw field_error("racks_per_row", "must be ≥ 1 (got " + std::to_string(p.racks_per_row) + ")");
+  if (p.shelves < 1) throw field_error("shelves", "must be ≥ 1 (got " + std::to_string(p.shelves) + ")");
+  if (p.tessellation < 1 || p.tessellation > 1000)
+    throw field_error("tessellation", "must be in 1…1000 (got " + std::to_string(p.tessellation) + ")");
+  // Lengths: finite, and small enough that every vertex stays within the coordinate range.
+  limits::check_range(p.rack_length_m, 0.2, 1e4, "rack_length_m", "m");
+  limits::check_range(p.rack_depth_m, 0.2, 1e4, "rack_depth_m", "m");
+  limits::check_range(p.shelf_spacing_m, 0.1, 1e3, "shelf_spacing_m", "m");
+  limits::check_range(p.aisle_m, 1e-3, 1e4, "aisle_m", "m");
+  const double tri = triangle_estimate(p);
+  if (tri > limits::kMaxTriangles)
+    throw field_error("size", "would generate about " + limits::num(tri) + " triangles (~" +
+                                  limits::num(tri * 60.0 / 1e9) + " GB in memory); at most " +
+                                  limits::num(limits::kMaxTriangles) + " (rows × racks × (12·shelves + 40) × tessellation²)");
+  const double extent = std::max({double(p.rows) * (p.rack_depth_m + p.aisle_m) + 2 * p.aisle_m,
+                                  double(p.racks_per_row) * (p.rack_length_m + 0.1) + 2 * p.aisle_m,
+                                  p.shelves * p.shelf_spacing_m + 1.0});
+  if (!(extent <= limits::kMaxCoordinateM))
+    throw field_error("size", "the warehouse would span " + limits::num(extent) + " m; at most " +
+                                  limits::num(limits::kMaxCoordinateM) + " m");
 }
 
 size_t warehouse_triangle_count(const WarehouseParams& p) {
+  validate(p);
   const size_t n2 = static_cast<size_t>(p.tessellation) * p.tessellation;
   const size_t per_rack = (12 * static_cast<size_t>(p.shelves) + 4 * 10) * n2;
   return static_cast<size_t>(p.rows) * p.racks_per_row * per_rack + 2 * n2 + (p.walls ? 8 * n2 : 0);

@@ -11,20 +11,33 @@
 #include <sdf/World.hh>
 #include <sdf/sdf.hh>
 
+#include <iostream>
 #include <map>
 #include <set>
+#include <sstream>
+#include <vector>
 
 #include "adapters/gazebo/gazebo_world.h"
 #include "adapters/gazebo/resource_path.h"
 #include "adapters/gazebo/rfid_sensors.h"
 #include "core/error.h"
+#include "core/limits.h"
 #include "raytrace/mesh_file.h"
 #include "raytrace/primitives.h"
 
 namespace rfidray::gazebo {
 namespace {
 
-Pose to_pose(const ignition::math::Pose3d& p) {
+// A <pose> (resolved relative to its parent): finite, within the coordinate range (core/limits.h), so no
+// inf/NaN vertex or antenna position goes further; `where` is "FILE:LINE: what".
+Pose to_pose(const ignition::math::Pose3d& p, const std::string& where) {
+  const double v[] = {p.Pos().X(), p.Pos().Y(), p.Pos().Z(), p.Rot().W(), p.Rot().X(), p.Rot().Y(), p.Rot().Z()};
+  for (int i = 0; i < 3; ++i)
+    if (!limits::coordinate_ok(v[i]))
+      throw InputError(where + ": <pose> position (" + limits::num(v[0]) + ", " + limits::num(v[1]) + ", " +
+                       limits::num(v[2]) + ") is outside ±" + limits::num(limits::kMaxCoordinateM) + " m");
+  for (int i = 3; i < 7; ++i)
+    if (!std::isfinite(v[i])) throw InputError(where + ": <pose> orientation is not finite");
   return Pose{Vec3(p.Pos().X(), p.Pos().Y(), p.Pos().Z()),
               Quat(p.Rot().W(), p.Rot().X(), p.Rot().Y(), p.Rot().Z()).normalized()};
 }
@@ -36,6 +49,38 @@ std::string located(const std::optional<std::string>& file, const std::optional<
 
 std::string describe(const sdf::Error& e, const std::string& file) {
   return located(e.FilePath(), e.LineNumber(), file) + ": " + e.Message();
+}
+
+// sdformat's console text → one line per message, colour codes and source locations dropped, and
+// "Line number=N" turned into FILE:N (the file the message names, else `file`).
+std::vector<std::string> console_lines(const std::string& text, const std::string& file) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::string clean;
+    for (size_t i = 0; i < line.size(); ++i) {
+      if (line[i] == '\x1b') {  // ESC [ ... m
+        while (i < line.size() && line[i] != 'm') ++i;
+        continue;
+      }
+      clean += line[i];
+    }
+    if (clean.find_first_not_of(" \t") == std::string::npos) continue;
+    if (clean.rfind("Error [", 0) == 0 || clean.rfind("Warning [", 0) == 0)
+      if (const size_t close = clean.find("] "); close != std::string::npos) clean = clean.substr(close + 2);
+    std::string where = file;
+    if (const size_t f = clean.find("in file ["); f != std::string::npos)
+      if (const size_t e = clean.find(']', f); e != std::string::npos) where = clean.substr(f + 9, e - f - 9);
+    if (const size_t n = clean.find("Line number="); n != std::string::npos) {
+      size_t k = n + 12;
+      std::string digits;
+      while (k < clean.size() && std::isdigit(static_cast<unsigned char>(clean[k]))) digits += clean[k++];
+      if (!digits.empty()) where += ":" + digits;
+    }
+    out.push_back(where + ": " + clip(clean, 300));
+  }
+  return out;
 }
 
 std::string element_where(const sdf::ElementPtr& e, const std::string& file) {
@@ -73,7 +118,21 @@ class Importer {
       }
     });
     sdf::Root root;
-    const sdf::Errors errors = root.Load(options_.file, config);
+    // sdformat prints some errors (malformed XML, with its line) on its console instead of returning them:
+    // capture them so the message below carries them, located.
+    std::ostringstream console;
+    sdf::Errors errors;
+    {
+      std::streambuf* const saved = std::cerr.rdbuf(console.rdbuf());
+      try {
+        errors = root.Load(options_.file, config);
+      } catch (...) {
+        std::cerr.rdbuf(saved);
+        throw;
+      }
+      std::cerr.rdbuf(saved);
+    }
+    const std::vector<std::string> console_errors = console_lines(console.str(), options_.file);
     std::string fatal;
     for (const sdf::Error& e : errors) {
       const bool unreadable = e.Code() == sdf::ErrorCode::FILE_READ || e.Code() == sdf::ErrorCode::STRING_READ;
@@ -82,13 +141,16 @@ class Importer {
       else if (e.Message() != "Failed to load a world.") w_.warnings.push_back(describe(e, options_.file));
     }
     if (!fatal.empty() || root.WorldCount() == 0) {
-      std::string all = fatal;
+      std::string all;
+      for (const std::string& l : console_errors) all += "\n  " + l;
+      all += fatal;
       if (fatal.empty())
         for (const sdf::Error& e : errors) all += "\n  " + describe(e, options_.file);
       throw InputError(options_.file + ": not a usable SDF world" +
                        (root.WorldCount() == 0 && fatal.empty() ? std::string(" (no <world> element)") : std::string()) +
                        all);
     }
+    std::cerr << console.str();  // a usable world: sdformat's console remarks pass through as before
     if (root.WorldCount() > 1)
       w_.warnings.push_back(options_.file + ": " + std::to_string(root.WorldCount()) + " worlds; using the first");
     const sdf::World* world = root.WorldByIndex(0);
@@ -117,7 +179,7 @@ class Importer {
     ignition::math::Pose3d p;
     const sdf::Errors errs = m.SemanticPose().Resolve(p);  // relative to the parent (world or model)
     for (const sdf::Error& err : errs) w_.warnings.push_back(describe(err, options_.file) + " (model '" + e.scoped_name + "')");
-    e.pose = to_pose(p);
+    e.pose = to_pose(p, element_where(m.Element(), options_.file) + ": model '" + e.scoped_name + "'");
     const int index = static_cast<int>(w_.entities.size());
     w_.entities.push_back(e);
     for (uint64_t i = 0; i < m.LinkCount(); ++i) link(*m.LinkByIndex(i), index, e.scoped_name);
@@ -134,7 +196,7 @@ class Importer {
     ignition::math::Pose3d p;
     for (const sdf::Error& err : l.SemanticPose().Resolve(p))
       w_.warnings.push_back(describe(err, options_.file) + " (link '" + e.scoped_name + "')");
-    e.pose = to_pose(p);
+    e.pose = to_pose(p, element_where(l.Element(), options_.file) + ": link '" + e.scoped_name + "'");
     const size_t index = w_.entities.size();
     w_.entities.push_back(e);
     for (uint64_t i = 0; i < l.CollisionCount(); ++i) collision(*l.CollisionByIndex(i), index);
@@ -146,7 +208,7 @@ class Importer {
     const std::string where = element_where(c.Element(), options_.file) + ": collision '" + scoped + "'";
     ignition::math::Pose3d p;
     for (const sdf::Error& err : c.SemanticPose().Resolve(p)) w_.warnings.push_back(describe(err, options_.file) + " (" + scoped + ")");
-    const Pose pose = to_pose(p);
+    const Pose pose = to_pose(p, where);
     const sdf::Geometry* g = c.Geom();
     Collision out;
     out.link = link_index;
@@ -214,7 +276,14 @@ class Importer {
         return;
     }
     out.mesh.name = scoped;
+    for (int k = 0; k < 3; ++k)
+      if (!(std::isfinite(scale[k]) && scale[k] > 0.0 && scale[k] <= 1e6))
+        throw InputError(where + ": <scale> must be in (0, 1e6] (got " + limits::num(scale[k]) + ")");
     out.mesh.transform(pose, scale);
+    for (const Vec3& v : out.mesh.vertices)
+      if (!(limits::coordinate_ok(v.x()) && limits::coordinate_ok(v.y()) && limits::coordinate_ok(v.z())))
+        throw InputError(where + ": a vertex lands at (" + limits::num(v.x()) + ", " + limits::num(v.y()) + ", " +
+                         limits::num(v.z()) + "), outside ±" + limits::num(limits::kMaxCoordinateM) + " m");
     // The most specific material rule for this surface, if any (adapters/gazebo/material_rules.h).
     std::string material;
     auto rule = [&](const std::map<std::string, std::string>& m, const std::string& key) {
@@ -252,7 +321,7 @@ class Importer {
       if (const sdf::Sensor* dom = l.SensorByName(name)) {
         ignition::math::Pose3d p;
         for (const sdf::Error& err : dom->SemanticPose().Resolve(p)) w_.warnings.push_back(where + ": " + err.Message());
-        mount.pose = to_pose(p);
+        mount.pose = to_pose(p, where);
       }
       if (kind == RfidSensorKind::kAntenna) {
         check_antenna_name(name, where);
