@@ -242,6 +242,18 @@ TEST_F(FuzzCli, AFailedWriteLeavesNoFileUnderItsFinalName) {
     EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
 }
 
+TEST_F(FuzzCli, InterruptedSimulationSaysSoAndLeavesNoOutput) {
+  // 1e8 ticks: far longer than the 1 s after which timeout(1) sends SIGINT (no timing is asserted).
+  const std::string y = write("long.yaml", "duration_s: 1e7\nantennas:\n  - {name: a1, position: [0, 0, 1], update_rate: 10}\n"
+                                           "tags:\n  - {name: far, position: [500, 0, 1]}\n");
+  const fs::path out = dir_ / "out";
+  const RunResult r = run("simulate " + y + " -q -o " + out.string(), "timeout --preserve-status -s INT 1 ");
+  EXPECT_EQ(r.status, 130) << r.output;
+  EXPECT_TRUE(contains(r.output, "interrupted (SIGINT)")) << r.output;
+  EXPECT_TRUE(contains(r.output, "no output written")) << r.output;
+  EXPECT_FALSE(fs::exists(out / "a1.csv"));
+}
+
 TEST_F(FuzzCli, OutputInsideANonDirectoryFailsCleanly) {
   write("plain", "x");
   const RunResult r = run("gen-warehouse --preset ground-wall -o " + (dir_ / "plain" / "w.obj").string());
