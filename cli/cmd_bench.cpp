@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "io/atomic_file.h"
 #include "io/plot.h"
 #include "core/error.h"
 
@@ -80,7 +81,7 @@ std::vector<std::string> ray_ratios(const fs::path& dir) {
   const nlohmann::json j = nlohmann::json::parse(std::regex_replace(text.str(), non_finite, ": null"));
   std::map<std::pair<std::string, int>, std::map<std::string, double>> rate;  // (scene, threads) → bench → rays/s
   std::map<std::string, double> triangles;
-  std::ofstream csv(dir / "rays.csv");
+  std::ostringstream csv;  // rays.csv, written atomically below (io/atomic_file.h)
   csv << "benchmark,scene,threads,rays_per_s\n";
   std::vector<std::string> scenes;
   for (const auto& b : j.at("benchmarks")) {
@@ -98,7 +99,8 @@ std::vector<std::string> ray_ratios(const fs::path& dir) {
     csv << what << "," << scene << "," << threads << "," << r << "\n";
     if (std::find(scenes.begin(), scenes.end(), scene) == scenes.end()) scenes.push_back(scene);
   }
-  std::ofstream ratio(dir / "rays_ratio.csv");
+  io::write_file_atomic(dir / "rays.csv", [&](std::ostream& out) { out << csv.str(); }, "rays.csv");
+  std::ostringstream ratio;  // rays_ratio.csv
   ratio << "scene,threads,occluded_ours_over_raw,intersect_ours_over_raw,occluded16_over_occluded1,raw_occluded1_rays_per_s\n";
   std::vector<std::string> lines;
   io::Series occ1{"occluded: ours / raw rtcOccluded1 (1 thread)", {}, {}, "linespoints"},
@@ -121,6 +123,7 @@ std::vector<std::string> ray_ratios(const fs::path& dir) {
       occ_series.x.push_back(x), occ_series.y.push_back(occ), occ_series.labels.push_back(threads == 1 ? scenes[si] : "");
       if (threads == 2) int2.x.push_back(x), int2.y.push_back(inter), p16.x.push_back(x), p16.y.push_back(pk);
     }
+  io::write_file_atomic(dir / "rays_ratio.csv", [&](std::ostream& out) { out << ratio.str(); }, "rays_ratio.csv");
   io::write_png(dir / "rays_ratio.png", {io::Panel{"Ray throughput relative to a raw Embree loop on the same rays",
                                            "scene triangles", "ratio", {occ1, occ2, int2, p16}, true, false}});
   return lines;
@@ -169,7 +172,7 @@ int run_bench(const BenchOptions& o) {
     run_program(progs / "localize_sweeps", "--out " + quoted(dir.string()) + (o.quick ? " --trials 3" : ""),
                 dir / "localize_sweeps.log");
 
-  std::ofstream md(dir / "summary.md");
+  std::ostringstream md;  // summary.md, written atomically below
   const std::time_t now = std::time(nullptr);
   char date[64];
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
@@ -184,6 +187,7 @@ int run_bench(const BenchOptions& o) {
     md << "\n";
   }
   md << "Logs of every program are beside this file (`*.log`); CSV and PNG files hold the figures.\n";
+  io::write_file_atomic(dir / "summary.md", [&](std::ostream& out) { out << md.str(); }, "summary.md");
   std::printf("rfidray bench: results in %s (summary.md)\n", dir.c_str());
   return 0;
 }

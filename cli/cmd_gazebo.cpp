@@ -65,7 +65,7 @@ std::function<int()> setup_gazebo(CLI::App& app) {
       "Stops after --duration s of simulation time, --idle-timeout s without poses, or on SIGINT/SIGTERM.");
   add_world_options(*cmd, o->world);
   cmd->add_option("--world-name", o->world_name, "Gazebo world name in topic names (default: the SDF's <world name>)");
-  cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Random seed, >= 0")->capture_default_str()->check(CLI::NonNegativeNumber);
   cmd->add_option("--channel", o->channel, "ideal | los | los+blocked | single-bounce")->capture_default_str();
   cmd->add_option("--model", o->model, "Reader model of every antenna (paper | physical); default: the world's")
       ->check(CLI::IsMember({"paper", "physical"}));

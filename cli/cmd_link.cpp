@@ -84,7 +84,15 @@ AntennaPattern parse_pattern(const std::string& text, const std::string& option)
   if (p.kind == PatternKind::kIsotropic && args.size() > 1) throw InputError("option " + option + ": expected isotropic[:GAIN_DBI]");
   if (!args.empty()) p.peak_gain_dbi = args[0];
   if (args.size() > 1) p.beamwidth_deg = args[1];
-  p.validate(option);
+  try {
+    p.validate(option);
+  } catch (const InputError& e) {  // "field '--pattern.gain_dbi': …" → "option --pattern (gain_dbi): …"
+    std::string msg = e.what();
+    const std::string head = "field '" + option + ".";
+    if (const size_t end = msg.find("': "); msg.rfind(head, 0) == 0 && end != std::string::npos)
+      msg = "option " + option + " (" + msg.substr(head.size(), end - head.size()) + "): " + msg.substr(end + 3);
+    throw InputError(msg);
+  }
   return p;
 }
 

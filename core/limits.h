@@ -34,7 +34,8 @@ inline std::string num(double v) {
 // "field 'F': must be in [lo, hi] UNIT (got v)"
 inline void check_range(double v, double lo, double hi, const std::string& field, const char* unit) {
   if (!(std::isfinite(v) && v >= lo && v <= hi))
-    throw field_error(field, "must be in [" + num(lo) + ", " + num(hi) + "] " + unit + " (got " + num(v) + ")");
+    throw field_error(field, std::string(std::isfinite(v) ? "must be in [" : "must be a finite number in [") + num(lo) +
+                                 ", " + num(hi) + "] " + unit + " (got " + num(v) + ")");
 }
 
 inline bool coordinate_ok(double v) { return std::isfinite(v) && std::abs(v) <= kMaxCoordinateM; }

@@ -170,8 +170,7 @@ void validate(const ReaderParams& reader, const std::string& field) {
   if (reader.frequencies_hz.empty()) throw field_error(field + ".frequency", "needs at least one frequency");
   for (size_t i = 0; i < reader.frequencies_hz.size(); ++i)
     limits::check_range(reader.frequencies_hz[i], limits::kMinFrequencyHz, limits::kMaxFrequencyHz,
-                        field + (reader.frequencies_hz.size() == 1 ? ".frequency" : ".frequency[" + std::to_string(i) + "]"),
-                        "Hz");
+                        field + ".frequency[" + std::to_string(i) + "]", "Hz");
   if (reader.phase_offsets_rad.size() != reader.frequencies_hz.size())
     throw field_error(field + ".phase_offset", "needs one φ0 per frequency (" +
                                                    std::to_string(reader.frequencies_hz.size()) + " frequencies, " +

@@ -93,7 +93,7 @@ void check_antenna_name(const std::string& name, const std::string& where) {
   bool ok = !name.empty() && name[0] != '.' && name != "tags" && name != "tags_trajectory";
   for (char c : name) ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.');
   if (!ok)
-    throw InputError(where + ": antenna sensor name '" + name +
+    throw InputError(where + ": antenna sensor name '" + clip(name) +
                      "' must be letters, digits and _ - . (it names the CSV file and the ROS topic)");
 }
 

@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -242,11 +243,80 @@ TEST_F(FuzzCli, AFailedWriteLeavesNoFileUnderItsFinalName) {
     EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
 }
 
-TEST_F(FuzzCli, OutputInsideANonDirectoryFailsCleanly) {
+TEST_F(FuzzCli, InterruptedSimulationSaysSoAndLeavesNoOutput) {
+  // 1e8 ticks: far longer than the 1 s after which timeout(1) sends SIGINT (no timing is asserted).
+  const std::string y = write("long.yaml", "duration_s: 1e7\nantennas:\n  - {name: a1, position: [0, 0, 1], update_rate: 10}\n"
+                                           "tags:\n  - {name: far, position: [500, 0, 1]}\n");
+  const fs::path out = dir_ / "out";
+  const RunResult r = run("simulate " + y + " -q -o " + out.string(), "timeout --preserve-status -s INT 1 ");
+  EXPECT_EQ(r.status, 130) << r.output;
+  EXPECT_TRUE(contains(r.output, "interrupted (SIGINT)")) << r.output;
+  EXPECT_TRUE(contains(r.output, "no output written")) << r.output;
+  EXPECT_FALSE(fs::exists(out / "a1.csv"));
+}
+
+TEST_F(FuzzCli, OutputInsideANonDirectoryFailsCleanlyAndSaysWhy) {
   write("plain", "x");
   const RunResult r = run("gen-warehouse --preset ground-wall -o " + (dir_ / "plain" / "w.obj").string());
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_TRUE(contains(r.output, (dir_ / "plain" / "w.obj").string())) << r.output;
+  EXPECT_TRUE(contains(r.output, "Not a directory")) << r.output;
+}
+
+// --- SDF worlds (skipped when rfidray was built without sdformat) ---
+
+std::string world_text(const std::string& frequency, const std::string& box_pose) {
+  return "<?xml version=\"1.0\"?>\n<sdf version=\"1.9\">\n  <world name=\"w\">\n"
+         "    <model name=\"robot\">\n      <static>true</static>\n      <link name=\"base\">\n"
+         "        <sensor name=\"reader\" type=\"rfid\">\n          <pose>0 0 1.5 0 0 0</pose>\n"
+         "          <update_rate>10</update_rate>\n"
+         "          <plugin name=\"rfid_antenna\" filename=\"librfid_antenna.so\">\n"
+         "            <frequency>" + frequency + "</frequency>\n          </plugin>\n        </sensor>\n"
+         "      </link>\n    </model>\n"
+         "    <model name=\"tag_1\">\n      <static>true</static>\n      <pose>3 0 1.5 0 0 0</pose>\n"
+         "      <link name=\"link\">\n        <sensor name=\"tag\" type=\"rfidtag\"><update_rate>1</update_rate></sensor>\n"
+         "      </link>\n    </model>\n"
+         "    <model name=\"crate\">\n      <static>true</static>\n      <link name=\"l\">\n"
+         "        <collision name=\"c\">\n          <pose>" + box_pose + "</pose>\n"
+         "          <geometry><box><size>1 1 1</size></box></geometry>\n        </collision>\n"
+         "      </link>\n    </model>\n  </world>\n</sdf>\n";
+}
+
+int line_of(const std::string& text, const std::string& what) {
+  const size_t at = text.find(what);
+  return at == std::string::npos ? -1 : 1 + static_cast<int>(std::count(text.begin(), text.begin() + at, '\n'));
+}
+
+TEST_F(FuzzCli, WorldErrorsNameTheirLine) {
+  const std::string good = write("good.world", world_text("866e6", "5 0 0.5 0 0 0"));
+  const RunResult ok = run("simulate --world " + good + " --duration 1 -q -o " + (dir_ / "o").string());
+  if (ok.status != 0 && contains(ok.output, "sdformat")) GTEST_SKIP() << "built without sdformat: " << ok.output;
+  ASSERT_EQ(ok.status, 0) << ok.output;
+
+  const std::string freq_text = world_text("1e-300", "5 0 0.5 0 0 0");
+  const std::string freq = write("freq.world", freq_text);
+  RunResult r = run("simulate --world " + freq + " --duration 1 -q -o " + (dir_ / "o1").string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, freq + ":" + std::to_string(line_of(freq_text, "<sensor name=\"reader\"")) + ":"))
+      << r.output;
+  EXPECT_TRUE(contains(r.output, "frequency")) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "o1" / "reader.csv"));
+
+  const std::string pose_text = world_text("866e6", "-1.7976931348623157e308 0 0.5 0 0 0");
+  const std::string pose = write("pose.world", pose_text);
+  r = run("simulate --world " + pose + " --duration 1 -q -o " + (dir_ / "o2").string() + " --channel los+blocked");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, pose + ":" + std::to_string(line_of(pose_text, "<collision")) + ":")) << r.output;
+  EXPECT_TRUE(contains(r.output, "<pose>")) << r.output;
+
+  std::string broken_text = world_text("866e6", "5 0 0.5 0 0 0");
+  broken_text.replace(broken_text.find("</pose>"), 7, "</pos>");  // the sensor's pose, line 8
+  const std::string broken = write("broken.world", broken_text);
+  r = run("simulate --world " + broken + " --duration 1 -q -o " + (dir_ / "o3").string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "not a usable SDF world")) << r.output;
+  EXPECT_TRUE(contains(r.output, broken + ":8: ")) << r.output;  // sdformat's own XML message, located
+  EXPECT_TRUE(contains(r.output, "XML_ERROR")) << r.output;
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 #include <complex>
 #include <string>
 #include <vector>
@@ -387,7 +388,8 @@ TEST(ReaderModel, BadLinkInputsThrow) {
   }
   LinkState h_nan = link_at(2.0);
   h_nan.h_one_way = {nan, 0.0};
-  EXPECT_THROW(physical_reading(phys, tag, h_nan, rng), InputError);
+  // A non-finite channel is a bug upstream (inputs are range-checked where they enter): an internal error.
+  EXPECT_THROW(physical_reading(phys, tag, h_nan, rng), std::logic_error);
   try {
     paper_reading(paper, link_at(0.0), rng);
   } catch (const InputError& e) {

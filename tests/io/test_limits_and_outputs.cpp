@@ -35,7 +35,7 @@ std::string antenna_with(const std::string& keys) {
 
 TEST(InputRanges, ReaderValuesOutOfTheirPhysicalRangeNameFileLineAndField) {
   const struct {
-    std::string keys, field;
+    std::string keys, field, line = "s.yaml:3:";
   } cases[] = {
       {"    frequency: 1e-300\n", "antennas[0].frequency"},
       {"    frequency: 2e11\n", "antennas[0].frequency"},
@@ -45,11 +45,11 @@ TEST(InputRanges, ReaderValuesOutOfTheirPhysicalRangeNameFileLineAndField) {
       {"    noise_rssi_db: 1e308\n", "antennas[0].noise_rssi_db"},
       {"    noisephi: 1e308\n", "antennas[0].noisephi"},
       {"    gain_dbi: 1e5\n", "gain_dbi"},
-      {"    pattern: {kind: patch, gain_dbi: 1e308}\n", "antennas[0].pattern.gain_dbi"},
+      {"    pattern: {kind: patch, gain_dbi: 1e308}\n", "antennas[0].pattern.gain_dbi", "s.yaml:5:"},
   };
   for (const auto& c : cases) {
     const std::string e = error_of(antenna_with(c.keys));
-    EXPECT_NE(e.find("s.yaml:3:"), std::string::npos) << c.keys << " -> " << e;
+    EXPECT_NE(e.find(c.line), std::string::npos) << c.keys << " -> " << e;
     EXPECT_NE(e.find(c.field), std::string::npos) << c.keys << " -> " << e;
     EXPECT_EQ(e.find("inf"), std::string::npos) << e;
   }

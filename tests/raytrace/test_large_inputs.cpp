@@ -142,6 +142,7 @@ TEST(Warehouse, SizeIsCheckedBeforeAllocatingWithTheEstimate) {
   WarehouseParams p;
   p.rows = 1073741824;
   p.racks_per_row = 1073741824;
+  p.shelves = 1;
   p.tessellation = 4;
   try {
     generate_warehouse(p);
