@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "localization/finish.h"
+#include "localization/joint_fit.h"
 #include "localization/range_cost.h"
 
 namespace rfidray::loc {
@@ -199,6 +200,14 @@ LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& o
   // this method's own intersection set there (the mirror cluster exists: conics are mirror-symmetric).
   if (result.ok && !result.mirror_resolved_by.empty() && (result.position - own).norm() > 0.0)
     result.position = intersection_mode_near(set, result.position, options.cluster_bandwidth_m);
+  // Honest uncertainty from the joint multi-carrier model: the region of its optimum reached from this
+  // estimate, grown by the distance to it (the cluster mode is not the least-squares point); the same
+  // consistency and uniqueness judgement (other cluster modes are the rivals).
+  if (result.ok) {
+    const JointModel model = make_joint_model(tag, options);
+    const JointFit fit = fit_joint(model, result.position, options);
+    judge_joint(result, model, fit, modes, prep, options, true);
+  }
   return result;
 }
 
