@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 
 #include "core/error.h"
@@ -177,7 +179,8 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
     Eigen::MatrixXd A = J.transpose() * J;
     Eigen::VectorXd g = J.transpose() * r;
     for (int c = 0; c < nf; ++c) A(c, c) += prior[free_params[c]], g[c] += prior[free_params[c]] * theta[free_params[c]];
-    if (mu < 0.0) mu = 1e-3 * A.diagonal().maxCoeff();
+    // Nearly linear near the truth (δ small, pattern and offsets linear): start close to Gauss–Newton.
+    if (mu < 0.0) mu = 1e-6;
     Eigen::MatrixXd Ad = A;
     Ad.diagonal() += mu * A.diagonal();
     const Eigen::VectorXd step = Ad.ldlt().solve(-g);
@@ -185,15 +188,16 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
     for (int c = 0; c < nf; ++c) t2[free_params[c]] += step[c];
     const Eigen::VectorXd r2 = problem.residuals(t2);
     const double f2 = objective(t2, r2);
+    if (std::getenv("RFIDRAY_DEBUG")) std::fprintf(stderr, "cal it %d f %.6g f2 %.6g mu %.3g\n", it, f, f2, mu);
     if (f2 < f) {
-      const bool small = (f - f2) < 1e-10 * f;
+      const bool small = (f - f2) < 1e-5 * f;
       theta = t2, r = r2, f = f2;
       J = jacobian(theta, r);
-      mu /= 3.0;
+      mu = std::max(mu / 10.0, 1e-9);
       if (small) break;
     } else {
-      mu *= 4.0;
-      if (mu > 1e12) break;
+      mu *= 10.0;
+      if (mu > 1e8) break;
     }
   }
   // Uncertainty.

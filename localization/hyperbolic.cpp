@@ -205,7 +205,8 @@ LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& o
   // consistency and uniqueness judgement (other cluster modes are the rivals).
   if (result.ok) {
     const JointModel model = make_joint_model(tag, options);
-    const JointFit fit = fit_joint(model, result.position, options);
+    const Vec3 focused = focus_near(model, result.position, model.min_wavelength_m() / 8.0, options.height_known);
+    const JointFit fit = fit_joint(model, focused, options);
     judge_joint(result, model, fit, modes, prep, options, true);
   }
   return result;

@@ -56,6 +56,26 @@ bool in_region(const Vec3& x, const PreparedTag& prep) {
 
 }  // namespace
 
+Vec3 focus_near(const JointModel& m, Vec3 x, double step, bool planar) {
+  double best = m.coherence(x);
+  while (step >= 0.001) {
+    bool moved = false;
+    Vec3 best_x = x;
+    const int zr = planar ? 0 : 2;
+    for (int dz = -zr; dz <= zr; ++dz)
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          if (dx == 0 && dy == 0 && dz == 0) continue;
+          const Vec3 c = x + step * Vec3(dx, dy, dz);
+          const double s = m.coherence(c);
+          if (s > best) best = s, best_x = c, moved = true;
+        }
+    x = best_x;
+    if (!moved) step *= 0.5;
+  }
+  return x;
+}
+
 JointModel make_joint_model(const TagReads& tag, const LocalizeOptions& options) {
   JointModelOptions mo;
   mo.stop_tolerance_m = options.stop_tolerance_m;
@@ -220,24 +240,9 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
   if (std::getenv("RFIDRAY_DEBUG"))
     std::fprintf(stderr, "judge: pos %.4f %.4f radius %.4f s2 %.3g infl %.3g res %.4f outl %d n %d\n", fit.position.x(),
                  fit.position.y(), fit.radius_m, fit.scale2, fit.inflation, fit.residual_rad, fit.outliers, model.point_count());
-  if (!fit.converged && fit.cost > 0.0) {
-    fail(FailReason::kNoConvergence, "joint wrapped-phase fit did not converge");
-    return;
-  }
-  // (a) consistency.
-  const int n = model.point_count();
-  if (fit.residual_rad > options.max_residual_rad) {
-    std::ostringstream why;
-    why << "wrapped-phase residual sigma " << fit.residual_rad << " rad > " << options.max_residual_rad << " rad";
-    fail(FailReason::kInconsistentResiduals, why.str());
-    return;
-  }
-  if (fit.outliers > options.max_outlier_fraction * n) {
-    std::ostringstream why;
-    why << fit.outliers << " of " << n << " stops are > " << options.outlier_sigmas << " sigma outliers";
-    fail(FailReason::kInconsistentResiduals, why.str());
-    return;
-  }
+  // LM only accepts cost decreases, so an iteration cap still leaves a point at least as good as its start;
+  // its region comes from the residuals and the jackknife like any other.
+
   // (b) uniqueness.
   std::vector<Vec3> positions;
   std::vector<Quat> orientations;
@@ -278,6 +283,20 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
         }
       }
     }
+  }
+  // (a) consistency (after the mirror is settled: a pattern makes the wrong side fit badly).
+  const int n = model.point_count();
+  if (fit.residual_rad > options.max_residual_rad) {
+    std::ostringstream why;
+    why << "wrapped-phase residual sigma " << fit.residual_rad << " rad > " << options.max_residual_rad << " rad";
+    fail(FailReason::kInconsistentResiduals, why.str());
+    return;
+  }
+  if (fit.outliers > options.max_outlier_fraction * n) {
+    std::ostringstream why;
+    why << fit.outliers << " of " << n << " stops are > " << options.outlier_sigmas << " sigma outliers";
+    fail(FailReason::kInconsistentResiduals, why.str());
+    return;
   }
   for (const Vec3& start : rivals) {
     const double sep = std::max(fit.radius_m, lambda4);

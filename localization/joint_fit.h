@@ -49,6 +49,10 @@ struct JointFit {
   double predicted_std_m = 0.0;    // sqrt(trace Cov_LS)
 };
 
+// The coherence peak (joint_model.h) near `start`: 5×5(×5) local grids of spacing `step_m`, moved to their best
+// point until it is the centre, then halved down to 1 mm. Puts a wrapped-phase fit into the right fringe.
+Vec3 focus_near(const JointModel& model, Vec3 start, double step_m, bool planar);
+
 JointModel make_joint_model(const TagReads& tag, const LocalizeOptions& options);
 JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOptions& options);
 

@@ -62,7 +62,7 @@ struct LocalizeOptions {
   double max_residual_rad = 0.25;  // robust σ of the wrapped residuals above this → phase too noisy
   double max_outlier_fraction = 0.2;  // stops trimmed as > 3σ̂ outliers above this → phase too noisy
   double outlier_sigmas = 3.0;
-  double max_uncertainty_m = 0.10; // a larger 95 % radius → failed (aperture too short / phase too noisy)
+  double max_uncertainty_m = 0.15; // a larger 95 % radius → failed (aperture too short / phase too noisy)
   // Uniqueness: another local optimum outside the confidence region whose cost is within unique_chi2 of the
   // best (in units of the inflated residual variance) makes the solution ambiguous.
   double unique_chi2 = 25.0;

@@ -16,29 +16,6 @@
 
 namespace rfidray::loc {
 
-namespace {
-
-Vec3 zoom_peak(const JointModel& m, Vec3 x, double step, double fine_step, bool planar) {
-  double best = m.coherence(x);
-  while (step >= fine_step) {
-    bool moved = false;
-    Vec3 best_x = x;
-    const int zr = planar ? 0 : 2;
-    for (int dz = -zr; dz <= zr; ++dz)
-      for (int dy = -2; dy <= 2; ++dy)
-        for (int dx = -2; dx <= 2; ++dx) {
-          if (dx == 0 && dy == 0 && dz == 0) continue;
-          const Vec3 c = x + step * Vec3(dx, dy, dz);
-          const double s = m.coherence(c);
-          if (s > best) best = s, best_x = c, moved = true;
-        }
-    x = best_x;
-    if (!moved) step *= 0.5;
-  }
-  return x;
-}
-
-}  // namespace
 
 LocalizeResult localize_sar(const TagReads& tag, const LocalizeOptions& options) {
   // The shared pre-checks without unwrapping splits (SAR never unwraps).
@@ -64,7 +41,7 @@ LocalizeResult localize_sar(const TagReads& tag, const LocalizeOptions& options)
   std::vector<Vec3> refined;
   size_t best = 0;
   for (long i : peaks) {
-    refined.push_back(zoom_peak(model, grid.point(i), grid.step_m / 2.0, 0.001, planar));
+    refined.push_back(focus_near(model, grid.point(i), grid.step_m / 2.0, planar));
     if (model.coherence(refined.back()) > model.coherence(refined[best])) best = refined.size() - 1;
   }
   const JointFit fit = fit_joint(model, refined[best], options);
