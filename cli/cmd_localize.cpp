@@ -25,6 +25,8 @@ struct LocalizeState {
   std::string mirror_prior = "none";
   std::string antenna_file;
   bool fold_pi = false;
+  double max_residual_rad = loc::LocalizeOptions{}.max_residual_rad;
+  double systematic_phase_rad = loc::LocalizeOptions{}.systematic_phase_rad;
   bool height_known = false;
   bool json = false;
   double frequency_hz = 865.7e6;
@@ -53,6 +55,8 @@ int run_localize(const LocalizeState& s) {
   if (!(s.frequency_hz > 0.0) || !std::isfinite(s.frequency_hz)) throw field_error("--frequency-hz", "must be a finite number > 0");
   if (!(s.max_range_m > 0.0) || !std::isfinite(s.max_range_m)) throw field_error("--max-range", "must be a finite number > 0");
   if (!(s.stride_m > 0.0) || !std::isfinite(s.stride_m)) throw field_error("--stride", "must be a finite number > 0");
+  if (!(s.max_residual_rad > 0.0) || !std::isfinite(s.max_residual_rad)) throw field_error("--max-residual-rad", "must be a finite number > 0");
+  if (!(s.systematic_phase_rad >= 0.0) || !std::isfinite(s.systematic_phase_rad)) throw field_error("--systematic-phase-rad", "must be a finite number >= 0");
   std::optional<loc::AntennaCalibration> calibration;
   if (!s.antenna_file.empty()) calibration = io::read_antenna_file(s.antenna_file);
 
@@ -76,6 +80,8 @@ int run_localize(const LocalizeState& s) {
     o.mirror_prior = prior;
     o.calibration = calibration;
     o.fold_pi = s.fold_pi;
+    o.max_residual_rad = s.max_residual_rad;
+    o.systematic_phase_rad = s.systematic_phase_rad;
     const auto t = truth.find(tag.tag);
     if (s.height_known || prior == loc::MirrorPrior::kPoint) {
       if (t == truth.end())
@@ -193,6 +199,12 @@ std::function<int()> setup_localize(CLI::App& app) {
                   "pattern applied by the joint model of nlls and sar and by the uncertainty of all methods")
       ->check(CLI::ExistingFile);
   sub->add_flag("--fold-pi", state->fold_pi, "the reader reports phase modulo pi: fit twice the phase");
+  sub->add_option("--max-residual-rad", state->max_residual_rad,
+                  "status ok needs the robust sigma of the wrapped-phase residuals below this (rad)")
+      ->capture_default_str();
+  sub->add_option("--systematic-phase-rad", state->systematic_phase_rad,
+                  "model-error allowance (rad RMS of an unmodelled smooth phase error) in uncertainty_m")
+      ->capture_default_str();
   sub->add_option("--frequency-hz", state->frequency_hz, "carrier when the CSV has no frequency column")
       ->capture_default_str();
   sub->add_option("--max-range", state->max_range_m, "search region: within this distance (m) of the path")

@@ -56,7 +56,7 @@ struct LocalizeOptions {
   double floor_sigma_rad = 0.02;   // model-error floor of each stop's σ
   // Model-error allowance (joint_fit.h): RMS of an unmodelled smooth phase error that the fit cannot see;
   // it enters uncertainty_m as a bias bound. Tuned on the AdaRF train split (real Impinj reads).
-  double systematic_phase_rad = 0.05;
+  double systematic_phase_rad = 0.1;
   double confidence = 0.95;        // of the uncertainty_m region (0.95 only: the quantiles are tabulated)
   int jackknife_blocks = 10;       // contiguous aperture blocks for the delete-one-block jackknife
   double max_residual_rad = 0.25;  // robust σ of the wrapped residuals above this → phase too noisy

@@ -46,7 +46,7 @@ std::vector<CalibrationSample> reference_tags(const Hardware& hw, uint64_t seed)
   return s;
 }
 
-TEST(JointModel, ReducesStopsToOneCircularMeanPerCarrierWithItsDispersion) {
+TEST(LocalizeJointModel, ReducesStopsToOneCircularMeanPerCarrierWithItsDispersion) {
   Hardware hw;
   hw.truth = testing::example_hardware();
   hw.reads_per_stop = 20;
@@ -68,7 +68,7 @@ TEST(JointModel, ReducesStopsToOneCircularMeanPerCarrierWithItsDispersion) {
 
 // Coverage: with calibration from reference tags, ≥ 95 % of true positions lie within uncertainty_m of the
 // ok estimates, for every method, on reads with every hardware effect at once.
-TEST(JointUncertainty, CoversTruthOnHardwareLikeReads) {
+TEST(LocalizeUncertainty, CoversTruthOnHardwareLikeReads) {
   Hardware hw;
   hw.truth = testing::example_hardware();
   hw.noise_rad = 0.15;
@@ -102,7 +102,7 @@ TEST(JointUncertainty, CoversTruthOnHardwareLikeReads) {
 }
 
 // The uncertainty is the actual one: more phase noise → a larger radius, and it grows like σ.
-TEST(JointUncertainty, RadiusFollowsTheResidualsNotNominalNoise) {
+TEST(LocalizeUncertainty, RadiusFollowsTheResidualsNotNominalNoise) {
   Hardware hw;
   hw.truth = testing::example_hardware();
   const Vec3 tag(0.5, 0.7, 0.0);
@@ -120,7 +120,7 @@ TEST(JointUncertainty, RadiusFollowsTheResidualsNotNominalNoise) {
   EXPECT_LE((b.position - tag).norm(), b.uncertainty_m);
 }
 
-TEST(JointRobustness, OutliersAreTrimmedAndPiFoldingRemovesTheAmbiguity) {
+TEST(LocalizeRobustness, OutliersAreTrimmedAndPiFoldingRemovesTheAmbiguity) {
   Hardware hw;
   hw.truth = testing::example_hardware();
   hw.outlier_fraction = 0.05;
@@ -159,7 +159,7 @@ void expect_failed_or_within(const LocalizeResult& r, const Vec3& truth, const s
   else EXPECT_NE(r.reason, FailReason::kNone) << what;
 }
 
-TEST(SarHonesty, CleanUShapedPath) {
+TEST(LocalizeSarHonesty, CleanUShapedPath) {
   const auto path = sample_polyline({Vec3(-1, -3, 1.68), Vec3(-1, 3, 1.68), Vec3(2, 3, 1.68), Vec3(2, -3, 1.68)}, 0.35, 15.0);
   SyntheticSpec s;
   s.phase_offsets_rad = {1.234};
@@ -168,7 +168,7 @@ TEST(SarHonesty, CleanUShapedPath) {
   ASSERT_TRUE(r.ok) << r.detail;  // a clean U path is well posed
 }
 
-TEST(SarHonesty, ReadsMoreThanQuarterWavelengthApart) {
+TEST(LocalizeSarHonesty, ReadsMoreThanQuarterWavelengthApart) {
   for (double speed : {1.8, 2.5, 3.5}) {
     const auto fast = sample_polyline({Vec3(-1, -3, 1.68), Vec3(-1, 3, 1.68), Vec3(2, 3, 1.68)}, speed, 15.0);
     SyntheticSpec s;
@@ -179,7 +179,7 @@ TEST(SarHonesty, ReadsMoreThanQuarterWavelengthApart) {
   }
 }
 
-TEST(SarHonesty, StrongReflectionFromAWallBehindTheTag) {
+TEST(LocalizeSarHonesty, StrongReflectionFromAWallBehindTheTag) {
   Hardware hw;
   hw.truth.frequencies_hz = testing::adarf_carriers_hz();
   hw.truth.carrier_offsets_rad.assign(8, 0.0);
