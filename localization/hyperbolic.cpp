@@ -160,8 +160,18 @@ std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, doubl
 }
 
 LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& options) {
+  // With a calibration the conics start at the phase centre (the pattern needs the unknown direction: it
+  // enters through the joint model of the uncertainty only).
+  TagReads shifted;
+  if (options.calibration) {
+    shifted = tag;
+    for (ReadGroup& g : shifted.groups)
+      if (options.calibration->antenna.empty() || options.calibration->antenna == g.antenna)
+        for (PhaseRead& r : g.reads) r.antenna_m = options.calibration->phase_centre(r.antenna_m, r.antenna_orientation);
+  }
+  const TagReads& reads = options.calibration ? shifted : tag;
   PreparedTag prep;
-  if (auto fail = prepare(tag, options, prep)) return *fail;
+  if (auto fail = prepare(reads, options, prep)) return *fail;
   double plane_z = options.tag_height_m;
   if (!options.height_known) {
     plane_z = 0.0;
