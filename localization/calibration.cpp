@@ -4,8 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
-#include <cstdio>
-#include <cstdlib>
 #include <map>
 
 #include "core/error.h"
@@ -188,7 +186,6 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
     for (int c = 0; c < nf; ++c) t2[free_params[c]] += step[c];
     const Eigen::VectorXd r2 = problem.residuals(t2);
     const double f2 = objective(t2, r2);
-    if (std::getenv("RFIDRAY_DEBUG")) std::fprintf(stderr, "cal it %d f %.6g f2 %.6g mu %.3g\n", it, f, f2, mu);
     if (f2 < f) {
       const bool small = (f - f2) < 1e-5 * f;
       theta = t2, r = r2, f = f2;

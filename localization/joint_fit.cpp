@@ -6,8 +6,6 @@
 #include <map>
 #include <numeric>
 #include <tuple>
-#include <cstdio>
-#include <cstdlib>
 #include <sstream>
 
 #include "core/units.h"
@@ -237,9 +235,6 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
     result.detail = why;
   };
   apply_fit(fit);
-  if (std::getenv("RFIDRAY_DEBUG"))
-    std::fprintf(stderr, "judge: pos %.4f %.4f radius %.4f s2 %.3g infl %.3g res %.4f outl %d n %d\n", fit.position.x(),
-                 fit.position.y(), fit.radius_m, fit.scale2, fit.inflation, fit.residual_rad, fit.outliers, model.point_count());
   // LM only accepts cost decreases, so an iteration cap still leaves a point at least as good as its start;
   // its region comes from the residuals and the jackknife like any other.
 
