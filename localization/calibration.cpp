@@ -174,20 +174,26 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   double mu = -1.0;
   Eigen::MatrixXd J = jacobian(theta, r);
   for (int it = 0; it < options.max_iterations; ++it) {
-    Eigen::MatrixXd A = J.transpose() * J;
+    Eigen::MatrixXd A = J.transpose() * J;  // (normal equations of the weighted residuals + prior)
     Eigen::VectorXd g = J.transpose() * r;
     for (int c = 0; c < nf; ++c) A(c, c) += prior[free_params[c]], g[c] += prior[free_params[c]] * theta[free_params[c]];
     // Nearly linear near the truth (δ small, pattern and offsets linear): start close to Gauss–Newton.
     if (mu < 0.0) mu = 1e-6;
     Eigen::MatrixXd Ad = A;
     Ad.diagonal() += mu * A.diagonal();
-    const Eigen::VectorXd step = Ad.ldlt().solve(-g);
+    Eigen::VectorXd step = Ad.ldlt().solve(-g);
+    // Trust region: the wrapped cost has other basins (a cycle per λ/2 of offset), so no step may move the
+    // offset by more than 1 cm or a phase parameter by more than 0.3 rad.
+    double scale = 1.0;
+    for (int c = 0; c < nf; ++c)
+      scale = std::min(scale, (free_params[c] < 3 ? 0.01 : 0.3) / std::max(std::abs(step[c]), 1e-300));
+    step *= scale;
     Eigen::VectorXd t2 = theta;
     for (int c = 0; c < nf; ++c) t2[free_params[c]] += step[c];
     const Eigen::VectorXd r2 = problem.residuals(t2);
     const double f2 = objective(t2, r2);
     if (f2 < f) {
-      const bool small = (f - f2) < 1e-5 * f;
+      const bool small = scale == 1.0 && (f - f2) < 1e-5 * f;
       theta = t2, r = r2, f = f2;
       J = jacobian(theta, r);
       mu = std::max(mu / 10.0, 1e-9);

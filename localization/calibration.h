@@ -33,7 +33,7 @@ struct CalibrationOptions {
   bool fit_pattern = true;
   double prior_offset_sd_m = 0.05;
   double prior_pattern_sd_rad = 1.0;
-  int max_iterations = 50;
+  int max_iterations = 100;
 };
 
 AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& samples, const std::string& antenna,
