@@ -3,9 +3,12 @@
 #include <chrono>
 #include <iomanip>
 #include <iostream>
+#include <cmath>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 
+#include "io/antenna_file.h"
 #include "io/readings_csv.h"
 #include "core/error.h"
 #include "localization/methods.h"
@@ -20,6 +23,10 @@ struct LocalizeState {
   std::string truth;
   std::string method = "all";
   std::string mirror_prior = "none";
+  std::string antenna_file;
+  bool fold_pi = false;
+  double max_residual_rad = loc::LocalizeOptions{}.max_residual_rad;
+  double systematic_phase_rad = loc::LocalizeOptions{}.systematic_phase_rad;
   bool height_known = false;
   bool json = false;
   double frequency_hz = 865.7e6;
@@ -44,9 +51,14 @@ int run_localize(const LocalizeState& s) {
   else if (s.mirror_prior == "truth") prior = loc::MirrorPrior::kPoint;
   else if (s.mirror_prior != "none")
     throw field_error("--mirror-prior", "must be none, boresight or truth (got '" + s.mirror_prior + "')");
-  if (s.frequency_hz <= 0.0) throw field_error("--frequency-hz", "must be > 0");
-  if (s.max_range_m <= 0.0) throw field_error("--max-range", "must be > 0");
-  if (s.stride_m <= 0.0) throw field_error("--stride", "must be > 0");
+  // `!(v > 0)` also rejects NaN (CLI11 parses "nan"); inf is no usable value either.
+  if (!(s.frequency_hz > 0.0) || !std::isfinite(s.frequency_hz)) throw field_error("--frequency-hz", "must be a finite number > 0");
+  if (!(s.max_range_m > 0.0) || !std::isfinite(s.max_range_m)) throw field_error("--max-range", "must be a finite number > 0");
+  if (!(s.stride_m > 0.0) || !std::isfinite(s.stride_m)) throw field_error("--stride", "must be a finite number > 0");
+  if (!(s.max_residual_rad > 0.0) || !std::isfinite(s.max_residual_rad)) throw field_error("--max-residual-rad", "must be a finite number > 0");
+  if (!(s.systematic_phase_rad >= 0.0) || !std::isfinite(s.systematic_phase_rad)) throw field_error("--systematic-phase-rad", "must be a finite number >= 0");
+  std::optional<loc::AntennaCalibration> calibration;
+  if (!s.antenna_file.empty()) calibration = io::read_antenna_file(s.antenna_file);
 
   std::map<std::string, Vec3> truth;
   if (!s.truth.empty()) truth = io::read_truth_csv(s.truth);
@@ -55,16 +67,21 @@ int run_localize(const LocalizeState& s) {
 
   std::vector<std::vector<io::ReadingRow>> files;
   for (const std::string& f : s.readings) files.push_back(io::read_readings_csv(f));
-  const std::vector<loc::TagReads> tags = io::group_by_tag(files, s.frequency_hz);
+  std::vector<loc::TagReads> tags = io::group_by_tag(files, s.frequency_hz);
+  io::label_groups_by_antenna(tags);
 
   nlohmann::json results = nlohmann::json::array();
   std::map<loc::Method, std::vector<double>> errors, times;
-  std::map<loc::Method, int> failed;
+  std::map<loc::Method, int> failed, outside;
   for (const loc::TagReads& tag : tags) {
     loc::LocalizeOptions o;
     o.max_range_m = s.max_range_m;
     o.stride_m = s.stride_m;
     o.mirror_prior = prior;
+    o.calibration = calibration;
+    o.fold_pi = s.fold_pi;
+    o.max_residual_rad = s.max_residual_rad;
+    o.systematic_phase_rad = s.systematic_phase_rad;
     const auto t = truth.find(tag.tag);
     if (s.height_known || prior == loc::MirrorPrior::kPoint) {
       if (t == truth.end())
@@ -94,7 +111,9 @@ int run_localize(const LocalizeState& s) {
         const double e = (r.position - t->second).norm();
         j["error_m"] = e;
         errors[m].push_back(e);
+        if (!(e <= r.uncertainty_m)) ++outside[m];
       }
+      j["uncertainty_m"] = r.ok ? number_or_null(r.uncertainty_m) : nullptr;
       if (r.ok && !r.mirror_resolved_by.empty()) j["mirror_resolved_by"] = r.mirror_resolved_by;
       j["reads"] = tag.read_count();
       j["time_ms"] = ms;
@@ -110,6 +129,7 @@ int run_localize(const LocalizeState& s) {
                                   {"min_error_m", number_or_null(sum.min_error_m)},
                                   {"ok", sum.ok},
                                   {"failed", sum.failed},
+                                  {"ok_outside_uncertainty", outside[m]},
                                   {"mean_time_ms", number_or_null(sum.mean_time_ms)}};
   }
   if (s.json) {
@@ -118,7 +138,7 @@ int run_localize(const LocalizeState& s) {
   }
   std::cout << std::left << std::setw(16) << "tag" << std::setw(12) << "method" << std::setw(9) << "status"
             << std::right << std::setw(10) << "x" << std::setw(10) << "y" << std::setw(10) << "z" << std::setw(12)
-            << "error_mm" << std::setw(10) << "time_ms" << "  reason\n";
+            << "error_mm" << std::setw(10) << "unc_mm" << std::setw(10) << "time_ms" << "  reason\n";
   std::cout << std::fixed;
   for (const auto& j : results) {
     std::cout << std::left << std::setw(16) << j["name"].get<std::string>() << std::setw(12)
@@ -130,6 +150,8 @@ int run_localize(const LocalizeState& s) {
     std::cout << std::setprecision(1);
     if (j.contains("error_m")) std::cout << std::setw(12) << 1000.0 * j["error_m"].get<double>();
     else std::cout << std::setw(12) << "-";
+    if (j["uncertainty_m"].is_null()) std::cout << std::setw(10) << "-";
+    else std::cout << std::setw(10) << 1000.0 * j["uncertainty_m"].get<double>();
     std::cout << std::setw(10) << j["time_ms"].get<double>();
     if (j.contains("reason")) std::cout << "  " << j["reason"].get<std::string>() << ": " << j["detail"].get<std::string>();
     std::cout << "\n";
@@ -142,7 +164,9 @@ int run_localize(const LocalizeState& s) {
       if (v[c].is_null()) std::cout << "-";
       else std::cout << 1000.0 * v[c].get<double>() << "mm";
     }
-    std::cout << "  ok=" << v["ok"] << " failed=" << v["failed"] << "\n";
+    std::cout << "  ok=" << v["ok"] << " failed=" << v["failed"];
+    if (!s.truth.empty()) std::cout << " ok_outside_uncertainty=" << v["ok_outside_uncertainty"];
+    std::cout << "\n";
   }
   return 0;
 }
@@ -170,6 +194,17 @@ std::function<int()> setup_localize(CLI::App& app) {
                   "how to settle a detected mirror ambiguity (straight path): none (report failed), boresight "
                   "(the side the antenna +X axis faces), truth (the side of the --truth position: an oracle)")
       ->capture_default_str();
+  sub->add_option("--antenna-file", state->antenna_file,
+                  "antenna calibration (YAML, from `rfidray calibrate`): phase centre, carrier offsets and phase "
+                  "pattern applied by the joint model of nlls and sar and by the uncertainty of all methods")
+      ->check(CLI::ExistingFile);
+  sub->add_flag("--fold-pi", state->fold_pi, "the reader reports phase modulo pi: fit twice the phase");
+  sub->add_option("--max-residual-rad", state->max_residual_rad,
+                  "status ok needs the robust sigma of the wrapped-phase residuals below this (rad)")
+      ->capture_default_str();
+  sub->add_option("--systematic-phase-rad", state->systematic_phase_rad,
+                  "model-error allowance (rad RMS of an unmodelled smooth phase error) in uncertainty_m")
+      ->capture_default_str();
   sub->add_option("--frequency-hz", state->frequency_hz, "carrier when the CSV has no frequency column")
       ->capture_default_str();
   sub->add_option("--max-range", state->max_range_m, "search region: within this distance (m) of the path")
@@ -177,7 +212,8 @@ std::function<int()> setup_localize(CLI::App& app) {
   sub->add_option("--stride", state->stride_m, "hyperbolic: antenna move (m) between conics (minimum)")
       ->capture_default_str();
   sub->add_flag("--json", state->json, "print JSON: results[] {name, method, status, reason?, x, y, z, error_m?, "
-                                       "time_ms} and summary per method");
+                                       "uncertainty_m (95 % radius, null when failed), time_ms} and summary per "
+                                       "method (with ok_outside_uncertainty when --truth is given)");
   return [state] { return run_localize(*state); };
 }
 

@@ -16,6 +16,7 @@ std::function<int()> setup_link(CLI::App& app);
 std::function<int()> setup_gen_warehouse(CLI::App& app);
 std::function<int()> setup_compare(CLI::App& app);
 std::function<int()> setup_localize(CLI::App& app);
+std::function<int()> setup_calibrate(CLI::App& app);
 std::function<int()> setup_bench(CLI::App& app);
 std::function<int()> setup_import(CLI::App& app);
 #ifdef RFIDRAY_HAVE_IGN_TRANSPORT
@@ -56,6 +57,7 @@ void register_commands(CLI::App& app) {
   add(app, setup_gen_warehouse);
   add(app, setup_compare);
   add(app, setup_localize);
+  add(app, setup_calibrate);
   add(app, setup_bench);
   add(app, setup_import);
   add(app, setup_gazebo);

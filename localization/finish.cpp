@@ -24,7 +24,7 @@ void gate_uncertainty(LocalizeResult& result, const PreparedTag& prep, const Ran
 }
 
 void finish_unwrapped(LocalizeResult& result, const PreparedTag& prep, const RangeCost& cost,
-                      const LocalizeOptions& options) {
+                      const LocalizeOptions& options, bool mirror) {
   result.reads_used = prep.usable_reads;
   result.segments = static_cast<int>(prep.segments.size());
   if (!result.ok) return;
@@ -54,7 +54,7 @@ void finish_unwrapped(LocalizeResult& result, const PreparedTag& prep, const Ran
   }
   const int dof_left = std::max(1, cost.residual_count() - cost.dof() - static_cast<int>(prep.segments.size()));
   gate_uncertainty(result, prep, cost, std::sqrt(cost.ssr(result.position) / dof_left), options);
-  if (!result.ok) return;
+  if (!result.ok || !mirror) return;
   Objective objective;
   objective.ssr = [&](const Vec3& x) { return cost.ssr(x); };
   objective.refine = [&](const Vec3& x) { return levenberg_marquardt(cost, x, options.lm_max_iterations).position; };

@@ -11,7 +11,8 @@ namespace rfidray::loc {
 void gate_uncertainty(LocalizeResult& result, const PreparedTag& prep, const RangeCost& cost, double sigma_m,
                       const LocalizeOptions& options);
 
+// check_mirror = false: the mirror test is left to the caller (the joint-model judgement, joint_fit.h).
 void finish_unwrapped(LocalizeResult& result, const PreparedTag& prep, const RangeCost& cost,
-                      const LocalizeOptions& options);
+                      const LocalizeOptions& options, bool check_mirror = true);
 
 }  // namespace rfidray::loc

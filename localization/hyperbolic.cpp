@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "localization/finish.h"
+#include "localization/joint_fit.h"
 #include "localization/range_cost.h"
 
 namespace rfidray::loc {
@@ -159,8 +160,18 @@ std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, doubl
 }
 
 LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& options) {
+  // With a calibration the conics start at the phase centre (the pattern needs the unknown direction: it
+  // enters through the joint model of the uncertainty only).
+  TagReads shifted;
+  if (options.calibration) {
+    shifted = tag;
+    for (ReadGroup& g : shifted.groups)
+      if (options.calibration->antenna.empty() || options.calibration->antenna == g.antenna)
+        for (PhaseRead& r : g.reads) r.antenna_m = options.calibration->phase_centre(r.antenna_m, r.antenna_orientation);
+  }
+  const TagReads& reads = options.calibration ? shifted : tag;
   PreparedTag prep;
-  if (auto fail = prepare(tag, options, prep)) return *fail;
+  if (auto fail = prepare(reads, options, prep)) return *fail;
   double plane_z = options.tag_height_m;
   if (!options.height_known) {
     plane_z = 0.0;
@@ -199,6 +210,15 @@ LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& o
   // this method's own intersection set there (the mirror cluster exists: conics are mirror-symmetric).
   if (result.ok && !result.mirror_resolved_by.empty() && (result.position - own).norm() > 0.0)
     result.position = intersection_mode_near(set, result.position, options.cluster_bandwidth_m);
+  // Honest uncertainty from the joint multi-carrier model: the region of its optimum reached from this
+  // estimate, grown by the distance to it (the cluster mode is not the least-squares point); the same
+  // consistency and uniqueness judgement (other cluster modes are the rivals).
+  if (result.ok) {
+    const JointModel model = make_joint_model(tag, options);
+    const Vec3 focused = focus_near(model, result.position, model.min_wavelength_m() / 8.0, options.height_known);
+    const JointFit fit = fit_joint(model, focused, options);
+    judge_joint(result, model, fit, modes, prep, options, true);
+  }
   return result;
 }
 

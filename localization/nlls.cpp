@@ -6,6 +6,7 @@
 
 #include "localization/finish.h"
 #include "localization/grid.h"
+#include "localization/joint_fit.h"
 #include "localization/methods.h"
 #include "localization/range_cost.h"
 
@@ -57,7 +58,21 @@ LocalizeResult localize_nlls(const TagReads& tag, const LocalizeOptions& options
   }
   result.ok = true;
   result.position = best.position;
-  finish_unwrapped(result, prep, cost, options);
+  // The unwrapped fit's own checks (cycle slips, aperture, predicted σ), then the joint multi-carrier model
+  // on the wrapped phases takes over from the unwrapped optimum: final position, honest uncertainty, and the
+  // uniqueness test (mirror and the other grid starts as rivals).
+  finish_unwrapped(result, prep, cost, options, false);
+  if (!result.ok) return result;
+  const JointModel model = make_joint_model(tag, options);
+  const Vec3 focused = focus_near(model, result.position, model.min_wavelength_m() / 8.0, options.height_known);
+  const JointFit fit = fit_joint(model, focused, options);
+  if (auto fail = check_aperture_angle(prep, fit.position, options)) {
+    fail->reads_used = result.reads_used;
+    return *fail;
+  }
+  std::vector<Vec3> rivals;
+  if (!initial) rivals = starts;
+  judge_joint(result, model, fit, rivals, prep, options);
   return result;
 }
 

@@ -1,6 +1,9 @@
 #pragma once
 // Options shared by the localization methods. Defaults are documented where they are chosen.
+#include <optional>
+
 #include "core/geometry.h"
+#include "localization/antenna_calibration.h"
 #include "localization/phase_unwrap.h"
 
 namespace rfidray::loc {
@@ -44,6 +47,25 @@ struct LocalizeOptions {
 
   // Levenberg–Marquardt.
   int lm_max_iterations = 100;
+
+  // Joint multi-carrier model (joint_model.h) and its honest uncertainty (joint_fit.h).
+  std::optional<AntennaCalibration> calibration;  // applied to the reads of its antenna (all if unnamed)
+  bool fold_pi = false;            // the reader reports phase mod π: fit 2φ
+  double stop_tolerance_m = 1e-3;  // reads within this antenna move form one stop (one circular mean)
+  double read_sigma_rad = 0.1;     // per-read σ when a stop has one read
+  double floor_sigma_rad = 0.02;   // model-error floor of each stop's σ
+  // Model-error allowance (joint_fit.h): RMS of an unmodelled smooth phase error that the fit cannot see;
+  // it enters uncertainty_m as a bias bound. Tuned on the AdaRF train split (real Impinj reads).
+  double systematic_phase_rad = 0.1;
+  double confidence = 0.95;        // of the uncertainty_m region (0.95 only: the quantiles are tabulated)
+  int jackknife_blocks = 10;       // contiguous aperture blocks for the delete-one-block jackknife
+  double max_residual_rad = 0.25;  // robust σ of the wrapped residuals above this → phase too noisy
+  double max_outlier_fraction = 0.2;  // stops trimmed as > 3σ̂ outliers above this → phase too noisy
+  double outlier_sigmas = 3.0;
+  double max_uncertainty_m = 0.15; // a larger 95 % radius → failed (aperture too short / phase too noisy)
+  // Uniqueness: another local optimum outside the confidence region whose cost is within unique_chi2 of the
+  // best (in units of the inflated residual variance) makes the solution ambiguous.
+  double unique_chi2 = 25.0;
 
   // SAR / holographic grid.
   double sar_coarse_step_fraction = 0.25;  // coarse grid step as a fraction of λ

@@ -20,6 +20,8 @@ const char* to_string(FailReason r) {
     case FailReason::kNoConvergence: return "no convergence";
     case FailReason::kAmbiguousMirror: return "ambiguous mirror solution";
     case FailReason::kNoisyPhase: return "phase too noisy";
+    case FailReason::kInconsistentResiduals: return "residuals inconsistent with the model";
+    case FailReason::kAmbiguousPeak: return "ambiguous: another optimum fits as well";
   }
   return "?";
 }

@@ -18,6 +18,8 @@ enum class FailReason {
   kNoConvergence,     // optimiser did not converge / no intersection cluster
   kAmbiguousMirror,   // a mirror solution across the (straight/planar) path fits the data as well
   kNoisyPhase,        // cycle slips in the unwrapped phase, or noise too large for the geometry
+  kInconsistentResiduals,  // residuals do not fit the model (wrapped-phase σ too large, too many outliers)
+  kAmbiguousPeak,     // another optimum (not the mirror) outside the confidence region fits nearly as well
 };
 
 const char* to_string(Method m);
@@ -32,6 +34,11 @@ struct LocalizeResult {
   Vec3 position = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   double rms_residual_m = 0.0;     // RMS of the relative-range residual at the estimate
   double predicted_std_m = 0.0;    // 1-σ position uncertainty from σ̂²(JᵀJ)⁻¹ at the estimate
+  // Radius (m) of the 95 % confidence region of `position` in the estimated coordinates (2-D when the
+  // height is known, else 3-D), from the actual residuals (joint_fit.h); NaN when failed before a fit.
+  double uncertainty_m = std::numeric_limits<double>::quiet_NaN();
+  double residual_rad = 0.0;       // robust σ of the wrapped-phase residuals of the joint fit
+  int outliers = 0;                // stops trimmed as outliers
   int reads_used = 0;
   int segments = 0;
   std::string mirror_resolved_by;  // non-empty when a detected mirror ambiguity was settled by a prior

@@ -1,0 +1,105 @@
+// `rfidray calibrate`: an antenna file (phase centre, carrier offsets, phase pattern) from reference tags at
+// known positions (localization/calibration.h, io/antenna_file.h).
+#include <CLI/CLI.hpp>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "core/error.h"
+#include "io/antenna_file.h"
+#include "io/readings_csv.h"
+#include "localization/calibration.h"
+
+namespace rfidray::cli {
+
+namespace {
+
+struct CalibrateState {
+  std::vector<std::string> pairs;
+  std::string output;
+  std::string antenna;
+  bool height_known = false;
+  bool fold_pi = false;
+  bool json = false;
+};
+
+int run_calibrate(const CalibrateState& s) {
+  std::vector<loc::CalibrationSample> samples;
+  std::set<std::string> antennas;
+  for (const std::string& pair : s.pairs) {
+    const size_t comma = pair.find(',');
+    if (comma == std::string::npos || comma == 0 || comma + 1 == pair.size() || pair.find(',', comma + 1) != std::string::npos)
+      throw field_error("--pair", "must be READINGS.csv,TRUTH.csv (got '" + pair + "')");
+    const std::string readings = pair.substr(0, comma), truth_file = pair.substr(comma + 1);
+    const auto truth = io::read_truth_csv(truth_file);
+    auto tags = io::group_by_tag({io::read_readings_csv(readings)}, 865.7e6);
+    io::label_groups_by_antenna(tags);
+    for (const loc::TagReads& t : tags) {
+      const auto it = truth.find(t.tag);
+      if (it == truth.end()) continue;  // a tag without a known position is no reference
+      for (const auto& g : t.groups) antennas.insert(g.antenna);
+      samples.push_back({t, it->second});
+    }
+  }
+  std::string antenna = s.antenna;
+  if (antenna.empty()) {
+    if (antennas.size() != 1)
+      throw field_error("--antenna", "the readings hold " + std::to_string(antennas.size()) +
+                                         " antennas: name the one to calibrate");
+    antenna = *antennas.begin();
+  }
+  loc::CalibrationOptions o;
+  o.planar = s.height_known;
+  o.fold_pi = s.fold_pi;
+  const loc::AntennaCalibration c = loc::calibrate_antenna(samples, antenna, o);
+  {
+    std::ofstream out(s.output);
+    if (!out) throw InputError(s.output + ": cannot write antenna file");
+    io::write_antenna_file(out, c);
+  }
+  if (s.json) {
+    nlohmann::json j{{"antenna", c.antenna},
+                     {"output", s.output},
+                     {"phase_centre_offset_m", {c.phase_centre_offset_m.x(), c.phase_centre_offset_m.y(), c.phase_centre_offset_m.z()}},
+                     {"phase_centre_offset_sd_m", {c.phase_centre_offset_sd_m.x(), c.phase_centre_offset_sd_m.y(), c.phase_centre_offset_sd_m.z()}},
+                     {"frequencies_hz", c.frequencies_hz},
+                     {"carrier_offsets_rad", c.carrier_offsets_rad},
+                     {"carrier_offsets_sd_rad", c.carrier_offsets_sd_rad},
+                     {"pattern_rad", c.pattern_rad},
+                     {"pattern_sd_rad", c.pattern_sd_rad},
+                     {"residual_rms_rad", c.residual_rms_rad},
+                     {"reads_used", c.reads_used},
+                     {"tags_used", c.tags_used}};
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << "antenna " << c.antenna << ": " << c.tags_used << " tag runs, " << c.reads_used
+              << " reads, residual " << c.residual_rms_rad << " rad RMS; phase centre offset ("
+              << c.phase_centre_offset_m.transpose() << ") m; " << c.frequencies_hz.size() << " carriers -> "
+              << s.output << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+std::function<int()> setup_calibrate(CLI::App& app) {
+  auto state = std::make_shared<CalibrateState>();
+  CLI::App* sub = app.add_subcommand(
+      "calibrate",
+      "Fit an antenna file (phase-centre offset, per-carrier phase offsets, phase pattern, each with its standard "
+      "uncertainty) from readings of reference tags at known positions; use it with `localize --antenna-file`.");
+  sub->add_option("--pair", state->pairs, "READINGS.csv,TRUTH.csv of one run (repeatable); truth header name,x,y,z")
+      ->required();
+  sub->add_option("-o,--output", state->output, "antenna file to write (YAML)")->required();
+  sub->add_option("--antenna", state->antenna, "antenna name to calibrate (default: the only one in the readings)");
+  sub->add_flag("--height-known", state->height_known,
+                "antenna and tags in one horizontal plane: elevation pattern terms and the vertical offset are not "
+                "fitted (the data cannot see them)");
+  sub->add_flag("--fold-pi", state->fold_pi, "the reader reports phase modulo pi: fit twice the phase");
+  sub->add_flag("--json", state->json, "print the calibration as JSON");
+  return [state] { return run_calibrate(*state); };
+}
+
+}  // namespace rfidray::cli

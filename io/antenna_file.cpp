@@ -1,0 +1,126 @@
+#include "io/antenna_file.h"
+
+#include <cmath>
+
+#include "io/checked_yaml.h"
+
+namespace rfidray::io {
+
+namespace {
+
+std::string list(const std::vector<double>& v) {
+  std::string s = "[";
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + num(v[i]);
+  return s + "]";
+}
+
+loc::AntennaCalibration parse_node(const YAML::Node& root, const std::string& source) {
+  const YamlFile src(source);
+  if (!root.IsDefined() || root.IsNull()) throw InputError(source + ": empty antenna file");
+  YamlMap m(src, root, "");
+  loc::AntennaCalibration c;
+  c.antenna = src.scalar(m.required("antenna"), "antenna");
+  c.phase_centre_offset_m = src.point(m.required("phase_centre_offset_m"), "phase_centre_offset_m");
+  if (auto n = m.get("phase_centre_offset_sd_m")) c.phase_centre_offset_sd_m = src.point(*n, "phase_centre_offset_sd_m");
+  const YAML::Node fn = m.required("frequencies_hz");
+  c.frequencies_hz = src.numbers(fn, "frequencies_hz");
+  if (c.frequencies_hz.empty()) throw src.error(fn, "frequencies_hz", "needs at least one carrier");
+  for (size_t i = 0; i < c.frequencies_hz.size(); ++i) {
+    if (c.frequencies_hz[i] <= 0.0)
+      throw src.error(fn[i], "frequencies_hz[" + std::to_string(i) + "]", "must be > 0 (got " + num(c.frequencies_hz[i]) + ")");
+    if (i > 0 && c.frequencies_hz[i] <= c.frequencies_hz[i - 1])
+      throw src.error(fn[i], "frequencies_hz[" + std::to_string(i) + "]", "must be ascending and distinct");
+  }
+  const YAML::Node on = m.required("carrier_offsets_rad");
+  c.carrier_offsets_rad = src.numbers(on, "carrier_offsets_rad");
+  if (c.carrier_offsets_rad.size() != c.frequencies_hz.size())
+    throw src.error(on, "carrier_offsets_rad", "needs one value per frequency (" + std::to_string(c.frequencies_hz.size()) +
+                                                   "), got " + std::to_string(c.carrier_offsets_rad.size()));
+  if (c.carrier_offsets_rad[0] != 0.0) throw src.error(on[0], "carrier_offsets_rad[0]", "must be 0 (offsets are relative to the first carrier)");
+  c.carrier_offsets_sd_rad.assign(c.frequencies_hz.size(), 0.0);
+  if (auto n = m.get("carrier_offsets_sd_rad")) {
+    c.carrier_offsets_sd_rad = src.numbers(*n, "carrier_offsets_sd_rad");
+    if (c.carrier_offsets_sd_rad.size() != c.frequencies_hz.size())
+      throw src.error(*n, "carrier_offsets_sd_rad", "needs one value per frequency");
+  }
+  const YAML::Node tn = m.required("pattern_terms");
+  if (!tn.IsSequence() || tn.size() != loc::kPatternTerms)
+    throw src.error(tn, "pattern_terms", "must be the list [az, el, az2, az_el, el2]");
+  for (int t = 0; t < loc::kPatternTerms; ++t)
+    if (src.scalar(tn[t], "pattern_terms[" + std::to_string(t) + "]") != loc::kPatternTermNames[t])
+      throw src.error(tn[t], "pattern_terms[" + std::to_string(t) + "]",
+                      std::string("must be '") + loc::kPatternTermNames[t] + "' (the basis is fixed: az, el, az2, az_el, el2)");
+  auto pattern = [&](const char* key, std::array<double, loc::kPatternTerms>& out, bool required) {
+    auto n = required ? std::optional<YAML::Node>(m.required(key)) : m.get(key);
+    if (!n) return;
+    const std::vector<double> v = src.numbers(*n, key);
+    if (v.size() != loc::kPatternTerms) throw src.error(*n, key, "needs " + std::to_string(loc::kPatternTerms) + " numbers");
+    std::copy(v.begin(), v.end(), out.begin());
+  };
+  pattern("pattern_rad", c.pattern_rad, true);
+  pattern("pattern_sd_rad", c.pattern_sd_rad, false);
+  c.residual_rms_rad = m.non_negative({"residual_rms_rad"}, 0.0);
+  auto count = [&](const char* key) {
+    auto n = m.get(key);
+    if (!n) return 0;
+    const long long v = src.integer(*n, key);
+    if (v < 0 || v > 2000000000LL) throw src.error(*n, key, "must be a count >= 0");
+    return static_cast<int>(v);
+  };
+  c.reads_used = count("reads_used");
+  c.tags_used = count("tags_used");
+  auto sd_check = [&](const char* key, double v) {
+    if (v < 0.0) throw src.error(root, key, "standard deviations must be >= 0");
+  };
+  for (int a = 0; a < 3; ++a) sd_check("phase_centre_offset_sd_m", c.phase_centre_offset_sd_m[a]);
+  for (double v : c.carrier_offsets_sd_rad) sd_check("carrier_offsets_sd_rad", v);
+  for (double v : c.pattern_sd_rad) sd_check("pattern_sd_rad", v);
+  m.finish();
+  return c;
+}
+
+}  // namespace
+
+loc::AntennaCalibration parse_antenna_yaml(const std::string& text, const std::string& source) {
+  return parse_node(parse_yaml_text(text, source), source);
+}
+
+loc::AntennaCalibration read_antenna_file(const std::string& path) {
+  return parse_node(load_yaml_file(path, "antenna file"), path);
+}
+
+void write_antenna_file(std::ostream& out, const loc::AntennaCalibration& c) {
+  auto vec = [](const Vec3& v) { return list({v.x(), v.y(), v.z()}); };
+  auto arr = [](const std::array<double, loc::kPatternTerms>& a) { return list(std::vector<double>(a.begin(), a.end())); };
+  out << "# rfidray antenna calibration (rfidray calibrate); model: localization/antenna_calibration.h\n";
+  out << "antenna: \"" << c.antenna << "\"\n";
+  out << "phase_centre_offset_m: " << vec(c.phase_centre_offset_m) << "   # antenna frame, boresight +X\n";
+  out << "phase_centre_offset_sd_m: " << vec(c.phase_centre_offset_sd_m) << "\n";
+  out << "frequencies_hz: " << list(c.frequencies_hz) << "\n";
+  out << "carrier_offsets_rad: " << list(c.carrier_offsets_rad) << "   # relative to the first carrier\n";
+  out << "carrier_offsets_sd_rad: " << list(c.carrier_offsets_sd_rad) << "\n";
+  out << "pattern_terms: [";
+  for (int t = 0; t < loc::kPatternTerms; ++t) out << (t ? ", " : "") << loc::kPatternTermNames[t];
+  out << "]\n";
+  out << "pattern_rad: " << arr(c.pattern_rad) << "\n";
+  out << "pattern_sd_rad: " << arr(c.pattern_sd_rad) << "\n";
+  out << "residual_rms_rad: " << num(c.residual_rms_rad) << "\n";
+  out << "reads_used: " << c.reads_used << "\n";
+  out << "tags_used: " << c.tags_used << "\n";
+}
+
+void label_groups_by_antenna(std::vector<loc::TagReads>& tags) {
+  for (loc::TagReads& t : tags)
+    for (loc::ReadGroup& g : t.groups) {
+      const size_t colon = g.antenna.find(':');
+      if (g.antenna.rfind("file", 0) != 0) continue;  // not a group_by_tag label
+      if (colon == std::string::npos) {
+        g.antenna.clear();
+        continue;
+      }
+      const size_t slash = g.antenna.rfind('/');
+      g.antenna = g.antenna.substr(colon + 1, slash == std::string::npos || slash < colon ? std::string::npos : slash - colon - 1);
+    }
+}
+
+}  // namespace rfidray::io

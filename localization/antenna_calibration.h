@@ -1,0 +1,69 @@
+#pragma once
+// What a calibration from reference tags knows about one antenna (plain values; fitted by calibration.h,
+// stored by io/antenna_file.h, applied by the joint phase model when LocalizeOptions::calibration is set).
+//
+// Model of a read of a tag at T by this antenna at position P with orientation q (boresight = local +X) on
+// carrier f (k = 4πf/c):
+//   φ = ν_tag + c_f + k |T − P'| + pattern(az, el)  (mod 2π),   P' = P + q·phase_centre_offset_m,
+// where (az, el) is the direction of T seen from P' in the antenna frame (az = atan2(y, x), el = atan2(z,
+// hypot(x, y)), radians), pattern = Σ_t coefficient_t · basis_t(az, el) over kPatternTerms (no constant:
+// a constant is one more per-tag offset ν), c_f the reader chain's offset of carrier f relative to the first
+// carrier (c_{f0} = 0). Standard uncertainties (sd) are 1-σ from the calibration fit.
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/geometry.h"
+
+namespace rfidray::loc {
+
+// Pattern basis: az, el, az², az·el, el² (radians). Low order on purpose: a UHF patch's phase varies
+// smoothly over its beam.
+inline constexpr int kPatternTerms = 5;
+inline std::array<double, kPatternTerms> pattern_basis(double az_rad, double el_rad) {
+  return {az_rad, el_rad, az_rad * az_rad, az_rad * el_rad, el_rad * el_rad};
+}
+inline const char* const kPatternTermNames[kPatternTerms] = {"az", "el", "az2", "az_el", "el2"};
+
+struct AntennaCalibration {
+  std::string antenna;                        // antenna name as in the readings' `antenna` column
+  Vec3 phase_centre_offset_m = Vec3::Zero();  // antenna frame
+  Vec3 phase_centre_offset_sd_m = Vec3::Zero();
+  std::vector<double> frequencies_hz;         // calibrated carriers, ascending; first has offset 0
+  std::vector<double> carrier_offsets_rad;    // c_f, same order
+  std::vector<double> carrier_offsets_sd_rad;
+  std::array<double, kPatternTerms> pattern_rad{};     // coefficients of pattern_basis
+  std::array<double, kPatternTerms> pattern_sd_rad{};
+  double residual_rms_rad = 0.0;  // RMS wrapped residual of the fit (per stop mean)
+  int reads_used = 0;
+  int tags_used = 0;              // tag × run pairs (each with its own nuisance offset)
+
+  bool has_carrier_offsets() const { return frequencies_hz.size() >= 2; }
+  // Index of the calibrated carrier within 1 kHz of f, or −1.
+  int carrier_index(double frequency_hz) const {
+    for (size_t i = 0; i < frequencies_hz.size(); ++i)
+      if (std::abs(frequencies_hz[i] - frequency_hz) < 1e3) return static_cast<int>(i);
+    return -1;
+  }
+  // World position of the phase centre for an antenna reference pose.
+  Vec3 phase_centre(const Vec3& antenna_m, const Quat& orientation) const {
+    return antenna_m + orientation * phase_centre_offset_m;
+  }
+  double pattern_phase_rad(double az_rad, double el_rad) const {
+    const auto b = pattern_basis(az_rad, el_rad);
+    double s = 0.0;
+    for (int t = 0; t < kPatternTerms; ++t) s += pattern_rad[t] * b[t];
+    return s;
+  }
+};
+
+// Direction (az, el) of `target` seen from `centre` in the frame of `orientation`.
+inline void direction_in_frame(const Vec3& centre, const Quat& orientation, const Vec3& target, double& az_rad,
+                               double& el_rad) {
+  const Vec3 d = orientation.conjugate() * (target - centre);
+  az_rad = std::atan2(d.y(), d.x());
+  el_rad = std::atan2(d.z(), std::hypot(d.x(), d.y()));
+}
+
+}  // namespace rfidray::loc

@@ -1,0 +1,42 @@
+#pragma once
+// Calibration of one antenna from reference tags at known positions (antenna_calibration.h has the model).
+// Input: samples = one tag's reads in one run with its true position. Unknowns: the phase-centre offset δ
+// (antenna frame, 3), the carrier offsets c_f relative to the first (lowest) carrier, the pattern
+// coefficients β, and one nuisance offset ν per sample (tag × run: the tag's own reflection phase), which is
+// eliminated in closed form (angle of Σ w e^{j(φ − c_f − kR − pattern)}). Stops are reduced to circular
+// means as in joint_model.h. Levenberg–Marquardt on the weighted wrapped residuals with a Gaussian prior
+// (δ ~ N(0, prior_offset_sd_m²), β ~ N(0, prior_pattern_sd_rad²)): the offset and the pattern are nearly
+// aliased (δ·u is itself a smooth function of direction; only the δ²/R curvature and the carrier slope tell
+// them apart), so the prior keeps the split finite and the stated sd honest about it; the prediction
+// (their sum) is what localization uses and is well determined.
+// sd = sqrt(diag(s² ρ (JᵀWJ + P)⁻¹)), s² = max(1, χ²/dof), ρ the lag-1 autocorrelation factor (joint_fit.h).
+// Throws InputError when the samples hold no reads of `antenna` or fewer than 2 samples.
+#include <string>
+#include <vector>
+
+#include "localization/antenna_calibration.h"
+#include "localization/observations.h"
+
+namespace rfidray::loc {
+
+struct CalibrationSample {
+  TagReads reads;     // one tag in one run
+  Vec3 tag_m = Vec3::Zero();
+};
+
+struct CalibrationOptions {
+  double stop_tolerance_m = 1e-3;
+  double read_sigma_rad = 0.1;
+  double floor_sigma_rad = 0.02;
+  bool fold_pi = false;
+  bool planar = false;              // antenna and tags in one horizontal plane: elevation terms and δ_z held 0
+  bool fit_pattern = true;
+  double prior_offset_sd_m = 0.05;
+  double prior_pattern_sd_rad = 1.0;
+  int max_iterations = 100;
+};
+
+AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& samples, const std::string& antenna,
+                                     const CalibrationOptions& options = {});
+
+}  // namespace rfidray::loc

@@ -1,0 +1,323 @@
+#include "localization/joint_fit.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <tuple>
+#include <sstream>
+
+#include "core/units.h"
+#include "localization/mirror.h"
+
+namespace rfidray::loc {
+
+namespace {
+
+double chi2_95(int d) { return d == 2 ? 5.991464547 : 7.814727903; }
+
+// F_{d,ν,0.95} for d = 2, 3 (tables), linear in 1/ν between the tabulated ν.
+double f_95(int d, int nu) {
+  static const int kNu[] = {2, 3, 4, 5, 6, 7, 8, 9, 10, 12, 15, 20, 30, 60};
+  static const double kF2[] = {19.00, 9.55, 6.94, 5.79, 5.14, 4.74, 4.46, 4.26, 4.10, 3.89, 3.68, 3.49, 3.32, 3.15};
+  static const double kF3[] = {19.16, 9.28, 6.59, 5.41, 4.76, 4.35, 4.07, 3.86, 3.71, 3.49, 3.29, 3.10, 2.92, 2.76};
+  const double* f = d == 2 ? kF2 : kF3;
+  const double f_inf = d == 2 ? 2.996 : 2.605;
+  if (nu <= 2) return f[0];
+  for (int i = 1; i < 14; ++i)
+    if (nu <= kNu[i]) {
+      const double a = 1.0 / kNu[i - 1], b = 1.0 / kNu[i], x = 1.0 / nu;
+      return f[i - 1] + (f[i] - f[i - 1]) * (x - a) / (b - a);
+    }
+  const double a = 1.0 / 60.0, x = 1.0 / nu;
+  return f_inf + (f[13] - f_inf) * x / a;
+}
+
+double median_abs(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  for (double& x : v) x = std::abs(x);
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+double lambda_max(const Eigen::MatrixXd& C) {
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(C);
+  return es.eigenvalues().maxCoeff();
+}
+
+bool in_region(const Vec3& x, const PreparedTag& prep) {
+  const double tol = 1e-6;
+  return x.allFinite() && !(x.array() < prep.region_min.array() - tol).any() &&
+         !(x.array() > prep.region_max.array() + tol).any();
+}
+
+}  // namespace
+
+Vec3 focus_near(const JointModel& m, Vec3 x, double step, bool planar) {
+  double best = m.coherence(x);
+  while (step >= 0.001) {
+    bool moved = false;
+    Vec3 best_x = x;
+    const int zr = planar ? 0 : 2;
+    for (int dz = -zr; dz <= zr; ++dz)
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          if (dx == 0 && dy == 0 && dz == 0) continue;
+          const Vec3 c = x + step * Vec3(dx, dy, dz);
+          const double s = m.coherence(c);
+          if (s > best) best = s, best_x = c, moved = true;
+        }
+    x = best_x;
+    if (!moved) step *= 0.5;
+  }
+  return x;
+}
+
+JointModel make_joint_model(const TagReads& tag, const LocalizeOptions& options) {
+  JointModelOptions mo;
+  mo.stop_tolerance_m = options.stop_tolerance_m;
+  mo.read_sigma_rad = options.read_sigma_rad;
+  mo.floor_sigma_rad = options.floor_sigma_rad;
+  mo.fold_pi = options.fold_pi;
+  mo.calibration = options.calibration ? &*options.calibration : nullptr;
+  return JointModel(tag, mo, options.height_known, options.tag_height_m);
+}
+
+JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOptions& options) {
+  JointFit fit;
+  const int n = model.point_count(), d = model.dof();
+  fit.mask.assign(n, 1);
+  JointLm lm = joint_lm(model, start, options.lm_max_iterations);
+  // Robust: three rounds of iteratively reweighted LM with Cauchy weights 1 / (1 + (r / 2.385 σ̂)²)
+  // (σ̂ = 1.4826 MAD of the normalised residuals), so a contiguous run of bad stops (a shadowed or
+  // coupled part of the aperture) cannot pull the fit; then stops beyond outlier_sigmas · max(σ̂, 1) are
+  // trimmed (weight 0) and the rest re-fitted with their own weights.
+  std::vector<double> robust_w(n, 1.0);
+  double robust = 0.0;
+  for (int round = 0; round < 4; ++round) {
+    Eigen::VectorXd r;
+    model.evaluate(lm.position, r, nullptr);
+    robust = std::max(1.4826 * median_abs(std::vector<double>(r.data(), r.data() + n)), 1e-12);
+    if (round == 3) break;
+    for (int i = 0; i < n; ++i) robust_w[i] = 1.0 / (1.0 + std::pow(r[i] / (2.385 * robust), 2));
+    lm = joint_lm(model, lm.position, options.lm_max_iterations, &robust_w);
+  }
+  {
+    Eigen::VectorXd r;
+    model.evaluate(lm.position, r, nullptr);
+    const double limit = options.outlier_sigmas * std::max(robust, 1.0);
+    for (int i = 0; i < n; ++i)
+      if (std::abs(r[i]) > limit) fit.mask[i] = 0, ++fit.outliers;
+    if (fit.outliers < n) lm = joint_lm(model, lm.position, options.lm_max_iterations, &fit.mask);
+  }
+  fit.position = lm.position;
+  fit.converged = lm.converged;
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  model.evaluate(fit.position, r, &J, &fit.mask);
+  fit.cost = r.squaredNorm();
+  const int inliers = n - fit.outliers;
+  const int dof_left = std::max(1, inliers - d - model.group_count());
+  fit.scale2 = std::max(1.0, fit.cost / dof_left);
+  {
+    std::vector<double> e = model.wrapped_residuals(fit.position), kept;
+    for (int i = 0; i < n; ++i)
+      if (fit.mask[i]) kept.push_back(e[i]);
+    fit.residual_rad = 1.4826 * median_abs(kept);
+  }
+  // Correlated residuals: inflation = Var(Σ r) / Σ r² (the design effect, n / n_eff), estimated on the
+  // residual sums S_c of the antenna stops c (all carriers read at one antenna position: on real data their
+  // residuals move together, multipath and pattern are nearly the same 0.5 % apart in frequency), in time
+  // order: Var(Σ r) ≈ Σ_c S_c² + 2 Σ_k Σ_c S_c S_{c+k}, the lag sum cut at the first non-positive lag
+  // (Geyer's initial positive sequence). A smooth systematic error along the aperture is correlated over
+  // many stops, which a lag-1 coefficient alone would understate.
+  {
+    std::map<std::tuple<long, long, long>, int> cluster_of;
+    std::vector<double> sum, time, count;
+    double den = 0.0;
+    const double q = std::max(options.stop_tolerance_m, 1e-6);
+    for (int i = 0; i < n; ++i) {
+      if (!fit.mask[i]) continue;
+      const Vec3& a = model.points()[i].antenna_m;
+      const auto key = std::make_tuple(std::lround(a.x() / q), std::lround(a.y() / q), std::lround(a.z() / q));
+      auto [it, inserted] = cluster_of.try_emplace(key, static_cast<int>(sum.size()));
+      if (inserted) sum.push_back(0.0), time.push_back(0.0), count.push_back(0.0);
+      sum[it->second] += r[i];
+      time[it->second] += model.points()[i].time_s;
+      count[it->second] += 1.0;
+      den += r[i] * r[i];
+    }
+    std::vector<int> order(sum.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return time[a] / count[a] < time[b] / count[b]; });
+    double var = 0.0;
+    for (double v : sum) var += v * v;
+    const double lag0 = var;
+    for (size_t lag = 1; lag0 > 0.0 && lag < order.size() / 2; ++lag) {
+      double c = 0.0;
+      for (size_t k = lag; k < order.size(); ++k) c += sum[order[k]] * sum[order[k - lag]];
+      if (c <= 0.0) break;
+      var += 2.0 * c;
+    }
+    fit.inflation = den > 0.0 ? std::clamp(var / den, 1.0, static_cast<double>(std::max(1, inliers))) : 1.0;
+  }
+  const Eigen::MatrixXd A = J.transpose() * J;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
+  if (!lu.isInvertible()) {
+    fit.radius_m = fit.predicted_std_m = std::numeric_limits<double>::infinity();
+    return fit;
+  }
+  const Eigen::MatrixXd cov_ls = fit.scale2 * fit.inflation * lu.inverse();
+  fit.predicted_std_m = std::sqrt(std::max(0.0, cov_ls.trace()));
+  double radius2 = chi2_95(d) * std::max(0.0, lambda_max(cov_ls));
+
+  // Delete-one-block jackknife over contiguous aperture blocks (by time).
+  std::vector<int> order;
+  for (int i = 0; i < n; ++i)
+    if (fit.mask[i]) order.push_back(i);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return model.points()[a].time_s < model.points()[b].time_s; });
+  const int blocks = std::min(options.jackknife_blocks, static_cast<int>(order.size()) / 5);
+  if (blocks >= d + 2) {
+    std::vector<Eigen::VectorXd> est;
+    for (int b = 0; b < blocks; ++b) {
+      std::vector<double> mask = fit.mask;
+      const size_t lo = order.size() * b / blocks, hi = order.size() * (b + 1) / blocks;
+      for (size_t k = lo; k < hi; ++k) mask[order[k]] = 0;
+      const JointLm lb = joint_lm(model, fit.position, 20, &mask);
+      est.push_back(model.to_unknowns(lb.position));
+    }
+    Eigen::VectorXd mean = Eigen::VectorXd::Zero(d);
+    for (const auto& e : est) mean += e;
+    mean /= blocks;
+    Eigen::MatrixXd cov_jk = Eigen::MatrixXd::Zero(d, d);
+    for (const auto& e : est) cov_jk += (e - mean) * (e - mean).transpose();
+    cov_jk *= static_cast<double>(blocks - 1) / blocks;
+    const double t2 = static_cast<double>(d) * (blocks - 1) / (blocks - d) * f_95(d, blocks - d);
+    if (cov_jk.allFinite()) radius2 = std::max(radius2, t2 * lambda_max(cov_jk));
+  }
+  fit.radius_m = std::sqrt(radius2);
+  // Model-error allowance: an unmodelled smooth phase error ε of RMS σ_sys over the N inlier stops
+  // (multipath off nearby objects, pattern residue) that happens to lie in the span of J shifts the estimate
+  // by (J_uᵀJ_u)⁻¹J_uᵀε, at most σ_sys · sqrt(N λ_max((J_uᵀJ_u)⁻¹)) (Cauchy–Schwarz; J_u unweighted, rad/m).
+  // It is invisible in the residuals (the fit absorbs it), so it is added as a bias bound, not averaged.
+  if (options.systematic_phase_rad > 0.0) {
+    Eigen::MatrixXd Ju = J;
+    for (int i = 0; i < n; ++i) {
+      const double w = model.points()[i].weight * fit.mask[i];
+      Ju.row(i) = w > 0.0 ? Eigen::RowVectorXd(J.row(i) / std::sqrt(w)) : Eigen::RowVectorXd::Zero(d);
+    }
+    Eigen::FullPivLU<Eigen::MatrixXd> lu_u(Ju.transpose() * Ju);
+    if (lu_u.isInvertible())
+      fit.radius_m += options.systematic_phase_rad * std::sqrt(inliers * std::max(0.0, lambda_max(lu_u.inverse())));
+    else
+      fit.radius_m = std::numeric_limits<double>::infinity();
+  }
+  if (!std::isfinite(fit.radius_m)) fit.radius_m = std::numeric_limits<double>::infinity();
+  return fit;
+}
+
+void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, const std::vector<Vec3>& rivals,
+                 const PreparedTag& prep, const LocalizeOptions& options, bool report_own_position) {
+  if (!result.ok) return;
+  const double lambda4 = model.min_wavelength_m() / 4.0;
+  auto apply_fit = [&](const JointFit& f) {
+    const Vec3 own = result.position;
+    result.position = report_own_position ? own : f.position;
+    result.uncertainty_m = f.radius_m + (report_own_position ? (own - f.position).norm() : 0.0);
+    result.residual_rad = f.residual_rad;
+    result.outliers = f.outliers;
+  };
+  auto fail = [&](FailReason reason, const std::string& why) {
+    result.ok = false;
+    result.reason = reason;
+    result.detail = why;
+  };
+  apply_fit(fit);
+  // LM only accepts cost decreases, so an iteration cap still leaves a point at least as good as its start;
+  // its region comes from the residuals and the jackknife like any other.
+
+  // (b) uniqueness.
+  std::vector<Vec3> positions;
+  std::vector<Quat> orientations;
+  for (const JointPoint& p : model.points()) positions.push_back(p.antenna_m), orientations.push_back(p.orientation);
+  auto delta_chi2 = [&](const JointFit& best, const Vec3& other) {
+    return (model.cost(other, &best.mask) - best.cost) / (best.scale2 * best.inflation);
+  };
+  Vec3 mirror_at = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  {
+    Vec3 reflected;
+    if (!reflect_across_path(positions, options.height_known, fit.position, reflected)) {
+      fail(FailReason::kAmbiguousMirror, "straight antenna path in 3-D: the tag can be anywhere on a circle around it");
+      return;
+    }
+    const double sep = std::max(fit.radius_m, lambda4);
+    if ((reflected - fit.position).norm() > sep) {
+      const JointLm m = joint_lm(model, reflected, options.lm_max_iterations, &fit.mask);
+      if (in_region(m.position, prep) && (m.position - fit.position).norm() > sep) {
+        mirror_at = m.position;
+        MirrorCheck check;
+        check.mirror = m.position;
+        check.delta_chi2 = delta_chi2(fit, m.position);
+        check.ambiguous = check.delta_chi2 < options.unique_chi2;
+        if (check.ambiguous) {
+          const Vec3 before = result.position;
+          result.position = fit.position;
+          settle_mirror(result, check, positions, orientations, options);
+          if (!result.ok) return;
+          if ((result.position - fit.position).norm() > 0.0) {
+            // The prior chose the other side: the fit (and its region) is redone there.
+            mirror_at = fit.position;
+            fit = fit_joint(model, result.position, options);
+            report_own_position = false;
+          } else {
+            result.position = before;
+          }
+          apply_fit(fit);
+        }
+      }
+    }
+  }
+  // (a) consistency (after the mirror is settled: a pattern makes the wrong side fit badly).
+  const int n = model.point_count();
+  if (fit.residual_rad > options.max_residual_rad) {
+    std::ostringstream why;
+    why << "wrapped-phase residual sigma " << fit.residual_rad << " rad > " << options.max_residual_rad << " rad";
+    fail(FailReason::kInconsistentResiduals, why.str());
+    return;
+  }
+  if (fit.outliers > options.max_outlier_fraction * n) {
+    std::ostringstream why;
+    why << fit.outliers << " of " << n << " stops are > " << options.outlier_sigmas << " sigma outliers";
+    fail(FailReason::kInconsistentResiduals, why.str());
+    return;
+  }
+  for (const Vec3& start : rivals) {
+    const double sep = std::max(fit.radius_m, lambda4);
+    if ((start - fit.position).norm() <= sep) continue;
+    const JointLm c = joint_lm(model, start, options.lm_max_iterations, &fit.mask);
+    if (!in_region(c.position, prep)) continue;
+    if ((c.position - fit.position).norm() <= sep) continue;
+    if (mirror_at.allFinite() && (c.position - mirror_at).norm() <= sep) continue;
+    const double dchi2 = delta_chi2(fit, c.position);
+    if (dchi2 >= options.unique_chi2) continue;
+    std::ostringstream why;
+    why << "another optimum at (" << c.position.x() << ", " << c.position.y() << ", " << c.position.z()
+        << "), " << (c.position - fit.position).norm() << " m away, fits within " << dchi2 << " chi2 units";
+    const bool under = prep.median_step_m > lambda4;
+    if (under) why << "; median read spacing " << prep.median_step_m << " m > lambda/4 (grating lobes)";
+    fail(under ? FailReason::kUndersampled : FailReason::kAmbiguousPeak, why.str());
+    return;
+  }
+  // (c) size of the region.
+  if (!(result.uncertainty_m <= options.max_uncertainty_m)) {
+    const double angle = aperture_angle_deg(positions, result.position);
+    std::ostringstream why;
+    why << "95% position uncertainty " << result.uncertainty_m << " m > " << options.max_uncertainty_m
+        << " m; path seen under " << angle << " deg, wrapped residual sigma " << fit.residual_rad << " rad";
+    fail(angle < 60.0 ? FailReason::kApertureTooShort : FailReason::kNoisyPhase, why.str());
+  }
+}
+
+}  // namespace rfidray::loc

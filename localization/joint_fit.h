@@ -1,0 +1,66 @@
+#pragma once
+// Fitting the joint multi-carrier model (joint_model.h) at one start and judging the result honestly.
+//
+// Fit: LM on the weighted wrapped residuals; stops whose normalised residual |√w e| exceeds
+// outlier_sigmas · max(σ̂, 1) are trimmed (σ̂ = 1.4826 · MAD, robust) and LM runs again on the rest.
+//
+// Uncertainty (uncertainty_m = radius of the 95 % confidence region in the estimated coordinates):
+//   Cov_LS = s² · ρ · (JᵀWJ)⁻¹, s² = max(1, Σ w e² / (n − dof − groups)): the weights already hold the
+//     measured per-stop dispersion and the model floor, so s² < 1 is not believed;
+//     ρ = (1 + r₁)/(1 − r₁), r₁ = lag-1 autocorrelation of the normalised residuals along the aperture
+//     (an AR(1) effective-sample-size factor n/n_eff);
+//   Cov_JK = (B−1)/B Σ_b (p_b − p̄)(p_b − p̄)ᵀ, p_b re-fitted without the b-th of B contiguous aperture
+//     blocks (delete-one-block jackknife).
+//   radius = max( sqrt(χ²_{d,0.95} λ_max(Cov_LS)), sqrt(T²_{d,B−1,0.95} λ_max(Cov_JK)) ).
+// Why both: systematic model error (multipath ripple, an uncalibrated pattern) is correlated over a good part
+// of the aperture; lag-1 autocorrelation sees only short correlation, while the block jackknife sees
+// any error that changes along the aperture (it re-fits with each part missing) but is itself noisy with
+// B = 10 blocks — hence its Hotelling T² quantile d(B−1)/(B−d) F_{d,B−d} instead of χ²_d, and the larger
+// of the two radii.
+//
+// Judgement (status ok only when all hold):
+//   (a) consistent: robust σ of the wrapped residuals ≤ max_residual_rad and trimmed fraction ≤
+//       max_outlier_fraction (else inconsistent residuals);
+//   (b) unique: every other local optimum c (the mirror across the path re-converged, plus the method's
+//       other candidates) outside the region (farther than max(radius, λ/4)) has
+//       Δχ² = (C(c) − C(p̂)) / (s² ρ) ≥ unique_chi2 — a likelihood-ratio test with the inflated variance, so
+//       correlated residuals do not make a rival look worse than it is. A rival mirror is settled by the
+//       mirror prior when one is given (then the fit is redone there), else ambiguous mirror; another rival
+//       is undersampled (median antenna step > λ/4: grating lobes) or ambiguous peak;
+//   (c) radius ≤ max_uncertainty_m (else aperture too short when the path is seen under < 60°, else phase
+//       too noisy).
+#include <vector>
+
+#include "localization/joint_model.h"
+#include "localization/prepare.h"
+
+namespace rfidray::loc {
+
+struct JointFit {
+  Vec3 position = Vec3::Zero();
+  bool converged = false;
+  std::vector<double> mask;          // 1: inlier stop
+  int outliers = 0;
+  double cost = 0.0;               // Σ w e² over inliers
+  double scale2 = 1.0;             // s²
+  double inflation = 1.0;          // ρ
+  double residual_rad = 0.0;       // robust σ of the unweighted wrapped residuals (inliers)
+  double radius_m = 0.0;
+  double predicted_std_m = 0.0;    // sqrt(trace Cov_LS)
+};
+
+// The coherence peak (joint_model.h) near `start`: 5×5(×5) local grids of spacing `step_m`, moved to their best
+// point until it is the centre, then halved down to 1 mm. Puts a wrapped-phase fit into the right fringe.
+Vec3 focus_near(const JointModel& model, Vec3 start, double step_m, bool planar);
+
+JointModel make_joint_model(const TagReads& tag, const LocalizeOptions& options);
+JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOptions& options);
+
+// Sets uncertainty_m / residual_rad / outliers / predicted_std_m and judges result (already ok, with a
+// position) against (a)–(c). `rivals`: starts of other local optima to test (re-converged here).
+// report_own_position: keep result.position (e.g. the hyperbolic cluster mode), the radius then grows by its
+// distance to the joint optimum.
+void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, const std::vector<Vec3>& rivals,
+                 const PreparedTag& prep, const LocalizeOptions& options, bool report_own_position = false);
+
+}  // namespace rfidray::loc

@@ -1,0 +1,220 @@
+#include "localization/joint_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <map>
+
+#include "core/units.h"
+
+namespace rfidray::loc {
+
+namespace {
+const AntennaCalibration* find_calibration(const JointModelOptions& o, const std::string& antenna) {
+  if (!o.calibration) return nullptr;
+  return o.calibration->antenna.empty() || o.calibration->antenna == antenna ? o.calibration : nullptr;
+}
+}  // namespace
+
+JointModel::JointModel(const TagReads& tag, const JointModelOptions& options, bool fixed_z, double z_m)
+    : fixed_z_(fixed_z), z_m_(z_m) {
+  const double fold = options.fold_pi ? 2.0 : 1.0;
+  std::map<std::string, int> antenna_group;
+  lambda_min_ = std::numeric_limits<double>::infinity();
+  carrier_calibrated_ = false;
+  for (size_t g = 0; g < tag.groups.size(); ++g) {
+    const ReadGroup& group = tag.groups[g];
+    if (group.reads.empty()) continue;
+    lambda_min_ = std::min(lambda_min_, wavelength_m(group.frequency_hz));
+    const AntennaCalibration* cal = find_calibration(options, group.antenna);
+    int offset_group;
+    double carrier_offset = 0.0;
+    const int ci = cal && cal->has_carrier_offsets() ? cal->carrier_index(group.frequency_hz) : -1;
+    if (ci >= 0) {
+      // Calibrated chain: one offset per antenna for all its carriers.
+      carrier_offset = cal->carrier_offsets_rad[ci];
+      auto [it, inserted] = antenna_group.try_emplace(group.antenna, groups_);
+      if (inserted) ++groups_;
+      offset_group = it->second;
+      carrier_calibrated_ = true;
+    } else {
+      offset_group = groups_++;
+    }
+    const double k = fold * 4.0 * kPi / wavelength_m(group.frequency_hz);
+    size_t start = 0;
+    while (start < group.reads.size()) {
+      size_t end = start + 1;
+      while (end < group.reads.size() &&
+             (group.reads[end].antenna_m - group.reads[start].antenna_m).norm() <= options.stop_tolerance_m)
+        ++end;
+      std::complex<double> sum = 0.0;
+      double t = 0.0;
+      for (size_t i = start; i < end; ++i) {
+        sum += std::polar(1.0, fold * (group.reads[i].phase_rad - carrier_offset));
+        t += group.reads[i].time_s;
+      }
+      const int n = static_cast<int>(end - start);
+      const double rbar = std::abs(sum) / n;
+      // Circular variance of one read: −2 ln R̄ (wrapped normal); one read: the nominal σ.
+      double var = n >= 2 ? std::max(-2.0 * std::log(std::max(rbar, 1e-12)), 0.0) / n
+                          : std::pow(fold * options.read_sigma_rad, 2);
+      var += std::pow(fold * options.floor_sigma_rad, 2);
+      JointPoint p;
+      p.orientation = group.reads[start].antenna_orientation;
+      p.antenna_m = cal ? cal->phase_centre(group.reads[start].antenna_m, p.orientation) : group.reads[start].antenna_m;
+      p.k_rad_m = k;
+      p.phase_rad = rbar > 0.0 ? std::arg(sum) : 0.0;
+      p.weight = 1.0 / var;
+      p.time_s = t / n;
+      p.offset_group = offset_group;
+      p.reads = n;
+      p.calibration = cal;
+      points_.push_back(p);
+      reads_ += n;
+      start = end;
+    }
+  }
+  if (!std::isfinite(lambda_min_)) lambda_min_ = 0.0;
+  fold_ = fold;
+}
+
+Vec3 JointModel::to_position(const Eigen::VectorXd& u) const {
+  return fixed_z_ ? Vec3(u[0], u[1], z_m_) : Vec3(u[0], u[1], u[2]);
+}
+
+Eigen::VectorXd JointModel::to_unknowns(const Vec3& x) const {
+  if (fixed_z_) return Eigen::Vector2d(x.x(), x.y());
+  return x;
+}
+
+// k R + pattern (the pattern's gradient is neglected in `unit`: it is smooth and small next to k R).
+double JointModel::predicted_rad(const JointPoint& p, const Vec3& x, Vec3* unit) const {
+  const Vec3 d = x - p.antenna_m;
+  const double r = d.norm();
+  if (unit) *unit = r > 0.0 ? Vec3(d / r) : Vec3::Zero();
+  double phase = p.k_rad_m * r;
+  if (p.calibration) {
+    double az, el;
+    direction_in_frame(p.antenna_m, p.orientation, x, az, el);
+    phase += fold_ * p.calibration->pattern_phase_rad(az, el);
+  }
+  return phase;
+}
+
+double JointModel::coherence(const Vec3& x, const std::vector<double>* mask) const {
+  std::vector<std::complex<double>> z(groups_, 0.0);
+  double total_w = 0.0;
+  for (size_t i = 0; i < points_.size(); ++i) {
+    const double w = points_[i].weight * (mask ? (*mask)[i] : 1.0);
+    if (w <= 0.0) continue;
+    const JointPoint& p = points_[i];
+    const double a = p.phase_rad - predicted_rad(p, x, nullptr);
+    z[p.offset_group] += w * std::complex<double>(std::cos(a), std::sin(a));
+    total_w += w;
+  }
+  double s = 0.0;
+  for (const auto& v : z) s += std::abs(v);
+  return total_w > 0.0 ? s / total_w : 0.0;
+}
+
+void JointModel::evaluate(const Vec3& x, Eigen::VectorXd& r, Eigen::MatrixXd* J, const std::vector<double>* mask) const {
+  const int n = point_count(), m = dof();
+  r.setZero(n);
+  if (J) J->setZero(n, m);
+  std::vector<std::complex<double>> z(groups_, 0.0);
+  std::vector<Vec3> sum_wku(groups_, Vec3::Zero());
+  std::vector<double> sum_w(groups_, 0.0);
+  std::vector<double> raw(n);
+  std::vector<Vec3> units(n);
+  for (int i = 0; i < n; ++i) {
+    const JointPoint& p = points_[i];
+    raw[i] = p.phase_rad - predicted_rad(p, x, &units[i]);
+    const double w = p.weight * (mask ? (*mask)[i] : 1.0);
+    if (w <= 0.0) continue;
+    z[p.offset_group] += w * std::polar(1.0, raw[i]);
+    sum_wku[p.offset_group] += w * p.k_rad_m * units[i];
+    sum_w[p.offset_group] += w;
+  }
+  for (int i = 0; i < n; ++i) {
+    const JointPoint& p = points_[i];
+    const double w = p.weight * (mask ? (*mask)[i] : 1.0);
+    if (w <= 0.0) continue;
+    const int g = p.offset_group;
+    const double sw = std::sqrt(w);
+    r[i] = sw * wrap_to_pi(raw[i] - std::arg(z[g]));
+    if (J) {
+      // ∂e/∂x = −k u + ∂θ_g/∂x, θ_g ≈ weighted mean of (φ − kR) ⇒ ∂θ_g/∂x = −Σ w k u / Σ w.
+      const Vec3 gvec = -p.k_rad_m * units[i] + sum_wku[g] / sum_w[g];
+      for (int c = 0; c < m; ++c) (*J)(i, c) = sw * gvec[c];
+    }
+  }
+}
+
+double JointModel::cost(const Vec3& x, const std::vector<double>* mask) const {
+  Eigen::VectorXd r;
+  evaluate(x, r, nullptr, mask);
+  return r.squaredNorm();
+}
+
+std::vector<double> JointModel::wrapped_residuals(const Vec3& x) const {
+  Eigen::VectorXd r;
+  evaluate(x, r, nullptr);
+  std::vector<double> e(r.size());
+  for (int i = 0; i < r.size(); ++i) e[i] = r[i] / std::sqrt(points_[i].weight);  // unmasked: w > 0
+  return e;
+}
+
+JointLm joint_lm(const JointModel& model, const Vec3& start, int max_iterations, const std::vector<double>* mask) {
+  JointLm out;
+  Eigen::VectorXd u = model.to_unknowns(start);
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  model.evaluate(model.to_position(u), r, &J, mask);
+  double f = r.squaredNorm();
+  double mu = -1.0, nu = 2.0;
+  for (int it = 0; it < max_iterations; ++it) {
+    const Eigen::MatrixXd A = J.transpose() * J;
+    const Eigen::VectorXd g = J.transpose() * r;
+    if (mu < 0.0) mu = 1e-3 * A.diagonal().maxCoeff();
+    if (g.lpNorm<Eigen::Infinity>() < 1e-14 * (1.0 + f)) {
+      out.converged = true;
+      break;
+    }
+    Eigen::MatrixXd Ad = A;
+    Ad.diagonal() += mu * A.diagonal().cwiseMax(1e-12);
+    const Eigen::VectorXd step = Ad.ldlt().solve(-g);
+    if (!step.allFinite()) break;
+    const Eigen::VectorXd u_new = u + step;
+    Eigen::VectorXd r_new;
+    model.evaluate(model.to_position(u_new), r_new, nullptr, mask);
+    const double f_new = r_new.squaredNorm();
+    const double predicted = step.dot(mu * A.diagonal().cwiseMax(1e-12).cwiseProduct(step) - g);
+    const double rho = predicted > 0.0 ? (f - f_new) / predicted : -1.0;
+    if (rho > 0.0) {
+      u = u_new;
+      const bool small = step.norm() < 1e-9 || (f - f_new) <= 1e-12 * f + 1e-30;
+      f = f_new;
+      model.evaluate(model.to_position(u), r, &J, mask);
+      mu *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+      nu = 2.0;
+      if (small) {
+        out.converged = true;
+        break;
+      }
+    } else {
+      if (step.norm() < 1e-10) {
+        out.converged = true;
+        break;
+      }
+      mu *= nu;
+      nu *= 2.0;
+    }
+  }
+  out.position = model.to_position(u);
+  out.cost = f;
+  if (!out.position.allFinite()) out.converged = false;
+  return out;
+}
+
+}  // namespace rfidray::loc

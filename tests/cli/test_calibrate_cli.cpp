@@ -1,0 +1,126 @@
+// `rfidray calibrate` and the joint-model flags of `rfidray localize` (--antenna-file, uncertainty_m,
+// ok_outside_uncertainty, rejected NaN options), end to end on CSVs written from hardware-like reads.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+
+#include "io/antenna_file.h"
+#include "tests/localization/hardware_reads.h"
+
+namespace rfidray::io {
+namespace {
+
+namespace fs = std::filesystem;
+using loc::testing::Hardware;
+
+fs::path temp_dir() {
+  const fs::path d = fs::temp_directory_path() / ("rfidray_calibrate_test_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+std::string run(const std::string& args, int& exit_code) {
+  const std::string cmd = std::string(RFIDRAY_BINARY) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
+  const int status = pclose(pipe);
+  exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return out;
+}
+
+// One run: three tags in a row 0.6–0.9 m from a 1 m stop-and-go stage, written as readings + truth CSVs.
+void write_run(const fs::path& readings, const fs::path& truth, uint64_t seed, double row_y_m) {
+  Hardware hw;
+  hw.truth = loc::testing::example_hardware();
+  hw.noise_rad = 0.1;
+  hw.reads_per_stop = 2;
+  const auto stage = loc::testing::straight_stage(Vec3(0, 0, 0), 50, 0.02);
+  std::ofstream out(readings);
+  std::ofstream t(truth);
+  out << "time,posx,posy,posz,q1,q2,q3,q4,name,dist,phase,rssi,antenna,frequency_hz,channel\n" << std::setprecision(12);
+  t << "name,x,y,z\n";
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 tag(0.25 + 0.25 * i, row_y_m + 0.05 * i, 0.0);
+    hw.tag_offset_rad = 1.3 * i + seed;
+    const loc::TagReads reads = loc::testing::hardware_reads("tag" + std::to_string(i), tag, stage, hw, seed * 10 + i);
+    for (size_t g = 0; g < reads.groups.size(); ++g)
+      for (const auto& r : reads.groups[g].reads) {
+        const auto& q = r.antenna_orientation;
+        out << r.time_s << "," << r.antenna_m.x() << "," << r.antenna_m.y() << "," << r.antenna_m.z() << "," << q.x()
+            << "," << q.y() << "," << q.z() << "," << q.w() << "," << reads.tag << ",0," << r.phase_rad << ",-50,a0,"
+            << reads.groups[g].frequency_hz << "," << g << "\n";
+      }
+    t << reads.tag << "," << tag.x() << "," << tag.y() << "," << tag.z() << "\n";
+  }
+}
+
+TEST(CalibrateCli, WritesAnAntennaFileThatLocalizeUses) {
+  const fs::path d = temp_dir();
+  std::string pairs;
+  for (int run_index = 0; run_index < 4; ++run_index) {
+    const std::string r = (d / ("ref" + std::to_string(run_index) + ".csv")).string();
+    const std::string t = (d / ("ref" + std::to_string(run_index) + "_truth.csv")).string();
+    write_run(r, t, 20 + run_index, 0.5 + 0.1 * run_index);
+    pairs += " --pair " + r + "," + t;
+  }
+  const fs::path antenna = d / "antenna.yaml";
+  int code = 0;
+  const std::string out = run("calibrate" + pairs + " -o " + antenna.string() + " --height-known --json", code);
+  ASSERT_EQ(code, 0) << out;
+  const nlohmann::json j = nlohmann::json::parse(out);
+  EXPECT_EQ(j["tags_used"], 12);
+  const loc::AntennaCalibration c = read_antenna_file(antenna.string());
+  EXPECT_EQ(c.antenna, "a0");
+  EXPECT_NEAR(c.phase_centre_offset_m.x(), 0.03, 3.0 * c.phase_centre_offset_sd_m.x());
+  EXPECT_LT(c.phase_centre_offset_sd_m.x(), 0.03);
+  EXPECT_NEAR(c.carrier_offsets_rad[1], 1.1, 3.0 * c.carrier_offsets_sd_rad[1]);
+  EXPECT_LT(c.carrier_offsets_sd_rad[1], 0.1);
+
+  // Localize another run with and without the antenna file.
+  write_run(d / "run.csv", d / "run_truth.csv", 99, 0.65);
+  const std::string base = "localize " + (d / "run.csv").string() + " --truth " + (d / "run_truth.csv").string() +
+                           " --height-known --mirror-prior boresight --max-range 1.5 --method nlls --json";
+  const std::string with = run(base + " --antenna-file " + antenna.string(), code);
+  ASSERT_EQ(code, 0) << with;
+  const nlohmann::json jw = nlohmann::json::parse(with);
+  for (const auto& r : jw["results"]) {
+    ASSERT_EQ(r["status"], "ok") << r.dump();
+    ASSERT_TRUE(r["uncertainty_m"].is_number()) << r.dump();
+    EXPECT_LE(r["error_m"].get<double>(), r["uncertainty_m"].get<double>()) << r.dump();
+    EXPECT_LT(r["error_m"].get<double>(), 0.01) << r.dump();
+  }
+  EXPECT_EQ(jw["summary"]["nlls"]["ok_outside_uncertainty"], 0);
+  const nlohmann::json jr = nlohmann::json::parse(run(base, code));
+  double with_mean = jw["summary"]["nlls"]["mean_error_m"].get<double>();
+  const auto& raw = jr["summary"]["nlls"];
+  if (raw["ok"].get<int>() > 0) EXPECT_LT(with_mean, raw["mean_error_m"].get<double>());
+  for (const auto& r : jr["results"])
+    if (r["status"] == "failed") EXPECT_TRUE(r["uncertainty_m"].is_null()) << r.dump();
+}
+
+TEST(CalibrateCli, BadInputExitsTwoNamingTheField) {
+  const fs::path d = temp_dir();
+  write_run(d / "x.csv", d / "x_truth.csv", 5, 0.7);
+  int code = 0;
+  std::string out = run("localize " + (d / "x.csv").string() + " --frequency-hz nan", code);
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("--frequency-hz"), std::string::npos) << out;
+  out = run("calibrate --pair " + (d / "x.csv").string() + " -o " + (d / "a.yaml").string(), code);
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("--pair"), std::string::npos) << out;
+  std::ofstream(d / "bad.yaml") << "antenna: a0\nphase_centre_offset_m: [0, 0]\n";
+  out = run("localize " + (d / "x.csv").string() + " --antenna-file " + (d / "bad.yaml").string(), code);
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("bad.yaml:2: field 'phase_centre_offset_m'"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace rfidray::io

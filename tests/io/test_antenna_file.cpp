@@ -1,0 +1,105 @@
+// The antenna file (io/antenna_file.h): round trip, and every malformed file named by file, line and field.
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "core/error.h"
+#include "io/antenna_file.h"
+
+namespace rfidray::io {
+namespace {
+
+loc::AntennaCalibration example() {
+  loc::AntennaCalibration c;
+  c.antenna = "a0";
+  c.phase_centre_offset_m = Vec3(0.031, -0.0125, 0.002);
+  c.phase_centre_offset_sd_m = Vec3(0.004, 0.003, 0.05);
+  c.frequencies_hz = {920.625e6, 921.125e6, 921.625e6};
+  c.carrier_offsets_rad = {0.0, 1.25, -2.5};
+  c.carrier_offsets_sd_rad = {0.0, 0.01, 0.02};
+  c.pattern_rad = {0.2, 0.0, 0.61, -0.1, 0.05};
+  c.pattern_sd_rad = {0.01, 1.0, 0.03, 0.5, 0.9};
+  c.residual_rms_rad = 0.083;
+  c.reads_used = 12345;
+  c.tags_used = 18;
+  return c;
+}
+
+TEST(AntennaFile, RoundTrip) {
+  std::ostringstream out;
+  write_antenna_file(out, example());
+  const loc::AntennaCalibration c = parse_antenna_yaml(out.str(), "a.yaml");
+  const loc::AntennaCalibration e = example();
+  EXPECT_EQ(c.antenna, e.antenna);
+  EXPECT_TRUE(c.phase_centre_offset_m.isApprox(e.phase_centre_offset_m, 1e-9));
+  EXPECT_TRUE(c.phase_centre_offset_sd_m.isApprox(e.phase_centre_offset_sd_m, 1e-9));
+  EXPECT_EQ(c.frequencies_hz, e.frequencies_hz);
+  EXPECT_EQ(c.carrier_offsets_rad, e.carrier_offsets_rad);
+  EXPECT_EQ(c.carrier_offsets_sd_rad, e.carrier_offsets_sd_rad);
+  EXPECT_EQ(c.pattern_rad, e.pattern_rad);
+  EXPECT_EQ(c.pattern_sd_rad, e.pattern_sd_rad);
+  EXPECT_DOUBLE_EQ(c.residual_rms_rad, e.residual_rms_rad);
+  EXPECT_EQ(c.reads_used, e.reads_used);
+  EXPECT_EQ(c.tags_used, e.tags_used);
+  // Writing is deterministic.
+  std::ostringstream again;
+  write_antenna_file(again, c);
+  EXPECT_EQ(again.str(), out.str());
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_antenna_yaml(text, "ant.yaml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+std::string replace_line(const std::string& text, const std::string& key, const std::string& line) {
+  std::istringstream in(text);
+  std::string out, l;
+  while (std::getline(in, l)) out += (l.rfind(key + ":", 0) == 0 ? line : l) + "\n";
+  return out;
+}
+
+TEST(AntennaFile, MalformedFilesNameFileLineAndField) {
+  std::ostringstream good;
+  write_antenna_file(good, example());
+  const std::string g = good.str();
+  auto line_of = [&](const std::string& key) {
+    std::istringstream in(g);
+    std::string l;
+    for (int n = 1; std::getline(in, l); ++n)
+      if (l.rfind(key + ":", 0) == 0) return n;
+    return -1;
+  };
+  struct Case {
+    std::string key, line, expect;
+  };
+  const std::vector<Case> cases = {
+      {"phase_centre_offset_m", "phase_centre_offset_m: [0.1, .nan, 0]", "must be a finite number"},
+      {"phase_centre_offset_m", "phase_centre_offset_m: [0.1, 0.2]", "needs 3 numbers"},
+      {"frequencies_hz", "frequencies_hz: [920e6, 919e6, 921e6]", "ascending"},
+      {"carrier_offsets_rad", "carrier_offsets_rad: [0, 1]", "one value per frequency"},
+      {"carrier_offsets_rad", "carrier_offsets_rad: [0.5, 1, 2]", "must be 0"},
+      {"pattern_terms", "pattern_terms: [az, el, az2, el2, az_el]", "must be 'az_el'"},
+      {"pattern_rad", "pattern_rad: [1, 2, x, 4, 5]", "must be a number"},
+      {"reads_used", "reads_used: -3", "count"},
+      {"tags_used", "tagz_used: 3", "unknown key 'tagz_used'"},
+  };
+  for (const Case& c : cases) {
+    const std::string msg = error_of(replace_line(g, c.key, c.line));
+    EXPECT_NE(msg.find("ant.yaml:" + std::to_string(line_of(c.key)) + ":"), std::string::npos) << c.line << " -> " << msg;
+    const std::string field = c.key == "tags_used" ? "tagz_used" : c.key;
+    EXPECT_NE(msg.find("field '" + field), std::string::npos) << c.line << " -> " << msg;
+    EXPECT_NE(msg.find(c.expect), std::string::npos) << c.line << " -> " << msg;
+  }
+  // A missing required key is named.
+  const std::string missing = error_of(replace_line(g, "antenna", "# no antenna"));
+  EXPECT_NE(missing.find("field 'antenna': is required"), std::string::npos) << missing;
+  EXPECT_THROW(read_antenna_file("/nonexistent/ant.yaml"), InputError);
+}
+
+}  // namespace
+}  // namespace rfidray::io
