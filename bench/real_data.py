@@ -23,6 +23,7 @@ What it does, with rfidray's own commands only:
 --quick takes the first runs of each split only (for a smoke test); --layout-check only converts.
 """
 import argparse
+import csv
 import json
 import math
 import os
@@ -276,10 +277,11 @@ def main():
 
     fields = ["dataset", "data", "method", "tags", "ok", "mean_mm", "median_mm", "p90_mm", "max_mm",
               "ok_outside_uncertainty", "residual_rms_rad"]
-    with open(os.path.join(args.output, "real_vs_sim.csv"), "w") as f:
-        f.write(",".join(fields) + "\n")
+    with open(os.path.join(args.output, "real_vs_sim.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(fields)
         for r in table:
-            f.write(",".join(("%.1f" % r[k]) if isinstance(r[k], float) else str(r[k]) for k in fields) + "\n")
+            w.writerow([("%.4f" % r[k]) if isinstance(r[k], float) else r[k] for k in fields])
     with open(os.path.join(args.output, "real_vs_sim.md"), "w") as f:
         f.write("| dataset | data | method | ok / tags | mean mm | median mm | p90 mm | max mm | ok outside uncertainty "
                 "| residual RMS rad |\n|---|---|---|---|---|---|---|---|---|---|\n")

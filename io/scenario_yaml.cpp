@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "core/distribution.h"
+#include "io/antenna_file.h"
 #include "io/checked_yaml.h"
 #include "core/error.h"
 #include "core/reader_model.h"
@@ -107,12 +108,32 @@ AntennaPattern parse_pattern(const YamlFile& src, const YAML::Node& n, const std
   return p;
 }
 
-// {azimuth_rad: [a1, a2, ...], elevation_rad: [e1, ...]} (core/phase_pattern.h)
+// An antenna file's calibration (localization/antenna_calibration.h) as reader hardware effects.
+void apply_calibration(const YamlFile& src, const YAML::Node& at, const std::string& field,
+                       const loc::AntennaCalibration& cal, ReaderParams& r) {
+  r.phase_centre_offset_m = cal.phase_centre_offset_m;
+  // The calibration's basis is az, el, az², az·el, el² (loc::pattern_basis).
+  static_assert(loc::kPatternTerms == 5);
+  r.phase_pattern.azimuth_rad = {cal.pattern_rad[0], cal.pattern_rad[2]};
+  r.phase_pattern.elevation_rad = {cal.pattern_rad[1], cal.pattern_rad[4]};
+  r.phase_pattern.azimuth_elevation_rad = cal.pattern_rad[3];
+  r.phase_offsets_rad.assign(r.frequencies_hz.size(), 0.0);
+  if (!cal.has_carrier_offsets()) return;
+  for (size_t i = 0; i < r.frequencies_hz.size(); ++i) {
+    const int c = cal.carrier_index(r.frequencies_hz[i]);
+    if (c < 0)
+      throw src.error(at, field, "carrier " + num(r.frequencies_hz[i]) + " Hz is not among the calibrated ones");
+    r.phase_offsets_rad[i] = cal.carrier_offsets_rad[c];
+  }
+}
+
+// {azimuth_rad: [a1, a2, ...], elevation_rad: [e1, ...], azimuth_elevation_rad: c} (core/phase_pattern.h)
 PhasePattern parse_phase_pattern(const YamlFile& src, const YAML::Node& n, const std::string& field) {
   YamlMap m(src, n, field);
   PhasePattern p;
   if (auto a = m.get("azimuth_rad")) p.azimuth_rad = src.numbers(*a, m.field("azimuth_rad"));
   if (auto e = m.get("elevation_rad")) p.elevation_rad = src.numbers(*e, m.field("elevation_rad"));
+  p.azimuth_elevation_rad = m.number("azimuth_elevation_rad", 0.0);
   m.finish();
   return p;
 }
@@ -349,6 +370,18 @@ void parse_reader_keys(YamlMap& m, const YAML::Node& n, ReaderParams& r) {  // n
   if (auto off = m.get("phase_centre_offset_m")) r.phase_centre_offset_m = src.point(*off, m.field("phase_centre_offset_m"));
   if (auto pp = m.get("phase_pattern")) r.phase_pattern = parse_phase_pattern(src, *pp, m.field("phase_pattern"));
   r.snr_at_sensitivity_db = m.non_negative({"snr_at_sensitivity_db"}, r.snr_at_sensitivity_db);
+  if (auto af = m.get("antenna_file")) {
+    // A calibrated antenna (rfidray calibrate) is simulated as it was measured: its phase centre, its phase
+    // pattern and its carriers' offsets replace the keys that would say the same.
+    for (const char* k : {"phase_centre_offset_m", "phase_pattern", "phase_offset_rad", "phase_offsets_rad"})
+      if (m.has(k))
+        throw src.error(*af, m.field("antenna_file"), std::string("give either antenna_file or ") + k + ", not both");
+    std::filesystem::path file = src.scalar(*af, m.field("antenna_file"));
+    if (file.is_relative()) file = std::filesystem::path(src.file()).parent_path() / file;
+    const loc::AntennaCalibration cal =
+        src.located(*af, [&] { return read_antenna_file(file.string()); });
+    apply_calibration(src, *af, m.field("antenna_file"), cal, r);
+  }
   if (auto rp = m.get("read_probability"))
     r.read_probability = rp->IsSequence() ? src.numbers(*rp, m.field("read_probability"))
                                           : std::vector<double>{src.number(*rp, m.field("read_probability"))};

@@ -2,7 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
+#include "io/antenna_file.h"
 #include "io/scenario_yaml.h"
 #include "core/error.h"
 #include "core/simulation.h"
@@ -167,6 +170,73 @@ antennas:
     read_probability: [0.5, 0.5, 0.5]
 )");
   EXPECT_NE(bad_p.find("read_probability"), std::string::npos) << bad_p;
+}
+
+// A calibrated antenna (rfidray calibrate's file) is simulated as measured: phase centre, pattern (the
+// calibration's own basis, loc::pattern_basis) and carrier offsets give the phase the calibration model predicts.
+TEST(ScenarioYaml, AntennaFileDrivesTheSimulation) {
+  loc::AntennaCalibration cal;
+  cal.antenna = "a";
+  cal.phase_centre_offset_m = Vec3(0.03, -0.02, 0.0);
+  cal.frequencies_hz = {920.625e6, 921.125e6};
+  cal.carrier_offsets_rad = {0.0, 0.7};
+  cal.carrier_offsets_sd_rad = {0.0, 0.01};
+  cal.pattern_rad = {0.4, 0.2, -0.3, 0.15, 0.1};
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "rfidray_antenna_file_test";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream out(dir / "ant.yaml");
+    io::write_antenna_file(out, cal);
+  }
+  const std::string text = R"(duration_s: 0.2
+antennas:
+  - name: a
+    model: physical
+    frequencies_hz: [920.625e6, 921.125e6]
+    hop_dwell_s: 0.1
+    update_rate: 10
+    noisephi: 0
+    noise_rssi_db: 0
+    phase_bits: 0
+    position: [0, 0, 0]
+    yaw_deg: 90
+    antenna_file: ant.yaml
+tags:
+  - {name: t, position: [0.4, 0.8, 0.3]}
+)";
+  const Scenario s = parse_scenario(text, (dir / "s.yaml").string());
+  const ReaderParams& r = s.antennas[0].reader;
+  EXPECT_EQ(r.phase_centre_offset_m, cal.phase_centre_offset_m);
+  EXPECT_EQ(r.phase_offsets_rad, (std::vector<double>{0.0, 0.7}));
+  const SimulationResult res = simulate(s, IdealChannel{});
+  ASSERT_EQ(res.antennas[0].reads.size(), 3u);  // t = 0, 0.1, 0.2: carriers 0, 1, 0
+  for (const ReadRecord& rec : res.antennas[0].reads) {
+    const Vec3 centre = cal.phase_centre(rec.antenna_pose.position, rec.antenna_pose.orientation);
+    double az = 0, el = 0;
+    loc::direction_in_frame(centre, rec.antenna_pose.orientation, Vec3(0.4, 0.8, 0.3), az, el);
+    const double expected = cal.carrier_offsets_rad[rec.hop_index] +
+                            4 * kPi * (Vec3(0.4, 0.8, 0.3) - centre).norm() / wavelength_m(rec.frequency_hz) +
+                            cal.pattern_phase_rad(az, el);
+    EXPECT_NEAR(std::remainder(rec.reading.phase_rad - expected, kTwoPi), 0.0, 1e-9) << rec.hop_index;
+  }
+  // A carrier the calibration does not know, and a key that would say the same thing twice, are errors.
+  std::string wrong_carrier = text;
+  wrong_carrier.replace(wrong_carrier.find("921.125e6]"), 10, "866.3e6]");
+  try {
+    parse_scenario(wrong_carrier, (dir / "s.yaml").string());
+    FAIL() << "uncalibrated carrier accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not among the calibrated"), std::string::npos) << e.what();
+  }
+  std::string both = text;
+  both.insert(both.find("    antenna_file"), "    phase_centre_offset_m: [0, 0, 0]\n");
+  try {
+    parse_scenario(both, (dir / "s.yaml").string());
+    FAIL() << "antenna_file and phase_centre_offset_m both accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("give either antenna_file"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(ScenarioYaml, MotionKinds) {
