@@ -1,8 +1,9 @@
 #pragma once
 // Fitting the joint multi-carrier model (joint_model.h) at one start and judging the result honestly.
 //
-// Fit: LM on the weighted wrapped residuals; stops whose normalised residual |√w e| exceeds
-// outlier_sigmas · max(σ̂, 1) are trimmed (σ̂ = 1.4826 · MAD, robust) and LM runs again on the rest.
+// Fit: LM on the weighted wrapped residuals, three rounds of Cauchy-reweighted LM (robust to a run of bad
+// stops), then stops whose normalised residual |√w e| exceeds outlier_sigmas · max(σ̂, 1) are trimmed
+// (σ̂ = 1.4826 · MAD) and LM runs again on the rest.
 //
 // Uncertainty (uncertainty_m = radius of the 95 % confidence region in the estimated coordinates):
 //   Cov_LS = s² · ρ · (JᵀWJ)⁻¹, s² = max(1, Σ w e² / (n − dof − groups)): the weights already hold the
@@ -42,7 +43,7 @@ namespace rfidray::loc {
 struct JointFit {
   Vec3 position = Vec3::Zero();
   bool converged = false;
-  std::vector<double> mask;          // 1: inlier stop
+  std::vector<double> mask;        // 1: inlier stop, 0: trimmed
   int outliers = 0;
   double cost = 0.0;               // Σ w e² over inliers
   double scale2 = 1.0;             // s²
