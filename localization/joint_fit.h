@@ -1,19 +1,23 @@
 #pragma once
 // Fitting the joint multi-carrier model (joint_model.h) at one start and judging the result honestly.
 //
-// Fit: LM on the weighted wrapped residuals; stops whose normalised residual |√w e| exceeds
-// outlier_sigmas · max(σ̂, 1) are trimmed (σ̂ = 1.4826 · MAD, robust) and LM runs again on the rest.
+// Fit: LM on the weighted wrapped residuals, three rounds of Cauchy-reweighted LM (robust to a run of bad
+// stops), then stops whose normalised residual |√w e| exceeds outlier_sigmas · max(σ̂, 1) are trimmed
+// (σ̂ = 1.4826 · MAD) and LM runs again on the rest.
 //
 // Uncertainty (uncertainty_m = radius of the 95 % confidence region in the estimated coordinates):
 //   Cov_LS = s² · ρ · (JᵀWJ)⁻¹, s² = max(1, Σ w e² / (n − dof − groups)): the weights already hold the
 //     measured per-stop dispersion and the model floor, so s² < 1 is not believed;
-//     ρ = (1 + r₁)/(1 − r₁), r₁ = lag-1 autocorrelation of the normalised residuals along the aperture
-//     (an AR(1) effective-sample-size factor n/n_eff);
+//     ρ = Var(Σ r)/Σ r², the design effect of correlated residuals, estimated on the per-stop residual sums
+//     (all carriers of one antenna position move together) with their autocorrelation along the aperture
+//     summed to the first non-positive lag (n / n_eff);
 //   Cov_JK = (B−1)/B Σ_b (p_b − p̄)(p_b − p̄)ᵀ, p_b re-fitted without the b-th of B contiguous aperture
 //     blocks (delete-one-block jackknife).
-//   radius = max( sqrt(χ²_{d,0.95} λ_max(Cov_LS)), sqrt(T²_{d,B−1,0.95} λ_max(Cov_JK)) ).
+//   radius = max( sqrt(χ²_{d,0.95} λ_max(Cov_LS)), sqrt(T²_{d,B−1,0.95} λ_max(Cov_JK)) )
+//            + σ_sys sqrt(N λ_max((J_uᵀJ_u)⁻¹))   (bias bound of an unmodelled smooth phase error of RMS
+//              σ_sys = options.systematic_phase_rad that the fit absorbs and the residuals cannot show).
 // Why both: systematic model error (multipath ripple, an uncalibrated pattern) is correlated over a good part
-// of the aperture; lag-1 autocorrelation sees only short correlation, while the block jackknife sees
+// of the aperture; the design effect sees it only up to the first sign change, while the block jackknife sees
 // any error that changes along the aperture (it re-fits with each part missing) but is itself noisy with
 // B = 10 blocks — hence its Hotelling T² quantile d(B−1)/(B−d) F_{d,B−d} instead of χ²_d, and the larger
 // of the two radii.
@@ -39,7 +43,7 @@ namespace rfidray::loc {
 struct JointFit {
   Vec3 position = Vec3::Zero();
   bool converged = false;
-  std::vector<double> mask;          // 1: inlier stop
+  std::vector<double> mask;        // 1: inlier stop, 0: trimmed
   int outliers = 0;
   double cost = 0.0;               // Σ w e² over inliers
   double scale2 = 1.0;             // s²

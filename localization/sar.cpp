@@ -33,9 +33,19 @@ LocalizeResult localize_sar(const TagReads& tag, const LocalizeOptions& options)
   const bool planar = options.height_known;
   const Grid grid = make_grid(prep.region_min, prep.region_max, options.sar_coarse_step_fraction * lambda_min,
                               planar ? 60000 : 120000);
+  // The coarse grid (step λ/4) needs no finer aperture sampling than λ/8: reads closer to the last kept one
+  // of their group are left out of it (the zoom and the fit use every read).
+  TagReads sparse = tag;
+  for (ReadGroup& g : sparse.groups) {
+    std::vector<PhaseRead> kept;
+    for (const PhaseRead& r : g.reads)
+      if (kept.empty() || (r.antenna_m - kept.back().antenna_m).norm() >= lambda_min / 8.0) kept.push_back(r);
+    g.reads = std::move(kept);
+  }
+  const JointModel coarse = make_joint_model(sparse, options);
   std::vector<double> value(grid.size());
 #pragma omp parallel for schedule(static)
-  for (long i = 0; i < grid.size(); ++i) value[i] = -model.coherence(grid.point(i));
+  for (long i = 0; i < grid.size(); ++i) value[i] = -coarse.coherence(grid.point(i));
   const std::vector<long> peaks = best_separated(grid, value, options.sar_peaks, lambda_min / 2.0);
   if (peaks.empty()) return LocalizeResult::failure(FailReason::kNoConvergence, "empty search grid");
   std::vector<Vec3> refined;
