@@ -155,7 +155,7 @@ def stats(results):
         ok = [r for r in rows if r["status"] == "ok" and r.get("error_m") is not None]
         errs = sorted(r["error_m"] for r in ok)
         outside = sum(1 for r in ok if r.get("uncertainty_m") is not None and r["error_m"] > r["uncertainty_m"])
-        resid = [r["rms_residual_rad"] for r in ok if r.get("rms_residual_rad") is not None]
+        resid = [r["residual_rad"] for r in rows if r.get("residual_rad")]
         out[m] = {
             "tags": len(rows), "ok": len(ok),
             "mean_mm": 1e3 * statistics.fmean(errs) if errs else float("nan"),

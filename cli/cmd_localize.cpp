@@ -114,6 +114,7 @@ int run_localize(const LocalizeState& s) {
         if (!(e <= r.uncertainty_m)) ++outside[m];
       }
       j["uncertainty_m"] = r.ok ? number_or_null(r.uncertainty_m) : nullptr;
+      j["residual_rad"] = number_or_null(r.residual_rad);  // robust σ of the wrapped-phase residuals of the fit
       if (r.ok && !r.mirror_resolved_by.empty()) j["mirror_resolved_by"] = r.mirror_resolved_by;
       j["reads"] = tag.read_count();
       j["time_ms"] = ms;

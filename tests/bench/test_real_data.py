@@ -62,17 +62,21 @@ def main():
         print("FAIL: real_data.py exited %d" % r.returncode)
         return 1
     rows = list(csv.DictReader(open(os.path.join(out, "real_vs_sim.csv"))))
-    real = [row for row in rows if row["data"] == "real, calibrated"]
     failures = []
-    if len(real) != 3:
-        failures.append("expected 3 method rows for the calibrated real data, got %d" % len(real))
-    for row in real:
-        if int(row["tags"]) != 6:
-            failures.append("%s: %s tags localized, expected 6 (2 runs x 3 tags)" % (row["method"], row["tags"]))
-        if int(row["ok"]) < 5:
-            failures.append("%s: only %s of 6 ok on noise-free geometry" % (row["method"], row["ok"]))
-        if not float(row["max_mm"]) < 30.0:
-            failures.append("%s: max error %s mm on near-exact data" % (row["method"], row["max_mm"]))
+    # Uncalibrated, the geometry is exact up to 0.05 rad of noise: millimetres. Calibrated from two single-
+    # carrier training runs, the phase centre along boresight is poorly determined (sd of several cm, printed
+    # in antenna.yaml) and shifts the estimates by up to a few cm: the bound is looser there.
+    for label, max_mm in (("real, uncalibrated", 30.0), ("real, calibrated", 60.0)):
+        real = [row for row in rows if row["data"] == label]
+        if len(real) != 3:
+            failures.append("%s: expected 3 method rows, got %d" % (label, len(real)))
+        for row in real:
+            if int(row["tags"]) != 6:
+                failures.append("%s %s: %s tags localized, expected 6 (2 runs x 3 tags)" % (label, row["method"], row["tags"]))
+            if int(row["ok"]) < 5:
+                failures.append("%s %s: only %s of 6 ok on near-exact geometry" % (label, row["method"], row["ok"]))
+            if not float(row["max_mm"]) < max_mm:
+                failures.append("%s %s: max error %s mm on near-exact data" % (label, row["method"], row["max_mm"]))
     if not os.path.isfile(os.path.join(out, "antenna.yaml")):
         failures.append("no antenna.yaml from calibrate")
     for f in failures:
