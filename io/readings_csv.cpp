@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "core/units.h"
 
 namespace rfidray::io {
@@ -220,6 +221,10 @@ std::vector<ReadingRow> read_readings_csv(const std::filesystem::path& file) {
     auto num = [&](int i) { return parse_number(f[i], header[i], file, line); };
     r.time_s = num(0);
     r.antenna_pose.position = Vec3(num(1), num(2), num(3));
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(r.antenna_pose.position[k]) > limits::kMaxCoordinateM)
+        throw InputError(where(file, line) + "column '" + header[1 + k] + "': " + trim(f[1 + k]) +
+                         " m is outside ±1e8 m (core/limits.h)");
     const Eigen::Vector4d q(num(4), num(5), num(6), num(7));
     if (q.norm() < 1e-9) throw InputError(where(file, line) + "quaternion q1..q4 has zero norm");
     r.antenna_pose.orientation = Quat(q[3], q[0], q[1], q[2]).normalized();
@@ -263,6 +268,10 @@ std::map<std::string, Vec3> read_truth_csv(const std::filesystem::path& file) {
     if (name.empty()) throw InputError(where(file, line) + "column 'name': empty tag name");
     const Vec3 p(parse_number(f[1], "x", file, line), parse_number(f[2], "y", file, line),
                  parse_number(f[3], "z", file, line));
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(p[k]) > limits::kMaxCoordinateM)
+        throw InputError(where(file, line) + "column '" + header[1 + k] + "': " + trim(f[1 + k]) +
+                         " m is outside ±1e8 m (core/limits.h)");
     if (!out.emplace(name, p).second) throw InputError(where(file, line) + "duplicate tag '" + name + "'");
   });
   return out;

@@ -85,6 +85,29 @@ TEST(InputRanges, HugeDurationIsRefusedWithTheTickCount) {
   }
 }
 
+// fuzz finding: a readings CSV with an antenna at 1e308 m made localize allocate without bound (exit 1).
+TEST(ReadingsReader, CoordinatesBeyondTheRangeNameFileLineAndColumn) {
+  const fs::path dir = fs::temp_directory_path() / "rfidray_readings_range_test";
+  fs::create_directories(dir);
+  {
+    std::ofstream out(dir / "r.csv");
+    out << kReadingsHeader << "\n0,0,0,0,0,0,0,1,t,1,1,-60,a,865700000,0\n0.1,-1e308,0,0,0,0,0,1,t,1,1,-60,a,865700000,0\n";
+    std::ofstream truth(dir / "t.csv");
+    truth << "name,x,y,z\nt,0,2e8,0\n";
+  }
+  for (const auto& [file, expected] : {std::pair{"r.csv", "r.csv:3: column 'posx': -1e308 m is outside"},
+                                       std::pair{"t.csv", "t.csv:2: column 'y': 2e8 m is outside"}}) {
+    try {
+      if (std::string(file) == "r.csv") read_readings_csv(dir / file);
+      else read_truth_csv(dir / file);
+      ADD_FAILURE() << file << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+  fs::remove_all(dir);
+}
+
 TEST(ReadingsWriter, RefusesANonFiniteValueNamingTheColumn) {
   const Scenario s = parse_scenario(antenna_with(""), "w.yaml");
   AntennaResult r;
