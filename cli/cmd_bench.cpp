@@ -135,12 +135,12 @@ int run_bench(const BenchOptions& o) {
   const fs::path dir = fs::absolute(!o.output_dir.empty() ? o.output_dir : o.quick ? "out/bench-quick" : "bench/results");
   const fs::path progs = bench_dir();
   const std::vector<std::string> programs{"bench_rays", "bench_sweep", "bench_accuracy", "localize_paper",
-                                          "localize_sweeps"};
+                                          "localize_sweeps", "localize_speed"};
   std::stringstream only(o.only);
   for (std::string item; std::getline(only, item, ',');)
     if (std::find(programs.begin(), programs.end(), item) == programs.end())
       throw InputError("option --only: unknown program '" + item +
-                       "' (bench_rays, bench_sweep, bench_accuracy, localize_paper, localize_sweeps)");
+                       "' (bench_rays, bench_sweep, bench_accuracy, localize_paper, localize_sweeps, localize_speed)");
   const auto wanted = [&](const std::string& name) {
     return o.only.empty() || ("," + o.only + ",").find("," + name + ",") != std::string::npos;
   };
@@ -171,6 +171,9 @@ int run_bench(const BenchOptions& o) {
   if (wanted("localize_sweeps"))
     run_program(progs / "localize_sweeps", "--out " + quoted(dir.string()) + (o.quick ? " --trials 3" : ""),
                 dir / "localize_sweeps.log");
+  if (wanted("localize_speed"))
+    run_program(progs / "localize_speed", "--out " + quoted(dir.string()) + (o.quick ? " --repeats 3" : ""),
+                dir / "localize_speed.log");
 
   std::ostringstream md;  // summary.md, written atomically below
   const std::time_t now = std::time(nullptr);
@@ -206,6 +209,7 @@ std::function<int()> setup_bench(CLI::App& app) {
       "                   front, localization error it causes on the paper scenario\n"
       "  localize_paper   the paper's localization table (ideal channel and single-bounce multipath)\n"
       "  localize_sweeps  localization error and failure rate vs noise, sample spacing, aperture, distance\n"
+      "  localize_speed   ms per tag per localization method, one thread, 1 000 and 4 000 reads\n"
       "The full run takes several minutes on 2 cores; --quick takes about a minute. Measure on an idle machine.");
   cmd->add_flag("--quick", opts->quick, "Smaller scenes, fewer runs and settings");
   cmd->add_option("-o,--output", opts->output_dir,

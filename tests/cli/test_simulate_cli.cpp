@@ -233,7 +233,7 @@ namespace {
 TEST(BenchCli, HelpListsTheProgramsAndUnknownProgramIsAnError) {
   const RunResult help = run("bench --help");
   ASSERT_EQ(help.status, 0) << help.output;
-  for (const char* p : {"bench_rays", "bench_sweep", "bench_accuracy", "localize_paper", "localize_sweeps", "--quick"})
+  for (const char* p : {"bench_rays", "bench_sweep", "bench_accuracy", "localize_paper", "localize_sweeps", "localize_speed", "--quick"})
     EXPECT_NE(help.output.find(p), std::string::npos) << p;
   const RunResult bad = run("bench --only bench_rayz -o /tmp/rfidray_bench_cli_test");
   EXPECT_EQ(bad.status, 2);
