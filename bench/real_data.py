@@ -18,7 +18,8 @@ What it does, with rfidray's own commands only:
      --antenna-file antenna.yaml --json`;
  4. the same stage, tags and carriers simulated by rfidray (ideal channel, and single-bounce over a floor
     with the calibrated antenna's hardware effects), localized the same way;
- 5. real_vs_sim.csv, real_vs_sim.md (the README table), real_vs_sim.png and one JSON per run.
+ 5. real_vs_sim.csv, real_vs_sim.md (the README table), real_vs_sim.png, antenna.yaml; the per-run JSON stays
+    in the work folder (--keep), since it names the set's tags.
 
 --quick takes the first runs of each split only (for a smoke test); --layout-check only converts.
 """
@@ -256,7 +257,8 @@ def main():
         real, uncal, sim_ideal, sim_traced = [], [], [], []
         for name, readings, truth_csv, truth in tests:
             j = localize(args, readings, truth_csv, antenna_file)
-            json.dump(j, open(os.path.join(args.output, "D%d_%s.json" % (d, name)), "w"), indent=1)
+            # Per-run results name the set's tags: they stay with the converted data, outside the repository.
+            json.dump(j, open(os.path.join(work, "D%d_%s.json" % (d, name)), "w"), indent=1)
             real += j["results"]
             uncal += localize(args, readings, truth_csv, None)["results"]
             if args.no_sim or d != 1:
@@ -315,7 +317,7 @@ def plot(out_dir, table):
     with open(gp, "w") as f:
         f.write('set terminal pngcairo size 1000,500\nset output "%s"\n' % os.path.join(out_dir, "real_vs_sim.png"))
         f.write('set title "AdaRF D1 test: mean localization error of ok results, real vs simulated"\n')
-        f.write('set ylabel "mean error (mm)"\nset style data histograms\nset style fill solid 0.8\nset key top left\n')
+        f.write('set ylabel "mean error (mm)"\nset style data histograms\nset style fill solid 0.8\nset key outside below horizontal\n')
         f.write('set logscale y\nset grid ytics\n')
         f.write("plot " + ", ".join('"%s" using %d:xtic(1) title columnheader(%d)' % (dat, i + 2, i + 2)
                                      for i in range(len(labels))) + "\n")
