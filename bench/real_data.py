@@ -173,7 +173,7 @@ def simulated_scenario(path, truth, antenna_file, channel):
     """The AdaRF stage in rfidray's terms: 50 stops 2 cm apart over x in [0.02, 0.98] m at z = 0 facing +y,
     8 carriers hopping, tags where the run's truth puts them, a concrete floor 0.75 m below (a table top)."""
     stops = [[0.02 + k * 0.96 / 49, 0.0, 0.0] for k in range(50)]
-    lines = ["name: adarf_stage", "seed: 1", "channel: %s" % channel, "model: physical"]
+    lines = ["name: stage_1m", "seed: 1", "channel: %s" % channel, "model: physical"]
     if channel != "ideal":
         here = os.path.dirname(os.path.abspath(path))
         lines += ["scene:", "  meshes: [{file: %s, material: concrete, position: [0.5, 0.5, -0.75]}]"
