@@ -7,6 +7,7 @@
 #include <map>
 
 #include "core/units.h"
+#include "localization/levenberg_marquardt.h"
 
 namespace rfidray::loc {
 
@@ -166,54 +167,24 @@ std::vector<double> JointModel::wrapped_residuals(const Vec3& x) const {
 }
 
 JointLm joint_lm(const JointModel& model, const Vec3& start, int max_iterations, const std::vector<double>* mask) {
+  // Wrapped residuals are O(1) rad: absolute step and gain tolerances, a gradient relative to the cost.
+  LmTolerances tol;
+  tol.gradient_abs = 1e-14;
+  tol.gradient_rel = 1e-14;
+  tol.step_rel = 0.0;
+  tol.gain_rel = 1e-12;
+  tol.reject_abs = 1e-10;
+  tol.reject_rel = 0.0;
+  const LmSolution sol = levenberg_marquardt_core(
+      model.to_unknowns(start),
+      [&](const Eigen::VectorXd& u, Eigen::VectorXd& r, Eigen::MatrixXd* J) {
+        model.evaluate(model.to_position(u), r, J, mask);
+      },
+      max_iterations, tol);
   JointLm out;
-  Eigen::VectorXd u = model.to_unknowns(start);
-  Eigen::VectorXd r;
-  Eigen::MatrixXd J;
-  model.evaluate(model.to_position(u), r, &J, mask);
-  double f = r.squaredNorm();
-  double mu = -1.0, nu = 2.0;
-  for (int it = 0; it < max_iterations; ++it) {
-    const Eigen::MatrixXd A = J.transpose() * J;
-    const Eigen::VectorXd g = J.transpose() * r;
-    if (mu < 0.0) mu = 1e-3 * A.diagonal().maxCoeff();
-    if (g.lpNorm<Eigen::Infinity>() < 1e-14 * (1.0 + f)) {
-      out.converged = true;
-      break;
-    }
-    Eigen::MatrixXd Ad = A;
-    Ad.diagonal() += mu * A.diagonal().cwiseMax(1e-12);
-    const Eigen::VectorXd step = Ad.ldlt().solve(-g);
-    if (!step.allFinite()) break;
-    const Eigen::VectorXd u_new = u + step;
-    Eigen::VectorXd r_new;
-    model.evaluate(model.to_position(u_new), r_new, nullptr, mask);
-    const double f_new = r_new.squaredNorm();
-    const double predicted = step.dot(mu * A.diagonal().cwiseMax(1e-12).cwiseProduct(step) - g);
-    const double rho = predicted > 0.0 ? (f - f_new) / predicted : -1.0;
-    if (rho > 0.0) {
-      u = u_new;
-      const bool small = step.norm() < 1e-9 || (f - f_new) <= 1e-12 * f + 1e-30;
-      f = f_new;
-      model.evaluate(model.to_position(u), r, &J, mask);
-      mu *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
-      nu = 2.0;
-      if (small) {
-        out.converged = true;
-        break;
-      }
-    } else {
-      if (step.norm() < 1e-10) {
-        out.converged = true;
-        break;
-      }
-      mu *= nu;
-      nu *= 2.0;
-    }
-  }
-  out.position = model.to_position(u);
-  out.cost = f;
-  if (!out.position.allFinite()) out.converged = false;
+  out.position = model.to_position(sol.unknowns);
+  out.cost = sol.cost;
+  out.converged = sol.converged && out.position.allFinite();
   return out;
 }
 

@@ -1,5 +1,7 @@
 #include "localization/range_cost.h"
 
+#include "localization/levenberg_marquardt.h"
+
 #include <cmath>
 #include <limits>
 
@@ -83,57 +85,15 @@ double predicted_std_m(const RangeCost& cost, const Vec3& x, double sigma_m) {
 }
 
 LmResult levenberg_marquardt(const RangeCost& cost, const Vec3& start, int max_iterations) {
+  const LmSolution sol = levenberg_marquardt_core(
+      cost.to_unknowns(start),
+      [&](const Eigen::VectorXd& u, Eigen::VectorXd& r, Eigen::MatrixXd* J) { cost.evaluate(cost.to_position(u), r, J); },
+      max_iterations, LmTolerances{});
   LmResult out;
-  Eigen::VectorXd u = cost.to_unknowns(start);
-  Eigen::VectorXd r;
-  Eigen::MatrixXd J;
-  cost.evaluate(cost.to_position(u), r, &J);
-  double f = r.squaredNorm();
-  double mu = -1.0, nu = 2.0;
-  for (int it = 0; it < max_iterations; ++it) {
-    out.iterations = it + 1;
-    const Eigen::MatrixXd A = J.transpose() * J;
-    const Eigen::VectorXd g = J.transpose() * r;
-    if (mu < 0.0) mu = 1e-3 * A.diagonal().maxCoeff();
-    if (g.lpNorm<Eigen::Infinity>() < 1e-15) {
-      out.converged = true;
-      break;
-    }
-    Eigen::MatrixXd Ad = A;
-    Ad.diagonal() += mu * A.diagonal().cwiseMax(1e-12);
-    const Eigen::VectorXd step = Ad.ldlt().solve(-g);
-    if (!step.allFinite()) break;
-    const Eigen::VectorXd u_new = u + step;
-    Eigen::VectorXd r_new;
-    cost.evaluate(cost.to_position(u_new), r_new, nullptr);
-    const double f_new = r_new.squaredNorm();
-    // Gain ratio of actual to predicted decrease (Nielsen 1999).
-    const double predicted = step.dot(mu * A.diagonal().cwiseMax(1e-12).cwiseProduct(step) - g);
-    const double rho = predicted > 0.0 ? (f - f_new) / predicted : -1.0;
-    if (rho > 0.0) {
-      u = u_new;
-      const bool small_step = step.norm() < 1e-9 * (1.0 + u.norm());
-      const bool small_gain = (f - f_new) <= 1e-14 * f + 1e-30;
-      f = f_new;
-      cost.evaluate(cost.to_position(u), r, &J);
-      mu *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
-      nu = 2.0;
-      if (small_step || small_gain) {
-        out.converged = true;
-        break;
-      }
-    } else {
-      if (step.norm() < 1e-12 * (1.0 + u.norm())) {
-        out.converged = true;
-        break;
-      }
-      mu *= nu;
-      nu *= 2.0;
-    }
-  }
-  out.position = cost.to_position(u);
-  out.ssr = f;
-  if (!out.position.allFinite()) out.converged = false;
+  out.position = cost.to_position(sol.unknowns);
+  out.ssr = sol.cost;
+  out.iterations = sol.iterations;
+  out.converged = sol.converged && out.position.allFinite();
   return out;
 }
 
