@@ -1,6 +1,8 @@
 // `rfidray compare` end to end on a short scenario: a ray-traced LoS through an empty scene equals the ideal
 // channel (zero phase error and RSSI difference); through the paper warehouse with reflections it does not.
 #include <gtest/gtest.h>
+
+#include "tests/support/run_rfidray.h"
 #include <sys/wait.h>
 
 #include <array>
@@ -15,14 +17,9 @@ namespace {
 namespace fs = std::filesystem;
 
 int run(const std::string& args, std::string* out = nullptr) {
-  const std::string cmd = std::string(RFIDRAY_BINARY) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf{};
-  std::string text;
-  while (pipe && fgets(buf.data(), buf.size(), pipe)) text += buf.data();
-  const int status = pipe ? pclose(pipe) : -1;
-  if (out) *out = text;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const rfidray::testing::CliResult r = rfidray::testing::run_rfidray(args);
+  if (out) *out = r.output;
+  return r.status;
 }
 
 fs::path scenario(const std::string& name, const std::string& meshes) {

@@ -1,6 +1,8 @@
 // Issue #12: every bad input found by fuzzing ends with exit 2 and a message that names the file:line, the
 // field or the flag — or, where the input is legitimate, works. The reproducers are written here (small).
 #include <gtest/gtest.h>
+
+#include "tests/support/run_rfidray.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,23 +20,9 @@ namespace fs = std::filesystem;
 const std::string kSource = RFIDRAY_SOURCE_DIR;
 const std::string kBinary = RFIDRAY_BINARY;
 
-struct RunResult {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
-
+using RunResult = rfidray::testing::CliResult;
 // `prefix` runs in the same shell before the binary (ulimit, trap).
-RunResult run(const std::string& args, const std::string& prefix = "") {
-  RunResult r;
-  FILE* p = popen((prefix + kBinary + " " + args + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+RunResult run(const std::string& args, const std::string& prefix = "") { return rfidray::testing::run_rfidray(args, prefix); }
 
 bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 

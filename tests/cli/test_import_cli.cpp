@@ -1,6 +1,8 @@
 // `rfidray import` end to end: logs written here in each layout, the readings CSV it writes, `localize` on it,
 // and exit status 2 with FILE:LINE and the column for bad input (leaving no output file behind).
 #include <gtest/gtest.h>
+
+#include "tests/support/run_rfidray.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -36,14 +38,9 @@ fs::path write(const fs::path& p, const std::string& text) {
 
 // Runs rfidray with `args`; returns stdout+stderr, sets the exit code.
 std::string rfidray(const std::string& args, int& exit_code) {
-  const std::string cmd = std::string(RFIDRAY_BINARY) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return out;
+  const rfidray::testing::CliResult r = rfidray::testing::run_rfidray(args);
+  exit_code = r.status;
+  return r.output;
 }
 
 const Vec3 kTag(0.9, 0.8, 0.0);

@@ -1,6 +1,8 @@
 // `rfidray link` end to end: the JSON parses, matches the library's channel, and bad input fails cleanly.
 #include <gtest/gtest.h>
 
+#include "tests/support/run_rfidray.h"
+
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -21,13 +23,8 @@ struct CliRun {
 };
 
 CliRun run(const std::string& args) {
-  const std::string cmd = std::string(RFIDRAY_BINARY) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (pipe && fgets(buf.data(), buf.size(), pipe)) out += buf.data();
-  const int status = pipe ? pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  const rfidray::testing::CliResult r = rfidray::testing::run_rfidray(args);
+  return {r.status, r.output};
 }
 
 const std::string kScene = std::string(RFIDRAY_SOURCE_DIR) + "/scenes/paper_warehouse.obj";

@@ -1,6 +1,8 @@
 // Readings/truth CSV parsing and `rfidray localize` end to end on a small synthetic CSV.
 #include <gtest/gtest.h>
 
+#include "tests/support/run_rfidray.h"
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -110,13 +112,9 @@ void write_scenario(const fs::path& readings, const fs::path& truth, bool scramb
 }
 
 std::string run(const std::string& args, int& status) {
-  const std::string cmd = std::string(RFIDRAY_BINARY) + " localize " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-  status = pclose(pipe);
-  return out;
+  const rfidray::testing::CliResult r = rfidray::testing::run_rfidray("localize " + args);
+  status = r.status;
+  return r.output;
 }
 
 nlohmann::json without_times(nlohmann::json j) {

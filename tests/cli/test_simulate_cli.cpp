@@ -1,6 +1,8 @@
 // `rfidray simulate` end to end through the real binary: the paper scenario, byte-identical output across
 // thread counts, the CSV format, moving tags, and bad inputs (non-zero exit, message naming file/line/field).
 #include <gtest/gtest.h>
+
+#include "tests/support/run_rfidray.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -22,22 +24,8 @@ namespace fs = std::filesystem;
 const std::string kSource = RFIDRAY_SOURCE_DIR;
 const std::string kBinary = RFIDRAY_BINARY;
 
-struct RunResult {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
-
-RunResult run(const std::string& args) {
-  RunResult r;
-  FILE* p = popen((kBinary + " " + args + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+using RunResult = rfidray::testing::CliResult;
+RunResult run(const std::string& args) { return rfidray::testing::run_rfidray(args); }
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
