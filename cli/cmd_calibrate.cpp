@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "io/antenna_file.h"
+#include "io/atomic_file.h"
 #include "io/readings_csv.h"
 #include "localization/calibration.h"
 
@@ -54,11 +55,8 @@ int run_calibrate(const CalibrateState& s) {
   o.planar = s.height_known;
   o.fold_pi = s.fold_pi;
   const loc::AntennaCalibration c = loc::calibrate_antenna(samples, antenna, o);
-  {
-    std::ofstream out(s.output);
-    if (!out) throw InputError(s.output + ": cannot write antenna file");
-    io::write_antenna_file(out, c);
-  }
+  io::check_output_path(s.output, "antenna file");
+  io::write_file_atomic(s.output, [&](std::ostream& out) { io::write_antenna_file(out, c); }, "antenna file");
   if (s.json) {
     nlohmann::json j{{"antenna", c.antenna},
                      {"output", s.output},

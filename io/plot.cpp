@@ -4,6 +4,9 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+
+#include <unistd.h>
 
 namespace rfidray::io {
 namespace {
@@ -45,7 +48,10 @@ void write_png(const std::filesystem::path& png, const std::vector<Panel>& panel
   if (!g) throw std::runtime_error("cannot write " + gp.string());
   g << "set terminal pngcairo size " << width_px << "," << panel_height_px * static_cast<int>(panels.size())
     << " font 'sans,10'\n";
-  g << "set output " << quoted(png.filename().string()) << "\n";
+  // gnuplot draws into a temporary that is renamed over the PNG only when gnuplot succeeded, so a failed or
+  // interrupted plot never leaves a truncated PNG under the final name (io/atomic_file.h does the same for data).
+  const std::string partial = png.filename().string() + ".tmp-" + std::to_string(::getpid()) + ".png";
+  g << "set output " << quoted(partial) << "\n";
   g << "set grid\nset key outside right top\n";
   if (panels.size() > 1) g << "set multiplot layout " << panels.size() << ",1\n";
   int block = 0;
@@ -72,8 +78,17 @@ void write_png(const std::filesystem::path& png, const std::vector<Panel>& panel
   const std::string cmd = "cd " + quoted(dir) + " && gnuplot " + quoted(gp.filename().string()) + " 2>&1";
   if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)
     throw std::runtime_error("cannot draw " + png.string() + ": gnuplot not found (install it: apt-get install gnuplot-nox)");
-  if (std::system(cmd.c_str()) != 0)
+  const std::filesystem::path partial_path = png.parent_path() / partial;
+  std::error_code ec;
+  if (std::system(cmd.c_str()) != 0) {
+    std::filesystem::remove(partial_path, ec);
     throw std::runtime_error("gnuplot failed on " + gp.string() + " (its messages are above; data in " + dat.string() + ")");
+  }
+  std::filesystem::rename(partial_path, png, ec);
+  if (ec) {
+    std::filesystem::remove(partial_path, ec);
+    throw std::runtime_error("cannot write " + png.string() + ": " + ec.message());
+  }
 }
 
 }  // namespace rfidray::io

@@ -44,7 +44,8 @@ ResolvedMaterials resolve_materials(const std::vector<TriangleMesh>& meshes, con
     out.materials.push_back(std::move(m));
     return static_cast<uint32_t>(out.materials.size() - 1);
   };
-  for (const auto& [mesh, mat] : a.by_mesh) {
+  for (const auto& entry : a.by_mesh) {
+    const std::string& mesh = entry.first;  // not a structured binding: clang 14 cannot capture those
     const bool used = std::any_of(meshes.begin(), meshes.end(), [&](const TriangleMesh& m) { return m.name == mesh; });
     if (!used) out.notes.push_back("material override for mesh '" + mesh + "' matches no mesh of the scene");
   }
