@@ -68,12 +68,18 @@ void write_png(const std::filesystem::path& png, const std::vector<Panel>& panel
   }
   if (panels.size() > 1) g << "unset multiplot\n";
   g.close();
-  const std::string dir = png.has_parent_path() ? png.parent_path().string() : ".";
+  run_gnuplot(gp);
+}
+
+std::string gnuplot_quoted(const std::string& s) { return quoted(s); }
+
+void run_gnuplot(const std::filesystem::path& gp) {
+  const std::string dir = gp.has_parent_path() ? gp.parent_path().string() : ".";
   const std::string cmd = "cd " + quoted(dir) + " && gnuplot " + quoted(gp.filename().string()) + " 2>&1";
   if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)
-    throw std::runtime_error("cannot draw " + png.string() + ": gnuplot not found (install it: apt-get install gnuplot-nox)");
+    throw std::runtime_error("cannot run " + gp.string() + ": gnuplot not found (install it: apt-get install gnuplot-nox)");
   if (std::system(cmd.c_str()) != 0)
-    throw std::runtime_error("gnuplot failed on " + gp.string() + " (its messages are above; data in " + dat.string() + ")");
+    throw std::runtime_error("gnuplot failed on " + gp.string() + " (its messages are above)");
 }
 
 }  // namespace rfidray::io

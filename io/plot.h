@@ -24,4 +24,11 @@ struct Panel {
 void write_png(const std::filesystem::path& png, const std::vector<Panel>& panels, int width_px = 1100,
                int panel_height_px = 420);
 
+// Runs gnuplot on a script in its own directory (so relative file names in it resolve there). Throws
+// std::runtime_error when gnuplot is missing or fails, naming the script.
+void run_gnuplot(const std::filesystem::path& script);
+
+// A gnuplot string literal.
+std::string gnuplot_quoted(const std::string& s);
+
 }  // namespace rfidray::io
