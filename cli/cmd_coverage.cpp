@@ -85,8 +85,10 @@ int run_coverage(const CoverageOptions& o) {
       for (const Layer& l : layers) {
         io::FloorMap m = floor_map(p, {antennas[k]}, *l.v,
                                    "antenna " + n + ": " + l.label + " (channel " + p.channel->name() + ", " +
-                                       (p.grid ? "z = " + height : "tags, seen from above; plan cut at z = " + height) + ")",
-                                   l.label);
+                                       (p.grid ? "z = " + height
+                                               : o.plan.view == "side" ? std::string("tags, side view")
+                                                                       : "tags, seen from above; plan cut at z = " + height) + ")",
+                                   l.label, o.plan.view);
         m.range = l.range;
         m.reversed_palette = l.reversed;
         m.log_scale = std::string(l.key) == "localization_bound_m";
@@ -105,18 +107,18 @@ int run_coverage(const CoverageOptions& o) {
               ranks.size() == 1 ? "" : "s");
   for (const std::string& line : p.channel_report) std::printf("  %s\n", line.c_str());
   for (size_t k = 0; k < antennas.size(); ++k) {
-    size_t read50 = 0, read95 = 0, with_bound = 0;
-    double worst_bound = 0.0;
+    size_t read50 = 0, read95 = 0, with_bound = 0, within_1cm = 0, within_5cm = 0;
     for (size_t i = 0; i < p.cells.size(); ++i) {
-      const double pr = values[k].read_probability[i];
+      const double pr = values[k].read_probability[i], b = values[k].localization_bound_m[i];
       read50 += pr >= 0.5;
       read95 += pr >= 0.95;
-      if (std::isfinite(values[k].localization_bound_m[i]) && pr >= 0.5)
-        ++with_bound, worst_bound = std::max(worst_bound, values[k].localization_bound_m[i]);
+      if (std::isfinite(b)) ++with_bound, within_1cm += b <= 0.01, within_5cm += b <= 0.05;
     }
     std::printf("  antenna %s: %zu cells read with p >= 0.5, %zu with p >= 0.95 (of %zu)", names[k].c_str(), read50,
                 read95, p.cells.size());
-    if (with_bound) std::printf("; localization bound <= %.4f m over the %zu cells read with p >= 0.5", worst_bound, with_bound);
+    if (with_bound)
+      std::printf("; localization bound (Cramer-Rao RMS) <= 1 cm at %zu cells, <= 5 cm at %zu, defined at %zu", within_1cm,
+                  within_5cm, with_bound);
     std::printf("\n");
   }
   std::printf("  -> %s\n", (dir / "coverage.csv").string().c_str());

@@ -190,7 +190,7 @@ int run_place(const PlaceOptions& o) {
                                  std::to_string(k) + " antennas placed: best read probability (" +
                                      std::to_string(best.covered) + " of " + std::to_string(n_t) + " cells >= " +
                                      fmt("%.2f", o.min_probability) + ")",
-                                 "read probability (best antenna)");
+                                 "read probability (best antenna)", o.plan.view);
       m.range = std::make_pair(0.0, 1.0);
       io::write_map_png(dir / "placement.png", m);
       pngs.push_back((dir / "placement.png").string());

@@ -1,5 +1,7 @@
 #include "cli/planning.h"
 
+#include <fnmatch.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -64,6 +66,8 @@ void add_planning_options(CLI::App& cmd, PlanningOptions& o) {
   cmd.add_option("--plane", o.plane, "cells on a horizontal plane: z=HEIGHT (m), over --extent or the scene");
   cmd.add_option("--box", o.box, "cells in a box X0,Y0,Z0,X1,Y1,Z1 (m)");
   cmd.add_flag("--tags", o.tags, "the scenario's tags (listed and tag_sets) are the cells");
+  cmd.add_option("--tag-filter", o.tag_filter, "with --tags: only tags whose name matches this shell pattern (e.g. 'east_*')");
+  cmd.add_option("--view", o.view, "maps seen from: top (x, y) | side (the cells' longer horizontal axis, and z)");
   cmd.add_option("--extent", o.extent, "plane extent X0,Y0,X1,Y1 (m); default: the scene's bounds");
   cmd.add_option("--step", o.step_m, "grid step (m) of --plane and --box");
   cmd.add_option("--channel", o.channel, "override the scenario's channel: " + channel_level_names());
@@ -113,6 +117,8 @@ Planning prepare_planning(const PlanningOptions& o) {
   const int modes = (!o.plane.empty()) + (!o.box.empty()) + (o.tags ? 1 : 0);
   if (modes != 1) throw InputError("give exactly one of --plane z=HEIGHT, --box X0,Y0,Z0,X1,Y1,Z1 and --tags");
   if (!(std::isfinite(o.step_m) && o.step_m > 0.0)) throw InputError("option --step: must be > 0 m");
+  if (o.view != "top" && o.view != "side") throw InputError("option --view: expected top or side (got '" + clip(o.view) + "')");
+  if (!o.tag_filter.empty() && !o.tags) throw InputError("option --tag-filter: only with --tags");
   if (p.scene == nullptr && !p.scenario.scene.meshes.empty())
     p.scene = io::load_scenario_scene(p.scenario, p.scenario.channel);
   if (o.tags) {
@@ -121,11 +127,13 @@ Planning prepare_planning(const PlanningOptions& o) {
     std::vector<double> heights;
     for (size_t i = 0; i < p.scenario.tags.size(); ++i) {
       const TagSpec& t = p.scenario.tags[i];
+      if (!o.tag_filter.empty() && fnmatch(o.tag_filter.c_str(), t.tag.name.c_str(), 0) != 0) continue;
       p.cells.poses.push_back(p.motion.tags[i]->pose_at(t.start_s));  // a moving tag: where it starts
       p.cells.params.push_back(t.tag);
-      p.cells.param_of.push_back(static_cast<uint32_t>(i));
+      p.cells.param_of.push_back(static_cast<uint32_t>(p.cells.params.size() - 1));
       heights.push_back(p.cells.poses.back().position.z());
     }
+    if (p.cells.size() == 0) throw InputError("option --tag-filter: no tag of the scenario matches '" + clip(o.tag_filter) + "'");
     std::nth_element(heights.begin(), heights.begin() + heights.size() / 2, heights.end());
     p.plane_z = heights[heights.size() / 2];
   } else {
@@ -243,7 +251,7 @@ std::vector<io::CoverageValues> sharded_coverage(const Planning& p, const std::v
 }
 
 io::FloorMap floor_map(const Planning& p, const std::vector<size_t>& antennas, const std::vector<double>& value,
-                       const std::string& title, const std::string& label) {
+                       const std::string& title, const std::string& label, const std::string& view) {
   io::FloorMap m;
   m.title = title;
   m.value_label = label;
@@ -252,15 +260,29 @@ io::FloorMap floor_map(const Planning& p, const std::vector<size_t>& antennas, c
   m.ny = p.ny;
   m.x.reserve(p.cells.size());
   m.y.reserve(p.cells.size());
-  for (const Pose& c : p.cells.poses) m.x.push_back(c.position.x()), m.y.push_back(c.position.y());
+  // The view: top (x, y), or side (the cells' longer horizontal axis, and z).
+  int h = 0, v = 1;
+  if (view == "side") {
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (const Pose& c : p.cells.poses)
+      for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], c.position[k]), hi[k] = std::max(hi[k], c.position[k]);
+    h = hi[1] - lo[1] >= hi[0] - lo[0] ? 1 : 0;
+    v = 2;
+    m.grid = false;
+  }
+  const char* axis[3] = {"x (m)", "y (m)", "z (m)"};
+  m.x_label = axis[h];
+  m.y_label = axis[v];
+  for (const Pose& c : p.cells.poses) m.x.push_back(c.position[h]), m.y.push_back(c.position[v]);
   m.value = value;
-  if (p.scene) m.walls = io::scene_cut(*p.scene, p.plane_z);
+  if (p.scene && view == "top") m.walls = io::scene_cut(*p.scene, p.plane_z);
   for (size_t a : antennas) {
     const AntennaSpec& spec = p.scenario.antennas[a];
     const TrajectoryPtr& t = p.motion.antennas[a];
     const Pose pose = t->pose_at(spec.start_s);
-    m.antennas.push_back({spec.reader.name, pose.position, pose.orientation * Vec3::UnitX()});
-    if (!t->is_static()) {
+    const Vec3 b = pose.orientation * Vec3::UnitX();
+    m.antennas.push_back({spec.reader.name, Vec3(pose.position[h], pose.position[v], 0.0), Vec3(b[h], b[v], 0.0)});
+    if (!t->is_static() && view == "top") {
       std::vector<Vec3> path;
       const double end = std::isfinite(t->end_time_s()) ? t->end_time_s() : scenario_duration_s(p.scenario, p.motion);
       for (int k = 0; k <= 400; ++k) path.push_back(t->pose_at(spec.start_s + (end - spec.start_s) * k / 400.0).position);

@@ -26,6 +26,8 @@ struct PlanningOptions {
   std::string box;                // x0,y0,z0,x1,y1,z1
   std::string extent;             // x0,y0,x1,y1 of the plane (default: the scene's, or the tags')
   bool tags = false;              // the scenario's tags (listed and generated) are the cells
+  std::string tag_filter;         // with tags: only tags whose name matches this shell pattern
+  std::string view = "top";       // maps: top (x, y) | side (along the cells' longer horizontal extent, and z)
   double step_m = 0.1;
   double pass_step_s = 0.0;
   bool three_d = false;           // localization bound in 3-D
@@ -61,7 +63,7 @@ std::vector<io::CoverageValues> sharded_coverage(const Planning& p, const std::v
 
 // The floor map of one quantity, its walls (scene cut at plane_z), antennas and robot paths filled.
 io::FloorMap floor_map(const Planning& p, const std::vector<size_t>& antennas, const std::vector<double>& value,
-                       const std::string& title, const std::string& label);
+                       const std::string& title, const std::string& label, const std::string& view = "top");
 
 // Creates the output directory (InputError on failure).
 void make_output_dir(const std::string& dir);

@@ -116,8 +116,10 @@ void write_map_png(const std::filesystem::path& png, const FloorMap& map, int wi
   const std::string data = gnuplot_quoted(dat.filename().string());
   g << "set terminal pngcairo size " << width_px << "," << height_px << " font 'sans,10'\n";
   g << "set output " << gnuplot_quoted(png.filename().string()) << "\n";
+  g << "set termoption noenhanced\n";  // names like pole_4_0 stay as written (no subscripts)
   g << "set title " << gnuplot_quoted(map.title) << "\n";
-  g << "set xlabel 'x (m)'\nset ylabel 'y (m)'\nset size ratio -1\nset key off\n";
+  g << "set xlabel " << gnuplot_quoted(map.x_label) << "\nset ylabel " << gnuplot_quoted(map.y_label)
+    << "\nset size ratio -1\nset key off\n";
   g << "set xrange [" << lo_x << ":" << hi_x << "]\nset yrange [" << lo_y << ":" << hi_y << "]\n";
   g << "set cblabel " << gnuplot_quoted(map.value_label) << "\n";
   if (map.range) {

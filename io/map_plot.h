@@ -24,6 +24,7 @@ struct MapAntenna {
 
 struct FloorMap {
   std::string title, value_label;     // value_label: the colour bar's, with units
+  std::string x_label = "x (m)", y_label = "y (m)";
   bool grid = true;                   // true: x, y are the centres of an nx × ny grid (x fastest): drawn as an image
   size_t nx = 0, ny = 0;
   std::vector<double> x, y, value;    // NaN: no value (left blank)

@@ -472,6 +472,13 @@ TagSetSpec parse_tag_set(const YamlFile& src, const YAML::Node& n, const std::st
     sel.facing_tolerance_deg = g.non_negative({"facing_tolerance_deg"}, sel.facing_tolerance_deg);
     if (sel.facing_tolerance_deg > 180.0)
       throw src.error(*g.get("facing_tolerance_deg"), g.field("facing_tolerance_deg"), "must be in [0, 180]");
+    if (auto w = g.get("within")) {
+      YamlMap box(src, *w, g.field("within"));
+      const Vec3 lo = src.point(box.required("min"), box.field("min")), hi = src.point(box.required("max"), box.field("max"));
+      box.finish();
+      if ((hi - lo).minCoeff() < 0.0) throw src.error(*w, g.field("within"), "max must be >= min on every axis");
+      sel.within = std::make_pair(lo, hi);
+    }
     sel.offset_m = g.number("offset_m", sel.offset_m);
     sel.step_m = g.positive({"step_m"}, sel.step_m);
     t.surface = sel;

@@ -3,7 +3,6 @@
 #include <fnmatch.h>
 
 #include <cmath>
-#include <set>
 
 #include "core/error.h"
 #include "core/limits.h"
@@ -130,43 +129,50 @@ std::vector<TagSpec> generate_tags(const TagSetSpec& set, const Scene* scene, si
     Vec3 u, v;
     plane_basis(n, u, v);
     const Quat q = surface_orientation(n);
-    // Lattice points (a + ½, b + ½)·step in the plane's (u, v) coordinates, anchored at the world origin so
-    // that coplanar facets continue one lattice; each point once per facet.
-    std::set<std::pair<long long, long long>> taken;
-    double plane = 0.0;
+    // Lattice points every step_m in the plane's (u, v) coordinates, centred on the facet's extent (a strip
+    // narrower than a step — a shelf's front edge, a post — gets one centred row), kept where a triangle of the
+    // facet is (inclusive edges).
+    struct Tri {
+      double u[3], v[3], area;
+    };
+    std::vector<Tri> tris;
+    double lo_u = INFINITY, hi_u = -INFINITY, lo_v = INFINITY, hi_v = -INFINITY, plane = 0.0;
     for (uint32_t tri : facet.triangles) {
       const auto c = scene->corners(tri);
       plane = n.dot(c[0]);
-      double cu[3], cv[3];
-      for (int k = 0; k < 3; ++k) cu[k] = u.dot(c[k]), cv[k] = v.dot(c[k]);
-      const double lo_u = std::min({cu[0], cu[1], cu[2]}), hi_u = std::max({cu[0], cu[1], cu[2]});
-      const double lo_v = std::min({cv[0], cv[1], cv[2]}), hi_v = std::max({cv[0], cv[1], cv[2]});
-      const double area = (cu[1] - cu[0]) * (cv[2] - cv[0]) - (cu[2] - cu[0]) * (cv[1] - cv[0]);
-      if (std::abs(area) < 1e-18) continue;
-      const long long a0 = static_cast<long long>(std::ceil(lo_u / s.step_m - 0.5));
-      const long long a1 = static_cast<long long>(std::floor(hi_u / s.step_m - 0.5));
-      const long long b0 = static_cast<long long>(std::ceil(lo_v / s.step_m - 0.5));
-      const long long b1 = static_cast<long long>(std::floor(hi_v / s.step_m - 0.5));
-      if (a1 >= a0 && b1 >= b0 &&
-          static_cast<double>(a1 - a0 + 1) * static_cast<double>(b1 - b0 + 1) > static_cast<double>(max_tags))
-        throw field_error(field + ".step_m", "a facet would hold more than " + count_text(double(max_tags)) +
-                                                 " tags; use a larger step");
-      for (long long b = b0; b <= b1; ++b)
-        for (long long a = a0; a <= a1; ++a) {
-          const double pu = (static_cast<double>(a) + 0.5) * s.step_m, pv = (static_cast<double>(b) + 0.5) * s.step_m;
-          // Barycentric test (inclusive edges; the set removes points shared by two triangles).
-          const double w1 = ((pu - cu[0]) * (cv[2] - cv[0]) - (cu[2] - cu[0]) * (pv - cv[0])) / area;
-          const double w2 = ((cu[1] - cu[0]) * (pv - cv[0]) - (pu - cu[0]) * (cv[1] - cv[0])) / area;
-          if (w1 < -1e-12 || w2 < -1e-12 || w1 + w2 > 1.0 + 1e-12) continue;
-          taken.insert({b, a});
+      Tri t;
+      for (int k = 0; k < 3; ++k) {
+        t.u[k] = u.dot(c[k]), t.v[k] = v.dot(c[k]);
+        lo_u = std::min(lo_u, t.u[k]), hi_u = std::max(hi_u, t.u[k]);
+        lo_v = std::min(lo_v, t.v[k]), hi_v = std::max(hi_v, t.v[k]);
+      }
+      t.area = (t.u[1] - t.u[0]) * (t.v[2] - t.v[0]) - (t.u[2] - t.u[0]) * (t.v[1] - t.v[0]);
+      if (std::abs(t.area) > 1e-18) tris.push_back(t);
+    }
+    if (tris.empty()) continue;
+    const double cols = std::floor((hi_u - lo_u) / s.step_m + 1e-9) + 1.0;
+    const double rows = std::floor((hi_v - lo_v) / s.step_m + 1e-9) + 1.0;
+    if (cols * rows + static_cast<double>(out.size()) > static_cast<double>(max_tags))
+      throw field_error(set.field, "would generate more than " + count_text(double(max_tags)) + " tags; use a larger step_m");
+    const double u0 = 0.5 * (lo_u + hi_u) - 0.5 * (cols - 1.0) * s.step_m;
+    const double v0 = 0.5 * (lo_v + hi_v) - 0.5 * (rows - 1.0) * s.step_m;
+    for (double b = 0; b < rows; ++b)
+      for (double a = 0; a < cols; ++a) {
+        const double pu = u0 + a * s.step_m, pv = v0 + b * s.step_m;
+        bool inside = false;
+        for (const Tri& t : tris) {
+          const double w1 = ((pu - t.u[0]) * (t.v[2] - t.v[0]) - (t.u[2] - t.u[0]) * (pv - t.v[0])) / t.area;
+          const double w2 = ((t.u[1] - t.u[0]) * (pv - t.v[0]) - (pu - t.u[0]) * (t.v[1] - t.v[0])) / t.area;
+          if (w1 >= -1e-9 && w2 >= -1e-9 && w1 + w2 <= 1.0 + 1e-9) {
+            inside = true;
+            break;
+          }
         }
-    }
-    for (const auto& [b, a] : taken) {
-      const double pu = (static_cast<double>(a) + 0.5) * s.step_m, pv = (static_cast<double>(b) + 0.5) * s.step_m;
-      if (out.size() >= max_tags)
-        throw field_error(set.field, "would generate more than " + count_text(double(max_tags)) + " tags");
-      make(tag_name(set.name_pattern, out.size()), pu * u + pv * v + (plane + s.offset_m) * n, q);
-    }
+        if (!inside) continue;
+        const Vec3 at = pu * u + pv * v + (plane + s.offset_m) * n;
+        if (s.within && ((at - s.within->first).minCoeff() < 0.0 || (s.within->second - at).minCoeff() < 0.0)) continue;
+        make(tag_name(set.name_pattern, out.size()), at, q);
+      }
   }
   if (selected == 0)
     throw field_error(field, "selects no surface of the scene (material '" + s.material + "', mesh '" + s.mesh +

@@ -4,8 +4,9 @@
 //  - a grid: every point min + (i, j, k)·step in a box (a plane or a line when a side has zero length), all
 //    tags with one orientation; or
 //  - surface tags: the scene's planar facets selected by material and/or mesh (object) name (shell patterns,
-//    fnmatch) and optionally by the direction they face, sampled on a lattice of `step_m` in the facet's plane
-//    and moved `offset_m` off the surface along its normal. A tag's local +X is the facet normal (it faces
+//    fnmatch) and optionally by the direction they face, sampled on a lattice of `step_m` in the facet's plane,
+//    centred on the facet (a face narrower than a step, e.g. a shelf's front edge, gets one row along its middle),
+//    and moved `offset_m` off the surface along its normal; optionally only those inside a box (`within`). A tag's local +X is the facet normal (it faces
 //    out, like an antenna's boresight), its local Z the plane's "up" (world Z projected into the plane; for a
 //    horizontal facet the world Y), so a tag polarized along local Z on a rack front is vertical.
 // Names come from a pattern: "{i}" is the running index in the set; a grid also has "{ix}", "{iy}", "{iz}"; a
@@ -38,6 +39,7 @@ struct SurfaceSelection {
   std::string mesh;                // fnmatch pattern on the mesh (OBJ object) name; "" = any
   std::optional<Vec3> facing;      // only facets whose normal is within facing_tolerance_deg of this
   double facing_tolerance_deg = 10.0;
+  std::optional<std::pair<Vec3, Vec3>> within;  // only tags inside this box (min, max corners)
   double offset_m = 0.05;          // distance of the tags from the surface, along its normal
   double step_m = 0.2;
 };

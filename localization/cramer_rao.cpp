@@ -14,19 +14,20 @@ void PhaseFisher::add(const PhaseObservation& o) {
   if (!(r > 0.0)) return;
   const Vec3 g = (4.0 * kPi / o.wavelength_m) * d / r;  // ∂φ/∂θ
   const double w = o.weight / (o.sigma_rad * o.sigma_rad);
-  j_pp_ += w * g * g.transpose();
   auto it = groups_.begin();
   while (it != groups_.end() && it->id < o.offset_group) ++it;
   if (it == groups_.end() || it->id != o.offset_group) it = groups_.insert(it, Group{o.offset_group});
-  it->j_pg += w * g;
-  it->j_gg += w;
+  it->weight += w;
+  const Vec3 delta = g - it->mean;
+  it->mean += (w / it->weight) * delta;
+  it->scatter += w * delta * (g - it->mean).transpose();
 }
 
 std::optional<double> PhaseFisher::bound_m(bool height_known) const {
   const int n = height_known ? 2 : 3;
-  Eigen::Matrix3d s = j_pp_;
-  for (const Group& g : groups_)
-    if (g.j_gg > 0.0) s -= g.j_pg * g.j_pg.transpose() / g.j_gg;
+  Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
+  for (const Group& g : groups_) s += g.scatter;
+  s = 0.5 * (s + s.transpose());  // symmetric up to rounding
   const Eigen::MatrixXd block = s.topLeftCorner(n, n);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(block);
   if (eig.info() != Eigen::Success) return std::nullopt;

@@ -16,6 +16,8 @@
 // aperture that constrains only some directions, e.g. a 3-D fit from a straight pass).
 #include <optional>
 #include <span>
+
+#include <Eigen/Core>
 #include <vector>
 
 #include "core/geometry.h"
@@ -41,13 +43,16 @@ class PhaseFisher {
   std::optional<double> bound_m(bool height_known) const;
 
  private:
+  // Per group, the weighted scatter of the gradients about their weighted mean, updated one observation at a
+  // time (West 1979, the weighted form of Welford's update): Σ w (g − ḡ)(g − ḡ)ᵀ is that group's share of the
+  // Schur complement S, without the cancellation of J_θθ − J_θg J_θgᵀ / J_gg.
   struct Group {
     size_t id = 0;
-    Vec3 j_pg = Vec3::Zero();  // J_θg
-    double j_gg = 0.0;
+    double weight = 0.0;
+    Vec3 mean = Vec3::Zero();
+    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   };
   Vec3 tag_;
-  Eigen::Matrix3d j_pp_ = Eigen::Matrix3d::Zero();
   std::vector<Group> groups_;
 };
 

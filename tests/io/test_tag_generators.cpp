@@ -72,7 +72,15 @@ TEST(TagGenerators, SurfaceTagsOnRackFronts) {
     names.insert(t.tag.name);
   }
   EXPECT_EQ(names.size(), s.tags.size());
-  EXPECT_GT(shelves, 10u);
+  // Every shelf's 3 cm front edge gets a row: 4 shelves × ~10.5 m of the five racks / 0.25 m.
+  EXPECT_GT(shelves, 4u * 38u);
+  // `within` keeps the tags inside a box: here the front faces only.
+  const Scenario front = parse_scenario(head() +
+                                            "tag_sets:\n  - surface: {mesh: 'rack_east_*', facing: [-1, 0, 0], step_m: "
+                                            "0.25, within: {min: [2.5, -20, 0], max: [3, 20, 5]}}\n",
+                                        "s.yaml");
+  for (const TagSpec& t : front.tags) EXPECT_LT(t.motion.pose.position.x(), 3.0);
+  EXPECT_LT(front.tags.size(), s.tags.size());
   // No west rack, nothing from the concrete walls.
   EXPECT_NE(error_of(head() + "tag_sets:\n  - surface: {mesh: 'nothing_*'}\n"), "");
   EXPECT_NE(error_of(head() + "tag_sets:\n  - surface: {mesh: 'nothing_*'}\n").find("selects no surface"),
