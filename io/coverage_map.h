@@ -15,8 +15,8 @@
 //    the tag position from the pass's phase history (localization/cramer_rao.h; one phase offset per carrier,
 //    σ² = noise_phi² + quantization step²/12 [+ receiver noise 1/(2·SNR)], reads weighted by p_k).
 // rssi_dbm is the noise-free RSSI the model reports (physical: 10·log10(P_tx·K·|h|⁴ / 1 mW), as `rfidray link`;
-// paper: 40·log10(G_RT·λ/(4πD))), given where a channel exists even when the tag is not read (how far below the
-// threshold it is); phase_error_rad is |wrap(arg h_ideal² − arg h²)| — the round-trip phase the scenario's channel
+// paper: 40·log10(G_RT·λ/(4πD))); for a fixed antenna it is given wherever a channel exists, even when the tag
+// is not read (how far below the threshold it is), for a pass only where some tick may read; phase_error_rad is |wrap(arg h_ideal² − arg h²)| — the round-trip phase the scenario's channel
 // adds against free space (the RMS over carriers / ticks), whatever the reader model. NaN marks "no value"
 // (no channel: h = 0; no bound: fixed antenna or a non-identifiable position; a cell within 1 µm of the antenna).
 // Deterministic (no random draws): the same numbers at any thread count and for any split of the cells.
