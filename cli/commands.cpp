@@ -19,6 +19,8 @@ std::function<int()> setup_localize(CLI::App& app);
 std::function<int()> setup_calibrate(CLI::App& app);
 std::function<int()> setup_bench(CLI::App& app);
 std::function<int()> setup_import(CLI::App& app);
+std::function<int()> setup_coverage(CLI::App& app);
+std::function<int()> setup_place(CLI::App& app);
 #ifdef RFIDRAY_HAVE_IGN_TRANSPORT
 std::function<int()> setup_gazebo(CLI::App& app);
 #endif
@@ -60,6 +62,8 @@ void register_commands(CLI::App& app) {
   add(app, setup_calibrate);
   add(app, setup_bench);
   add(app, setup_import);
+  add(app, setup_coverage);
+  add(app, setup_place);
   add(app, setup_gazebo);
 }
 

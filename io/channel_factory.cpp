@@ -31,6 +31,10 @@ std::shared_ptr<const Scene> scenario_scene(const Scenario& scenario, ChannelLev
 
 }  // namespace
 
+std::shared_ptr<const Scene> load_scenario_scene(const Scenario& scenario, ChannelLevel level) {
+  return scenario_scene(scenario, level);
+}
+
 TraceOptions trace_options(const ChannelOptionsSpec& spec) {
   TraceOptions o;
   if (spec.candidates) o.candidates = parse_candidate_mode(*spec.candidates, "channel_options.candidates");

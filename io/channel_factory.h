@@ -14,6 +14,10 @@
 
 namespace rfidray::io {
 
+// The scene of a scenario (its meshes loaded, materials resolved), printing its warnings and notes to stderr as
+// the factory does; for callers that need the scene itself as well (coverage maps draw its floor plan) and pass
+// it to the make_channel overload below, so it is loaded once.
+std::shared_ptr<const Scene> load_scenario_scene(const Scenario& scenario, ChannelLevel level);
 // The ray tracer's options with the scenario's channel_options applied (level not set).
 TraceOptions trace_options(const ChannelOptionsSpec& spec);
 // Builds the channel of `level` for a scenario (traced levels load scenario.scene; kAuto also samples the

@@ -48,10 +48,7 @@ void write_png(const std::filesystem::path& png, const std::vector<Panel>& panel
   if (!g) throw std::runtime_error("cannot write " + gp.string());
   g << "set terminal pngcairo size " << width_px << "," << panel_height_px * static_cast<int>(panels.size())
     << " font 'sans,10'\n";
-  // gnuplot draws into a temporary that is renamed over the PNG only when gnuplot succeeded, so a failed or
-  // interrupted plot never leaves a truncated PNG under the final name (io/atomic_file.h does the same for data).
-  const std::string partial = png.filename().string() + ".tmp-" + std::to_string(::getpid()) + ".png";
-  g << "set output " << quoted(partial) << "\n";
+  g << "set output " << quoted(partial_png_name(png)) << "\n";
   g << "set grid\nset key outside right top\n";
   if (panels.size() > 1) g << "set multiplot layout " << panels.size() << ",1\n";
   int block = 0;
@@ -74,19 +71,31 @@ void write_png(const std::filesystem::path& png, const std::vector<Panel>& panel
   }
   if (panels.size() > 1) g << "unset multiplot\n";
   g.close();
-  const std::string dir = png.has_parent_path() ? png.parent_path().string() : ".";
+  run_gnuplot(gp, png);
+}
+
+std::string partial_png_name(const std::filesystem::path& png) {
+  return png.filename().string() + ".tmp-" + std::to_string(::getpid()) + ".png";
+}
+
+std::string gnuplot_quoted(const std::string& s) { return quoted(s); }
+
+void run_gnuplot(const std::filesystem::path& gp, const std::filesystem::path& png) {
+  const std::string dir = gp.has_parent_path() ? gp.parent_path().string() : ".";
   const std::string cmd = "cd " + quoted(dir) + " && gnuplot " + quoted(gp.filename().string()) + " 2>&1";
   if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)
-    throw std::runtime_error("cannot draw " + png.string() + ": gnuplot not found (install it: apt-get install gnuplot-nox)");
-  const std::filesystem::path partial_path = png.parent_path() / partial;
+    throw std::runtime_error("cannot run " + gp.string() + ": gnuplot not found (install it: apt-get install gnuplot-nox)");
+  // gnuplot draws into a temporary that is renamed over the PNG only when gnuplot succeeded, so a failed or
+  // interrupted plot never leaves a truncated PNG under the final name (io/atomic_file.h does the same for data).
+  const std::filesystem::path partial = png.parent_path() / partial_png_name(png);
   std::error_code ec;
   if (std::system(cmd.c_str()) != 0) {
-    std::filesystem::remove(partial_path, ec);
-    throw std::runtime_error("gnuplot failed on " + gp.string() + " (its messages are above; data in " + dat.string() + ")");
+    std::filesystem::remove(partial, ec);
+    throw std::runtime_error("gnuplot failed on " + gp.string() + " (its messages are above)");
   }
-  std::filesystem::rename(partial_path, png, ec);
+  std::filesystem::rename(partial, png, ec);
   if (ec) {
-    std::filesystem::remove(partial_path, ec);
+    std::filesystem::remove(partial, ec);
     throw std::runtime_error("cannot write " + png.string() + ": " + ec.message());
   }
 }

@@ -24,4 +24,15 @@ struct Panel {
 void write_png(const std::filesystem::path& png, const std::vector<Panel>& panels, int width_px = 1100,
                int panel_height_px = 420);
 
+// Runs gnuplot on a script in its own directory (so relative file names in it resolve there). The script must
+// `set output` to partial_png_name(png); that temporary is renamed to `png` when gnuplot succeeds and removed
+// when it fails, so `png` is complete or absent. Throws std::runtime_error when gnuplot is missing or fails,
+// naming the script.
+void run_gnuplot(const std::filesystem::path& script, const std::filesystem::path& png);
+// The temporary file name (no directory) a script run by run_gnuplot writes for `png`.
+std::string partial_png_name(const std::filesystem::path& png);
+
+// A gnuplot string literal.
+std::string gnuplot_quoted(const std::string& s);
+
 }  // namespace rfidray::io

@@ -15,6 +15,8 @@
 #include "core/distribution.h"
 #include "io/antenna_file.h"
 #include "io/checked_yaml.h"
+#include "io/tag_generators.h"
+#include "raytrace/scene.h"
 #include "core/error.h"
 #include "core/reader_model.h"
 #include "core/units.h"
@@ -436,6 +438,60 @@ TagSpec parse_tag(const YamlFile& src, const YAML::Node& n, const std::string& f
   return t;
 }
 
+// One entry of `tag_sets` (io/tag_generators.h): a name pattern, the tags' radio keys, and a grid or a surface.
+TagSetSpec parse_tag_set(const YamlFile& src, const YAML::Node& n, const std::string& field) {
+  YamlMap m(src, n, field);
+  TagSetSpec t;
+  t.field = field;
+  t.source_line = src.line(n);
+  t.name_pattern = m.string("name", "tag_{i}");
+  {
+    // The pattern's characters, with the placeholders' braces allowed.
+    std::string plain = t.name_pattern;
+    for (char& c : plain)
+      if (c == '{' || c == '}') c = '_';
+    check_name(src, m.has("name") ? *m.get("name") : n, m.field("name"), plain, false);
+  }
+  parse_tag_keys(m, t.tag);
+  t.orientation = parse_orientation(m);
+  auto kind = m.get_one({"grid", "surface"});
+  if (!kind) throw src.error(n, field, "needs one of 'grid' (a box or plane of tags) and 'surface' (tags on scene surfaces)");
+  YamlMap g(src, kind->second, m.field(kind->first));
+  if (kind->first == "grid") {
+    TagGrid grid;
+    grid.min = src.point(g.required("min"), g.field("min"));
+    grid.max = src.point(g.required("max"), g.field("max"));
+    grid.step_m = g.positive({"step_m"}, 0.0);
+    if (!g.has("step_m")) g.required("step_m");
+    t.grid = grid;
+  } else {
+    SurfaceSelection sel;
+    sel.material = g.string("material", "");
+    sel.mesh = g.string("mesh", "");
+    if (auto f = g.get("facing")) sel.facing = src.point(*f, g.field("facing"));
+    sel.facing_tolerance_deg = g.non_negative({"facing_tolerance_deg"}, sel.facing_tolerance_deg);
+    if (sel.facing_tolerance_deg > 180.0)
+      throw src.error(*g.get("facing_tolerance_deg"), g.field("facing_tolerance_deg"), "must be in [0, 180]");
+    if (auto w = g.get("within")) {
+      YamlMap box(src, *w, g.field("within"));
+      const Vec3 lo = src.point(box.required("min"), box.field("min")), hi = src.point(box.required("max"), box.field("max"));
+      box.finish();
+      if ((hi - lo).minCoeff() < 0.0) throw src.error(*w, g.field("within"), "max must be >= min on every axis");
+      sel.within = std::make_pair(lo, hi);
+    }
+    sel.offset_m = g.number("offset_m", sel.offset_m);
+    sel.step_m = g.positive({"step_m"}, sel.step_m);
+    t.surface = sel;
+  }
+  g.finish();
+  m.finish();
+  src.located(n, [&] {
+    validate(t.tag, field);
+    return 0;
+  });
+  return t;
+}
+
 SceneSpec parse_scene(const YamlFile& src, const YAML::Node& n, const std::filesystem::path& base_dir) {
   YamlMap m(src, n, "scene");
   SceneSpec s;
@@ -585,6 +641,36 @@ Scenario parse_scenario(const std::string& text, const std::string& source) {
       if (!names.insert(s.tags.back().tag.name).second)
         throw src.error((*tags)[i], indexed("tags", i) + ".name",
                         "duplicate tag name '" + s.tags.back().tag.name + "'");
+    }
+  }
+  if (auto sets = top.get("tag_sets")) {
+    if (!sets->IsSequence()) throw src.error(*sets, "tag_sets", "must be a list");
+    std::vector<TagSetSpec> specs;
+    bool need_scene = false;
+    std::set<std::string> tag_names;
+    for (const TagSpec& t : s.tags) tag_names.insert(t.tag.name);
+    for (size_t i = 0; i < sets->size(); ++i) {
+      specs.push_back(parse_tag_set(src, (*sets)[i], indexed("tag_sets", i)));
+      need_scene = need_scene || specs.back().surface.has_value();
+    }
+    // Surface tags are laid on the scene's facets: load it here (the channel loads it again for tracing).
+    std::shared_ptr<const Scene> scene;
+    if (need_scene) {
+      if (s.scene.meshes.empty()) throw src.error(*sets, "tag_sets", "surface tags need scene.meshes");
+      scene = load_scene(s.scene, source);
+    }
+    size_t generated = 0;
+    for (size_t i = 0; i < specs.size(); ++i) {
+      std::vector<TagSpec> tags = src.located((*sets)[i], [&] {
+        return generate_tags(specs[i], scene.get(), kMaxGeneratedTags - generated);
+      });
+      generated += tags.size();
+      for (TagSpec& t : tags) {
+        if (!tag_names.insert(t.tag.name).second)
+          throw src.error((*sets)[i], indexed("tag_sets", i) + ".name",
+                          "generates the tag name '" + t.tag.name + "', which already exists");
+        s.tags.push_back(std::move(t));
+      }
     }
   }
   top.finish();

@@ -27,6 +27,10 @@
 //   start_s} (fixed or robot base).
 // tag:        name · gain_dbi · chip_sensitivity_dbm · pattern · polarization · phase_pattern · start_s · position (+ orientation)
 //   | waypoints + speed_m_s (+ orientation).
+// tag_sets:   tags by the thousand (io/tag_generators.h), each: name (pattern with {i}, {ix}, {iy}, {iz}) · the tag
+//   radio keys · grid: {min: [x,y,z], max: [x,y,z], step_m} (+ rpy_deg | yaw_deg | quaternion) | surface:
+//   {material?, mesh? (shell patterns), facing? [x,y,z], facing_tolerance_deg? (10), within? {min, max}, offset_m? (0.05),
+//   step_m? (0.2)}
 #include <yaml-cpp/yaml.h>
 
 #include <string>

@@ -1,0 +1,211 @@
+#include "io/coverage_map.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <mutex>
+
+#include "core/error.h"
+#include "core/limits.h"
+#include "core/read_probability.h"
+#include "core/units.h"
+#include "localization/cramer_rao.h"
+
+namespace rfidray::io {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr size_t kChunk = 256;  // cells per work item
+
+// One antenna pose the coverage is evaluated at.
+struct PassPose {
+  Pose centre;          // phase centre
+  size_t carrier = 0;   // index into the reader's frequencies
+  double weight = 1.0;  // attempts this pose stands for
+};
+
+struct Pass {
+  bool moving = false;
+  std::vector<PassPose> poses;
+};
+
+Pass antenna_pass(const Scenario& scenario, const SceneMotion& motion, size_t a, const CoverageOptions& options) {
+  const AntennaSpec& ant = scenario.antennas.at(a);
+  const ReaderParams& reader = ant.reader;
+  Pass pass;
+  const TrajectoryPtr& traj = motion.antennas.at(a);
+  if (traj->is_static()) {
+    const Pose centre = phase_centre_pose(reader, traj->pose_at(ant.start_s));
+    for (size_t c = 0; c < reader.frequencies_hz.size(); ++c) pass.poses.push_back({centre, c, 1.0});
+    return pass;
+  }
+  pass.moving = true;
+  if (!(std::isfinite(options.pass_step_s) && options.pass_step_s >= 0.0))
+    throw InputError("pass step must be finite and >= 0 s (got " + std::to_string(options.pass_step_s) + ")");
+  const double duration = scenario_duration_s(scenario, motion);
+  const double rate = reader.update_rate_hz;
+  // The simulation's ticks: t = k / rate, k = 0 … ⌊duration·rate⌋ (core/simulation.cpp).
+  const double ticks = std::floor(duration * rate + 1e-9) + 1.0;
+  if (!(ticks <= limits::kMaxTicks))
+    throw InputError("antenna '" + reader.name + "': the pass has more than 1e9 ticks");
+  const uint64_t n_ticks = static_cast<uint64_t>(ticks);
+  const uint64_t stride = options.pass_step_s > 0.0
+                              ? std::max<uint64_t>(1, static_cast<uint64_t>(std::llround(options.pass_step_s * rate)))
+                              : 1;
+  for (uint64_t k = 0; k < n_ticks; k += stride) {
+    const double t = static_cast<double>(k) / rate;
+    if (t < ant.start_s) continue;
+    pass.poses.push_back({phase_centre_pose(reader, traj->pose_at(t)), hop_index_at(reader, t),
+                          static_cast<double>(std::min(stride, n_ticks - k))});
+  }
+  return pass;
+}
+
+// Phase noise σ of one read (rad): the reader's n_φ, the quantization (uniform, step²/12) and, for the physical
+// model with receiver noise, 1/(2·SNR) (core/reader.h).
+double phase_sigma(const ReaderParams& reader, double p_rx_w) {
+  double var = reader.noise_phi_rad * reader.noise_phi_rad;
+  if (reader.phase_bits > 0) {
+    const double step = kTwoPi / std::ldexp(1.0, reader.phase_bits);
+    var += step * step / 12.0;
+  }
+  if (reader.model == ReaderModelKind::kPhysical && reader.snr_at_sensitivity_db > 0.0 && p_rx_w > 0.0)
+    var += 0.5 / (std::pow(10.0, reader.snr_at_sensitivity_db / 10.0) * p_rx_w / dbm_to_watt(reader.sensitivity_dbm));
+  return std::sqrt(var);
+}
+
+}  // namespace
+
+CoverageCells CoverageCells::slice(size_t first, size_t count) const {
+  CoverageCells out;
+  out.params = params;
+  first = std::min(first, poses.size());
+  count = std::min(count, poses.size() - first);
+  out.poses.assign(poses.begin() + static_cast<std::ptrdiff_t>(first),
+                   poses.begin() + static_cast<std::ptrdiff_t>(first + count));
+  if (!param_of.empty())
+    out.param_of.assign(param_of.begin() + static_cast<std::ptrdiff_t>(first),
+                        param_of.begin() + static_cast<std::ptrdiff_t>(first + count));
+  return out;
+}
+
+void CoverageValues::resize(size_t n) {
+  read_probability.assign(n, kNaN);
+  rssi_dbm.assign(n, kNaN);
+  phase_error_rad.assign(n, kNaN);
+  localization_bound_m.assign(n, kNaN);
+}
+
+size_t coverage_work(const Scenario& scenario, const SceneMotion& motion, size_t antenna, size_t cells,
+                     const CoverageOptions& options) {
+  return antenna_pass(scenario, motion, antenna, options).poses.size() * cells;
+}
+
+CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, size_t antenna, const Channel& channel,
+                        const Channel& ideal, const CoverageCells& cells, const CoverageOptions& options) {
+  const ReaderParams& reader = scenario.antennas.at(antenna).reader;
+  const Pass pass = antenna_pass(scenario, motion, antenna, options);
+  const bool physical = reader.model == ReaderModelKind::kPhysical;
+  const bool same_channel = &channel == &ideal;
+  const Endpoint antenna_shape{Pose{}, reader.pattern, reader.polarization};
+  const double p_tx_w = dbm_to_watt(reader.tx_power_dbm);
+  const double total_carrier_weight = static_cast<double>(reader.frequencies_hz.size());
+
+  const size_t n = cells.size();
+  CoverageValues out;
+  out.resize(n);
+  const size_t n_chunks = (n + kChunk - 1) / kChunk;
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  std::exception_ptr error;
+  std::mutex error_mutex;
+
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (size_t chunk = 0; chunk < n_chunks; ++chunk) {
+    try {
+      const size_t c0 = chunk * kChunk, c1 = std::min(n, c0 + kChunk), m = c1 - c0;
+      std::vector<Endpoint> tags(m);
+      for (size_t i = 0; i < m; ++i) {
+        const TagParams& t = cells.tag(c0 + i);
+        tags[i] = Endpoint{cells.poses[c0 + i], t.pattern, t.polarization};
+      }
+      std::vector<std::complex<double>> h(m), h_ideal(m);
+      std::vector<double> miss_log(m, 0.0), sum_p(m, 0.0), sum_rssi(m, 0.0), w_rssi(m, 0.0), sum_e2(m, 0.0),
+          w_e(m, 0.0);
+      std::vector<char> valid(m, 1), certain(m, 0);
+      std::vector<localization::PhaseFisher> fisher;
+      if (pass.moving)
+        for (size_t i = 0; i < m; ++i) fisher.emplace_back(cells.poses[c0 + i].position);
+      for (const PassPose& pp : pass.poses) {
+        const double f = reader.frequencies_hz[pp.carrier];
+        const double lambda = wavelength_m(f);
+        Endpoint ant = antenna_shape;
+        ant.pose = pp.centre;
+        channel.one_way(ant, tags, f, h);
+        if (!same_channel) ideal.one_way(ant, tags, f, h_ideal);
+        for (size_t i = 0; i < m; ++i) {
+          if (!valid[i]) continue;
+          const double d = (tags[i].pose.position - pp.centre.position).norm();
+          if (!(d >= kMinLinkDistance_m)) {
+            valid[i] = 0;
+            continue;
+          }
+          LinkState link;
+          link.distance_m = d;
+          link.frequency_hz = f;
+          link.hop_index = pp.carrier;
+          link.h_one_way = h[i];
+          const double p = read_probability(reader, cells.tag(c0 + i), link);
+          const double gain2 = std::norm(h[i]);
+          double rssi = kNaN, p_rx_w = 0.0;
+          if (physical) {
+            if (gain2 > 0.0) {
+              p_rx_w = p_tx_w * reader.modulation_factor * gain2 * gain2;
+              rssi = reader.tx_power_dbm + linear_to_db(reader.modulation_factor) + 2.0 * linear_to_db(gain2);
+            }
+          } else {
+            rssi = 40.0 * std::log10(reader.communication_gain * lambda / (4.0 * kPi * d));
+          }
+          double err = kNaN;
+          if (gain2 > 0.0) {
+            const std::complex<double> hi = same_channel ? h[i] : h_ideal[i];
+            err = std::abs(wrap_to_pi(std::arg(hi * hi) - std::arg(h[i] * h[i])));
+          }
+          // Averages: a fixed antenna over its carriers (weight 1 each); a pass weighted by the expected reads.
+          const double w = pass.moving ? pp.weight * p : 1.0;
+          sum_p[i] += p;
+          if (pass.moving) {
+            if (p >= 1.0)
+              certain[i] = 1;
+            else
+              miss_log[i] += pp.weight * std::log1p(-p);
+          }
+          if (std::isfinite(rssi) && w > 0.0) sum_rssi[i] += w * rssi, w_rssi[i] += w;
+          if (std::isfinite(err) && w > 0.0) sum_e2[i] += w * err * err, w_e[i] += w;
+          if (pass.moving && p > 0.0 && gain2 >= 0.0)
+            fisher[i].add({pp.centre.position, lambda, pp.carrier, pp.weight * p, phase_sigma(reader, p_rx_w)});
+        }
+        if (options.progress) options.progress(m);
+      }
+      for (size_t i = 0; i < m; ++i) {
+        if (!valid[i]) continue;
+        const size_t k = c0 + i;
+        out.read_probability[k] =
+            pass.moving ? (certain[i] ? 1.0 : -std::expm1(miss_log[i])) : sum_p[i] / total_carrier_weight;
+        if (w_rssi[i] > 0.0) out.rssi_dbm[k] = sum_rssi[i] / w_rssi[i];
+        if (w_e[i] > 0.0) out.phase_error_rad[k] = std::sqrt(sum_e2[i] / w_e[i]);
+        if (pass.moving)
+          if (auto b = fisher[i].bound_m(options.height_known)) out.localization_bound_m[k] = *b;
+      }
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(error_mutex);
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+  return out;
+}
+
+}  // namespace rfidray::io
