@@ -447,7 +447,9 @@ Resolved resolve(const Table& t, LogLayout layout, const ColumnMap& user, std::v
   // Units: the column map, then the name, then the layout.
   const std::pair<Field, LogUnit> explicit_units[] = {{kPhase, user.phase_unit}, {kFrequency, user.frequency_unit},
                                                      {kTime, user.time_unit}, {kRssi, user.rssi_unit}};
-  for (const auto& [f, u] : explicit_units)
+  for (const auto& fu : explicit_units) {
+    const Field f = fu.first;  // not a structured binding: clang 14 cannot capture those in the lambda below
+    const LogUnit u = fu.second;
     for (Column* c : [&] {
            std::vector<Column*> all{&r.f[f]};
            for (Column& a : r.alts[f]) all.push_back(&a);
@@ -457,6 +459,7 @@ Resolved resolve(const Table& t, LogLayout layout, const ColumnMap& user, std::v
       c->unit = u != LogUnit::kAuto ? u : c->index >= 0 ? unit_from_name(f, c->name) : LogUnit::kAuto;
       if (c->unit == LogUnit::kAuto) c->unit = layout_unit(layout, f);
     }
+  }
   if (r.f[kPhase].constant) throw InputError("--columns: phase must be a column, not a constant");
   // Missing essentials, reported at the header.
   const std::string at = located(t.file, t.header_line);
