@@ -1,0 +1,102 @@
+// Test helper: plays what Gazebo 11 with gazebo_ros (and a robot's TF publishers) sends, from a script file
+// the test wrote. C++17 (ROS 1 headers). Usage: fake_gazebo11 SCRIPT TIMEOUT_S
+//   static PARENT CHILD x y z qx qy qz qw   /tf_static (latched), sent first
+//   step T                                  starts a step at simulation time T s
+//   tf PARENT CHILD x y z qx qy qz qw       /tf, stamped T
+//   model NAME x y z qx qy qz qw            one entry of /gazebo/model_states
+// Per step it publishes /tf, then /gazebo/model_states, then /clock (T): as Gazebo does, the clock passing
+// a time comes after the poses of that time. Nothing is published before every topic has a subscriber (the
+// bridge), and the queues are deep, so no message is lost. Exits 0 when all was sent, 1 on timeout.
+#include <gazebo_msgs/ModelStates.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Clock.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+geometry_msgs::TransformStamped transform(std::istringstream& in, const ros::Time& stamp) {
+  geometry_msgs::TransformStamped t;
+  in >> t.header.frame_id >> t.child_frame_id >> t.transform.translation.x >> t.transform.translation.y >>
+      t.transform.translation.z >> t.transform.rotation.x >> t.transform.rotation.y >> t.transform.rotation.z >>
+      t.transform.rotation.w;
+  t.header.stamp = stamp;
+  return t;
+}
+
+struct Step {
+  ros::Time time;
+  tf2_msgs::TFMessage tf;
+  gazebo_msgs::ModelStates models;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 3) return 2;
+  const double timeout_s = std::stod(argv[2]);
+  std::ifstream script(argv[1]);
+  if (!script) return 2;
+  tf2_msgs::TFMessage statics;
+  std::vector<Step> steps;
+  std::string line;
+  while (std::getline(script, line)) {
+    std::istringstream in(line);
+    std::string kind;
+    in >> kind;
+    if (kind == "static") {
+      statics.transforms.push_back(transform(in, ros::Time(0.0)));
+    } else if (kind == "step") {
+      double t = 0.0;
+      in >> t;
+      steps.push_back({ros::Time(t), {}, {}});
+    } else if (kind == "tf") {
+      steps.back().tf.transforms.push_back(transform(in, steps.back().time));
+    } else if (kind == "model") {
+      gazebo_msgs::ModelStates& m = steps.back().models;
+      geometry_msgs::Pose p;
+      std::string name;
+      in >> name >> p.position.x >> p.position.y >> p.position.z >> p.orientation.x >> p.orientation.y >>
+          p.orientation.z >> p.orientation.w;
+      m.name.push_back(name);
+      m.pose.push_back(p);
+      m.twist.emplace_back();
+    } else if (!kind.empty()) {
+      return 2;
+    }
+  }
+
+  ros::init(argc, argv, "fake_gazebo11", ros::init_options::AnonymousName | ros::init_options::NoRosout);
+  const ros::WallTime start = ros::WallTime::now();
+  auto timed_out = [&] { return (ros::WallTime::now() - start).toSec() > timeout_s; };
+  while (!ros::master::check()) {
+    if (timed_out()) return 1;
+    ros::WallDuration(0.05).sleep();
+  }
+  ros::NodeHandle nh;
+  const uint32_t queue = 1000000;
+  ros::Publisher tf_static = nh.advertise<tf2_msgs::TFMessage>("/tf_static", queue, true);
+  ros::Publisher tf = nh.advertise<tf2_msgs::TFMessage>("/tf", queue);
+  ros::Publisher models = nh.advertise<gazebo_msgs::ModelStates>("/gazebo/model_states", queue);
+  ros::Publisher clock = nh.advertise<rosgraph_msgs::Clock>("/clock", queue);
+  for (ros::Publisher* p : {&tf_static, &tf, &models, &clock})
+    while (p->getNumSubscribers() == 0) {
+      if (timed_out()) return 1;
+      ros::WallDuration(0.01).sleep();
+    }
+  tf_static.publish(statics);
+  for (const Step& s : steps) {
+    if (!s.tf.transforms.empty()) tf.publish(s.tf);
+    if (!s.models.name.empty()) models.publish(s.models);
+    rosgraph_msgs::Clock c;
+    c.clock = s.time;
+    clock.publish(c);
+  }
+  // roscpp sends from a background thread: let the queues drain before the node goes.
+  ros::WallDuration(1.0).sleep();
+  return 0;
+}
