@@ -26,7 +26,7 @@ struct GazeboOptions {
   // --input ros
   std::string topic_namespace = "/gazebo", world_frame = "world", model_states_topic = "/gazebo/model_states";
   std::vector<std::string> frames, ignore_models, ros_args;
-  std::optional<bool> sim_time;
+  bool sim_time = false, no_sim_time = false;  // neither: the /use_sim_time parameter
   double tf_timeout_s = 5.0;
 };
 
@@ -69,7 +69,9 @@ void add_options(CLI::App& cmd, GazeboOptions& o) {
       ->capture_default_str();
   cmd.add_option("--model-states-topic", o.model_states_topic, "--input ros: gazebo_msgs/ModelStates topic")
       ->capture_default_str();
-  cmd.add_flag("--sim-time,!--no-sim-time", o.sim_time, "--input ros: time from /clock (default: the /use_sim_time parameter)");
+  // Two flags, not one optional: CLI11 sets an optional flag to false when it is absent.
+  cmd.add_flag("--sim-time", o.sim_time, "--input ros: time from /clock (default: the /use_sim_time parameter)");
+  cmd.add_flag("--no-sim-time", o.no_sim_time, "--input ros: time from the /tf stamps, whatever /use_sim_time says");
   // roslaunch appends __name:=NODE __log:=FILE (and remappings) to a node's command line.
   cmd.add_option("ros-args", o.ros_args, "--input ros: ROS arguments NAME:=VALUE, as roslaunch passes them")
       ->check([](const std::string& a) { return a.find(":=") == std::string::npos ? "not NAME:=VALUE" : ""; });
@@ -139,7 +141,8 @@ int run_ros_input(CLI::App& cmd, GazeboOptions& o, void (*add_options)(CLI::App&
   }
   b.ignore_models = o.ignore_models;
   b.model_states_topic = o.model_states_topic;
-  b.use_sim_time = o.sim_time;
+  if (o.sim_time && o.no_sim_time) throw InputError("options --sim-time and --no-sim-time: give one");
+  if (o.sim_time || o.no_sim_time) b.use_sim_time = o.sim_time;
   if (o.duration_s) b.duration_s = *o.duration_s;
   if (o.idle_timeout_s) b.idle_timeout_s = *o.idle_timeout_s;
   b.tf_timeout_s = o.tf_timeout_s;

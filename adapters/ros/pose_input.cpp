@@ -40,7 +40,7 @@ struct PoseInput::Impl {
 
   // Written by the spinner thread only; the events under the mutex.
   std::vector<geometry_msgs::TransformStamped> statics;
-  double latest_s = -std::numeric_limits<double>::infinity();  // newest time seen on /clock or /tf
+  double latest_tf_s = -std::numeric_limits<double>::infinity();  // newest /tf stamp
   double now_s = std::numeric_limits<double>::quiet_NaN();      // the time source's: /clock or /tf stamps
   std::mutex mutex;
   std::condition_variable cv;
@@ -58,23 +58,22 @@ struct PoseInput::Impl {
     cv.notify_one();
   }
 
-  // A time seen on /clock or /tf. A second or more back: the simulator was reset; the TF buffer would refuse
-  // the new (older) stamps, so it starts empty, with the static transforms.
-  void observe(double t_s) {
-    if (t_s + 1.0 < latest_s) {
+  // A /tf stamp a second or more before the newest one: the simulator was reset. The TF buffer would refuse
+  // the new (older) stamps, so it starts empty, with the static transforms. (Only /tf stamps count here: /tf
+  // and /clock come on separate connections, and one may run ahead of the other.)
+  void observe_tf(double t_s) {
+    if (t_s + 1.0 < latest_tf_s) {
       buffer.clear();
       for (const auto& s : statics) buffer.setTransform(s, "rfidray", true);
       ++resets;
-      latest_s = t_s;
-      if (!std::isnan(now_s) && t_s < now_s) now_s = t_s;
-    } else if (t_s > latest_s) {
-      latest_s = t_s;
+      latest_tf_s = t_s;
+    } else if (t_s > latest_tf_s) {
+      latest_tf_s = t_s;
     }
   }
 
   void on_clock(const rosgraph_msgs::Clock::ConstPtr& m) {
     ++messages;
-    observe(m->clock.toSec());
     now_s = m->clock.toSec();
     push({InputEvent::Kind::kTime, now_s, {}});
   }
@@ -84,7 +83,7 @@ struct PoseInput::Impl {
     double newest = -std::numeric_limits<double>::infinity();
     for (const auto& t : m->transforms)
       if (!t.header.stamp.isZero()) newest = std::max(newest, t.header.stamp.toSec());
-    if (!is_static && newest > -std::numeric_limits<double>::infinity()) observe(newest);
+    if (!is_static && newest > -std::numeric_limits<double>::infinity()) observe_tf(newest);
     for (const auto& t : m->transforms) {
       // tf2 reports a bad transform (NaN, empty or equal frame names) itself, on stderr, and keeps the rest.
       buffer.setTransform(t, "rfidray", is_static);
@@ -96,7 +95,7 @@ struct PoseInput::Impl {
       }
     }
     if (!is_static && !options.use_sim_time && newest > -std::numeric_limits<double>::infinity()) {
-      now_s = latest_s;
+      now_s = latest_tf_s;
       push({InputEvent::Kind::kTime, now_s, {}});
     }
   }

@@ -7,8 +7,9 @@
 //   /tf, /tf_static       tf2_msgs/TFMessage       into a tf2::BufferCore, for chains world frame → antenna frame
 //   /clock                rosgraph_msgs/Clock      the simulation time, when /use_sim_time is set
 //
-// Time: with sim time, /clock; without, the newest stamp on /tf. A time a second or more before the newest
-// seen (a simulator reset) clears the TF buffer (the /tf_static transforms are kept) and starts over from there.
+// Time: with sim time, /clock; without, the newest stamp on /tf. A /tf stamp a second or more before the
+// newest one (a simulator reset) clears the TF buffer (the /tf_static transforms are kept); the consumer sees
+// the time go back and restarts its ticks. The buffer keeps tf_cache_s of transforms behind the newest.
 // Messages are taken by one spinner thread in arrival order and queued without limit, so none is dropped;
 // events come out of pop() in that order. Thread-safe: pop() and lookup() may run beside the spinner.
 #include <cstdint>

@@ -49,7 +49,7 @@ def main():
         want_sub = {"/gazebo/model_states", "/tf", "/tf_static", "/clock"}
         deadline = time.time() + 30
         while True:
-            _, state, _ = api.getSystemState("/test")
+            _, _, state = api.getSystemState("/test")
             pubs = {t for t, nodes in state[0] if "/rfidray" in nodes}
             subs = {t for t, nodes in state[1] if "/rfidray" in nodes}
             if want_pub <= pubs and want_sub <= subs:
