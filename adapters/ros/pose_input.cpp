@@ -81,8 +81,7 @@ struct PoseInput::Impl {
   void on_tf(const tf2_msgs::TFMessage::ConstPtr& m, bool is_static) {
     ++messages;
     double newest = -std::numeric_limits<double>::infinity();
-    for (const auto& t : m->transforms)
-      if (!t.header.stamp.isZero()) newest = std::max(newest, t.header.stamp.toSec());
+    for (const auto& t : m->transforms) newest = std::max(newest, t.header.stamp.toSec());
     if (!is_static && newest > -std::numeric_limits<double>::infinity()) observe_tf(newest);
     for (const auto& t : m->transforms) {
       // tf2 reports a bad transform (NaN, empty or equal frame names) itself, on stderr, and keeps the rest.

@@ -4,15 +4,19 @@
 //   step T                                  starts a step at simulation time T s
 //   tf PARENT CHILD x y z qx qy qz qw       /tf, stamped T
 //   model NAME x y z qx qy qz qw            one entry of /gazebo/model_states
+//   await TOPIC N                           before the next step: wait until N rfid_sensor/TagArray messages
+//                                           have come on TOPIC (the bridge has computed those ticks)
 // Per step it publishes /tf, then /gazebo/model_states, then /clock (T): as Gazebo does, the clock passing
 // a time comes after the poses of that time. Nothing is published before every topic has a subscriber (the
 // bridge), and the queues are deep, so no message is lost. Exits 0 when all was sent, 1 on timeout.
 #include <gazebo_msgs/ModelStates.h>
+#include <rfid_sensor/TagArray.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -32,6 +36,8 @@ struct Step {
   ros::Time time;
   tf2_msgs::TFMessage tf;
   gazebo_msgs::ModelStates models;
+  std::string await_topic;  // a wait, not a step, when set
+  int await_count = 0;
 };
 
 }  // namespace
@@ -53,7 +59,11 @@ int main(int argc, char** argv) {
     } else if (kind == "step") {
       double t = 0.0;
       in >> t;
-      steps.push_back({ros::Time(t), {}, {}});
+      steps.push_back({ros::Time(t), {}, {}, "", 0});
+    } else if (kind == "await") {
+      Step w;
+      in >> w.await_topic >> w.await_count;
+      steps.push_back(w);
     } else if (kind == "tf") {
       steps.back().tf.transforms.push_back(transform(in, steps.back().time));
     } else if (kind == "model") {
@@ -83,6 +93,15 @@ int main(int argc, char** argv) {
   ros::Publisher tf = nh.advertise<tf2_msgs::TFMessage>("/tf", queue);
   ros::Publisher models = nh.advertise<gazebo_msgs::ModelStates>("/gazebo/model_states", queue);
   ros::Publisher clock = nh.advertise<rosgraph_msgs::Clock>("/clock", queue);
+  std::map<std::string, int> received;
+  std::vector<ros::Subscriber> listeners;
+  for (const Step& s : steps)
+    if (!s.await_topic.empty() && !received.count(s.await_topic)) {
+      received[s.await_topic] = 0;
+      int* n = &received[s.await_topic];
+      listeners.push_back(nh.subscribe<rfid_sensor::TagArray>(s.await_topic, 100000,
+                                                               [n](const rfid_sensor::TagArray::ConstPtr&) { ++*n; }));
+    }
   for (ros::Publisher* p : {&tf_static, &tf, &models, &clock})
     while (p->getNumSubscribers() == 0) {
       if (timed_out()) return 1;
@@ -90,6 +109,14 @@ int main(int argc, char** argv) {
     }
   tf_static.publish(statics);
   for (const Step& s : steps) {
+    if (!s.await_topic.empty()) {
+      while (received[s.await_topic] < s.await_count) {
+        if (timed_out()) return 1;
+        ros::spinOnce();
+        ros::WallDuration(0.002).sleep();
+      }
+      continue;
+    }
     if (!s.tf.transforms.empty()) tf.publish(s.tf);
     if (!s.models.name.empty()) models.publish(s.models);
     rosgraph_msgs::Clock c;

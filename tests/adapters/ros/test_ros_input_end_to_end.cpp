@@ -44,9 +44,17 @@ void put_pose(std::FILE* f, const Pose& p) {
                p.orientation.x(), p.orientation.y(), p.orientation.z(), p.orientation.w());
 }
 
-// What Gazebo 11 and the robot's TF publishers send, one step per tick time k / 15 s (one past the end, so
-// the clock passes the last tick).
-void write_script(const fs::path& path) {
+struct ScriptOptions {
+  std::vector<double> times;       // one step each
+  bool mast_tf = true;             // publish base_link -> mast_link
+  std::string extra_model;         // a model_states name the world does not have
+  size_t await_after = 0;          // after this many steps, wait for await_ticks TagArrays per antenna
+  int await_ticks = 0;
+};
+
+// What Gazebo 11 and the robot's TF publishers send at each step: /tf (odom -> base_link -> mast_link), every
+// top-level model of the world in /gazebo/model_states (the robot where it drives), then /clock.
+void write_script(const fs::path& path, const ScriptOptions& o) {
   const Scenario s = io::load_scenario(kRosDir + "/paper_robot.yaml");
   const SceneMotion motion = build_motion(s);
   const MastParams mast = *s.antennas[0].motion.mast;
@@ -58,13 +66,17 @@ void write_script(const fs::path& path) {
   std::fprintf(f, "static world odom");
   put_pose(f, Pose{});
   std::fprintf(f, "\n");
-  for (int k = 0; k <= kTicks; ++k) {
-    const double t = static_cast<double>(k) / kRate;
+  for (size_t i = 0; i < o.times.size(); ++i) {
+    const double t = o.times[i];
+    if (o.await_ticks > 0 && i == o.await_after)
+      std::fprintf(f, "await /gazebo/mobile/data %d\nawait /gazebo/fixed/data %d\n", o.await_ticks, o.await_ticks);
     const Pose robot = motion.robots[0]->pose_at(t);
     std::fprintf(f, "step %.17g\ntf odom base_link", t);
     put_pose(f, robot);
-    std::fprintf(f, "\ntf base_link mast_link");
-    put_pose(f, Pose{Vec3(0, 0, mast_height_m(mast, t)), Quat::Identity()});
+    if (o.mast_tf) {
+      std::fprintf(f, "\ntf base_link mast_link");
+      put_pose(f, Pose{Vec3(0, 0, mast_height_m(mast, t)), Quat::Identity()});
+    }
     std::fprintf(f, "\n");
     for (const Entity& e : world.entities) {
       if (e.parent >= 0 || e.kind != Entity::Kind::kModel) continue;
@@ -72,8 +84,20 @@ void write_script(const fs::path& path) {
       put_pose(f, e.name == "p3at" ? robot : e.pose);
       std::fprintf(f, "\n");
     }
+    if (!o.extra_model.empty()) {
+      std::fprintf(f, "model %s", o.extra_model.c_str());
+      put_pose(f, Pose{});
+      std::fprintf(f, "\n");
+    }
   }
   std::fclose(f);
+}
+
+// Tick times k / 15 for k = first .. last.
+std::vector<double> tick_times(int first, int last) {
+  std::vector<double> t;
+  for (int k = first; k <= last; ++k) t.push_back(static_cast<double>(k) / kRate);
+  return t;
 }
 
 struct RosMaster {
@@ -97,9 +121,9 @@ struct RosMaster {
   bool up() const { return port_open(port); }
 };
 
-int run_simulate(const fs::path& dir) {
+int run_simulate(const fs::path& dir, const std::string& duration = "23") {
   BridgeProcess sim({"simulate", kRosDir + "/paper_robot.yaml", "--seed", std::to_string(kRosSeed), "--duration",
-                     "23", "-o", (dir / "sim").string(), "-q"},
+                     duration, "-o", (dir / "sim").string(), "-q"},
                     dir / "simulate.log");
   return sim.wait(60000ms);
 }
@@ -114,7 +138,7 @@ TEST(RosInputEndToEnd, Gazebo11RobotOnTheLPathGivesTheReadingsOfSimulate) {
   RosMaster ros("rfidray_ros_input");
   ASSERT_TRUE(ros.up()) << slurp(ros.dir / "rosmaster.log");
   const fs::path& dir = ros.dir;
-  write_script(dir / "script.txt");
+  write_script(dir / "script.txt", {tick_times(0, kTicks)});  // one past the end: the clock passes the last tick
 
   Child mobile({RFIDRAY_TAG_ARRAY_LISTENER, "/gazebo/mobile/data", std::to_string(kTicks), "40",
                 (dir / "mobile.txt").string()},
@@ -160,6 +184,110 @@ TEST(RosInputEndToEnd, Gazebo11RobotOnTheLPathGivesTheReadingsOfSimulate) {
     EXPECT_EQ(reads, rows) << antenna;
   }
   fs::remove_all(dir);
+}
+
+// The TF frame of an antenna may sit in its sensor block, in either form; it is no reader parameter.
+TEST(RosInputFrames, FrameElementInTheSensorBlockNamesTheTfFrame) {
+  const fs::path dir = fs::temp_directory_path() / ("rfidray_frame_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "w.world") << R"(<?xml version="1.0"?>
+<sdf version="1.6"><world name="w"><model name="robot"><link name="mast">
+  <sensor name="seed" type="rfid"><update_rate>10</update_rate>
+    <plugin name="p" filename="librfid_antenna.so"><range>4</range><frame>mast_link</frame></plugin></sensor>
+  <sensor name="native" type="custom"><update_rate>10</update_rate>
+    <rfid_antenna><model>physical</model><frame>arm_tool</frame></rfid_antenna></sensor>
+  <sensor name="plain" type="rfid"><update_rate>10</update_rate></sensor>
+</link></model></world></sdf>
+)";
+  WorldOptions wo;
+  wo.file = (dir / "w.world").string();
+  const GazeboWorld w = load_world(wo);
+  ASSERT_EQ(w.antenna_mounts.size(), 3u);
+  EXPECT_EQ(w.antenna_mounts[0].frame, "mast_link");
+  EXPECT_EQ(w.antenna_mounts[1].frame, "arm_tool");
+  EXPECT_EQ(w.antenna_mounts[2].frame, "");
+  EXPECT_EQ(w.scenario.antennas[0].reader.range_m, 4.0);
+  EXPECT_EQ(w.scenario.antennas[1].reader.model, ReaderModelKind::kPhysical);
+  for (const std::string& warning : w.warnings) EXPECT_EQ(warning.find("frame"), std::string::npos) << warning;
+  fs::remove_all(dir);
+}
+
+// The bridge on a script, without listeners: its exit status and log.
+struct BridgeRun {
+  int bridge = -1, gazebo = -1;
+  std::string log;
+};
+BridgeRun run_bridge(const fs::path& dir, const ScriptOptions& script, std::vector<std::string> extra_args) {
+  write_script(dir / "script.txt", script);
+  std::vector<std::string> args = {"gazebo", "--input", "ros", "--world", kRosDir + "/paper_robot.world", "--frame",
+                                   "mobile=mast_link", "--sim-time", "--seed", std::to_string(kRosSeed), "--csv",
+                                   (dir / "bridge").string(), "--idle-timeout", "20"};
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
+  BridgeRun r;
+  BridgeProcess bridge(args, dir / "bridge.log");
+  Child gazebo({RFIDRAY_FAKE_GAZEBO11, (dir / "script.txt").string(), "30"}, dir / "fake_gazebo11.log");
+  r.bridge = bridge.wait(30000ms);
+  r.gazebo = gazebo.wait(30000ms);
+  r.log = slurp(dir / "bridge.log");
+  return r;
+}
+
+TEST(RosInputErrors, ModelNotInTheWorldIsAnErrorUnlessIgnored) {
+  if (!have_rosmaster()) GTEST_SKIP() << "rosmaster not installed (Debian package python3-rosmaster)";
+  RosMaster ros("rfidray_ros_unknown_model");
+  ASSERT_TRUE(ros.up());
+  const BridgeRun bad = run_bridge(ros.dir, {tick_times(0, 10), true, "forklift"}, {"--duration", "0.5"});
+  EXPECT_EQ(bad.bridge, 2) << bad.log;
+  EXPECT_NE(bad.log.find("/gazebo/model_states: model 'forklift' is not in world 'paper_robot'"), std::string::npos)
+      << bad.log;
+  EXPECT_NE(bad.log.find("--ignore-model forklift"), std::string::npos) << bad.log;
+  const BridgeRun ok = run_bridge(ros.dir, {tick_times(0, 10), true, "forklift"},
+                            {"--duration", "0.5", "--ignore-model", "forklift"});
+  EXPECT_EQ(ok.bridge, 0) << ok.log;
+  EXPECT_NE(ok.log.find("16 antenna ticks"), std::string::npos) << ok.log;  // 8 ticks (k / 15 <= 0.5) each
+  fs::remove_all(ros.dir);
+}
+
+TEST(RosInputErrors, TfChainThatNeverResolvesIsAnErrorNamingIt) {
+  if (!have_rosmaster()) GTEST_SKIP() << "rosmaster not installed (Debian package python3-rosmaster)";
+  RosMaster ros("rfidray_ros_no_tf");
+  ASSERT_TRUE(ros.up());
+  // Nobody publishes base_link -> mast_link.
+  const BridgeRun r = run_bridge(ros.dir, {tick_times(0, 10), false, ""}, {"--duration", "0.5", "--tf-timeout", "1"});
+  EXPECT_EQ(r.bridge, 2) << r.log;
+  EXPECT_NE(r.log.find("TF: no transform world -> mast_link (antenna 'mobile') at t = 0 s within 1 s"),
+            std::string::npos) << r.log;
+  EXPECT_NE(r.log.find("frames known: "), std::string::npos) << r.log;
+  fs::remove_all(ros.dir);
+}
+
+TEST(RosInputErrors, TimeGoingBackRestartsTheTicks) {
+  if (!have_rosmaster()) GTEST_SKIP() << "rosmaster not installed (Debian package python3-rosmaster)";
+  RosMaster ros("rfidray_ros_reset");
+  ASSERT_TRUE(ros.up());
+  // Gazebo runs to 2 s, is reset, and runs again past 2 s: ticks 0 … 29 (before 2 s), then 0 … 30 again.
+  // The reset waits until the bridge has published ticks 0 … 29 (its TF buffer then starts over).
+  std::vector<double> times = tick_times(0, 30);
+  for (double t : tick_times(0, 31)) times.push_back(t);
+  const BridgeRun r = run_bridge(ros.dir, {times, true, "", 31, 30}, {"--duration", "2", "--connect-timeout", "15"});
+  ASSERT_EQ(r.bridge, 0) << r.log;
+  EXPECT_NE(r.log.find("simulation time went back to 0 s (a reset): ticks start again from there"), std::string::npos)
+      << r.log;
+  EXPECT_NE(r.log.find("1 resets"), std::string::npos) << r.log;
+  ASSERT_EQ(run_simulate(ros.dir, "2"), 0) << slurp(ros.dir / "simulate.log");
+  // The same motion again after the reset: the same rows, by the same (seed, antenna, tick) random streams.
+  for (const std::string antenna : {"mobile", "fixed"}) {
+    std::istringstream sim(slurp(ros.dir / "sim" / (antenna + ".csv")));
+    std::string header, line, before_reset, all;
+    std::getline(sim, header);
+    while (std::getline(sim, line)) {
+      if (line.rfind("2.000000,", 0) != 0) before_reset += line + "\n";
+      all += line + "\n";
+    }
+    EXPECT_FALSE(before_reset.empty());
+    EXPECT_EQ(slurp(ros.dir / "bridge" / (antenna + ".csv")), header + "\n" + before_reset + all) << antenna;
+  }
+  fs::remove_all(ros.dir);
 }
 
 }  // namespace
