@@ -74,7 +74,9 @@ void add_options(CLI::App& cmd, GazeboOptions& o) {
   cmd.add_flag("--no-sim-time", o.no_sim_time, "--input ros: time from the /tf stamps, whatever /use_sim_time says");
   // roslaunch appends __name:=NODE __log:=FILE (and remappings) to a node's command line.
   cmd.add_option("ros-args", o.ros_args, "--input ros: ROS arguments NAME:=VALUE, as roslaunch passes them")
-      ->check([](const std::string& a) { return a.find(":=") == std::string::npos ? "not NAME:=VALUE" : ""; });
+      ->check([](const std::string& a) {
+        return a.find(":=") == std::string::npos ? "'" + a + "' is not a ROS argument NAME:=VALUE" : std::string();
+      });
   cmd.add_option("--tf-timeout", o.tf_timeout_s, "--input ros: wait this long (wall s) for an antenna's TF chain")
       ->capture_default_str()->check(CLI::PositiveNumber);
 }

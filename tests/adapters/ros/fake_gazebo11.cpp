@@ -123,7 +123,14 @@ int main(int argc, char** argv) {
     c.clock = s.time;
     clock.publish(c);
   }
-  // roscpp sends from a background thread: let the queues drain before the node goes.
-  ros::WallDuration(1.0).sleep();
+  // roscpp sends from a background thread: keep the node until the bridge has gone (it stops after its
+  // --duration, having read everything) or, at most, 2 s.
+  const ros::WallTime sent = ros::WallTime::now();
+  auto subscribed = [&] {
+    for (ros::Publisher* p : {&tf, &models, &clock})
+      if (p->getNumSubscribers() > 0) return true;
+    return false;
+  };
+  while (subscribed() && (ros::WallTime::now() - sent).toSec() < 2.0) ros::WallDuration(0.01).sleep();
   return 0;
 }

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "adapters/gazebo/live_world.h"
 #include "core/mast.h"
 #include "io/scenario_yaml.h"
 #include "tests/adapters/gazebo/fake_gazebo.h"
@@ -212,6 +213,44 @@ TEST(RosInputFrames, FrameElementInTheSensorBlockNamesTheTfFrame) {
   fs::remove_all(dir);
 }
 
+// The tick core both pose inputs drive (live_world.h): a model moved by set_entity_pose moves its collisions
+// (the traced scene is rebuilt before the next traced tick, and only when a pose changed), and an antenna with
+// a pose provider reads from the provider's pose.
+TEST(RosInputFrames, MovedModelsRebuildTheSceneAndProvidersPlaceAntennas) {
+  WorldOptions wo;
+  wo.file = kRosDir + "/paper_robot.world";
+  GazeboWorld w = load_world(wo);
+  const int robot = w.find("p3at");
+  ASSERT_GE(robot, 0);
+  LiveOptions lo;
+  lo.channel = ChannelLevel::kLosBlocked;
+  for (AntennaSpec& a : w.scenario.antennas) a.reader.model = ReaderModelKind::kPhysical;
+  LiveWorld live(std::move(w), lo);
+  const Pose mast_pose{Vec3(-1.0, -9.0, 1.5), Quat::Identity()};
+  live.set_antenna_pose_provider([&](size_t a, double) -> std::optional<Pose> {
+    return a == 0 ? std::optional<Pose>(mast_pose) : std::nullopt;
+  });
+  std::vector<TickReadings> ticks;
+  auto sink = [&](const TickReadings& t) { ticks.push_back(t); };
+  live.advance(0.0, sink);
+  live.advance(0.05, sink);  // tick 0 of both antennas
+  EXPECT_EQ(live.scene_builds(), 1u);
+  Pose moved = live.world().entities[robot].pose;
+  moved.position.x() += 2.0;
+  live.set_entity_pose(robot, moved);
+  live.advance(0.1, sink);  // tick 1 at 1/15 s
+  EXPECT_EQ(live.scene_builds(), 2u);
+  live.set_entity_pose(robot, moved);  // the same pose: nothing to rebuild
+  live.advance(0.15, sink);  // tick 2
+  EXPECT_EQ(live.scene_builds(), 2u);
+  ASSERT_EQ(ticks.size(), 6u);
+  for (const TickReadings& t : ticks) {
+    if (t.antenna != 0) continue;
+    EXPECT_EQ(t.antenna_pose.position, mast_pose.position);
+  }
+  EXPECT_EQ(ticks[1].antenna_pose.position, live.scenario().antennas[1].motion.pose.position);
+}
+
 // The bridge on a script, without listeners: its exit status and log.
 struct BridgeRun {
   int bridge = -1, gazebo = -1;
@@ -236,13 +275,13 @@ TEST(RosInputErrors, ModelNotInTheWorldIsAnErrorUnlessIgnored) {
   if (!have_rosmaster()) GTEST_SKIP() << "rosmaster not installed (Debian package python3-rosmaster)";
   RosMaster ros("rfidray_ros_unknown_model");
   ASSERT_TRUE(ros.up());
-  const BridgeRun bad = run_bridge(ros.dir, {tick_times(0, 10), true, "forklift"}, {"--duration", "0.5"});
+  const BridgeRun bad = run_bridge(ros.dir, {tick_times(0, 10), true, "forklift"}, {"--duration", "0.5", "--connect-timeout", "0"});
   EXPECT_EQ(bad.bridge, 2) << bad.log;
   EXPECT_NE(bad.log.find("/gazebo/model_states: model 'forklift' is not in world 'paper_robot'"), std::string::npos)
       << bad.log;
   EXPECT_NE(bad.log.find("--ignore-model forklift"), std::string::npos) << bad.log;
   const BridgeRun ok = run_bridge(ros.dir, {tick_times(0, 10), true, "forklift"},
-                            {"--duration", "0.5", "--ignore-model", "forklift"});
+                                  {"--duration", "0.5", "--ignore-model", "forklift", "--connect-timeout", "0"});
   EXPECT_EQ(ok.bridge, 0) << ok.log;
   EXPECT_NE(ok.log.find("16 antenna ticks"), std::string::npos) << ok.log;  // 8 ticks (k / 15 <= 0.5) each
   fs::remove_all(ros.dir);
@@ -253,7 +292,7 @@ TEST(RosInputErrors, TfChainThatNeverResolvesIsAnErrorNamingIt) {
   RosMaster ros("rfidray_ros_no_tf");
   ASSERT_TRUE(ros.up());
   // Nobody publishes base_link -> mast_link.
-  const BridgeRun r = run_bridge(ros.dir, {tick_times(0, 10), false, ""}, {"--duration", "0.5", "--tf-timeout", "1"});
+  const BridgeRun r = run_bridge(ros.dir, {tick_times(0, 10), false, ""}, {"--duration", "0.5", "--tf-timeout", "1", "--connect-timeout", "0"});
   EXPECT_EQ(r.bridge, 2) << r.log;
   EXPECT_NE(r.log.find("TF: no transform world -> mast_link (antenna 'mobile') at t = 0 s within 1 s"),
             std::string::npos) << r.log;
