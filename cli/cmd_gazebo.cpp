@@ -87,9 +87,7 @@ int run_ros_input(CLI::App& cmd, GazeboOptions& o, void (*add_options)(CLI::App&
   // Parameters become arguments of a second parse into the same options, for the options not given here.
   std::vector<std::string> args;
   for (const auto& [key, value] : params.values) {
-    const std::string* known = nullptr;
-    for (const char* k : kRosParams) known = key == k ? &key : known;
-    if (!known)
+    if (std::find(std::begin(kRosParams), std::end(kRosParams), key) == std::end(kRosParams))
       throw InputError("ROS parameter ~" + key + " of node " + node + ": not an option of rfidray gazebo --input ros");
     std::string opt = "--" + key;
     for (char& c : opt) c = c == '_' ? '-' : c;
