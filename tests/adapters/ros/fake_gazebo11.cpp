@@ -4,6 +4,7 @@
 //   step T                                  starts a step at simulation time T s
 //   tf PARENT CHILD x y z qx qy qz qw       /tf, stamped T
 //   model NAME x y z qx qy qz qw            one entry of /gazebo/model_states
+//   noclock                                 no /clock (a bridge on /tf stamps does not subscribe to it)
 //   await TOPIC N                           before the next step: wait until N rfid_sensor/TagArray messages
 //                                           have come on TOPIC (the bridge has computed those ticks)
 // Per step it publishes /tf, then /gazebo/model_states, then /clock (T): as Gazebo does, the clock passing
@@ -49,6 +50,7 @@ int main(int argc, char** argv) {
   if (!script) return 2;
   tf2_msgs::TFMessage statics;
   std::vector<Step> steps;
+  bool with_clock = true;
   std::string line;
   while (std::getline(script, line)) {
     std::istringstream in(line);
@@ -60,6 +62,8 @@ int main(int argc, char** argv) {
       double t = 0.0;
       in >> t;
       steps.push_back({ros::Time(t), {}, {}, "", 0});
+    } else if (kind == "noclock") {
+      with_clock = false;
     } else if (kind == "await") {
       Step w;
       in >> w.await_topic >> w.await_count;
@@ -102,7 +106,9 @@ int main(int argc, char** argv) {
       listeners.push_back(nh.subscribe<rfid_sensor::TagArray>(s.await_topic, 100000,
                                                                [n](const rfid_sensor::TagArray::ConstPtr&) { ++*n; }));
     }
-  for (ros::Publisher* p : {&tf_static, &tf, &models, &clock})
+  std::vector<ros::Publisher*> outputs = {&tf_static, &tf, &models};
+  if (with_clock) outputs.push_back(&clock);
+  for (ros::Publisher* p : outputs)
     while (p->getNumSubscribers() == 0) {
       if (timed_out()) return 1;
       ros::WallDuration(0.01).sleep();
@@ -119,9 +125,11 @@ int main(int argc, char** argv) {
     }
     if (!s.tf.transforms.empty()) tf.publish(s.tf);
     if (!s.models.name.empty()) models.publish(s.models);
-    rosgraph_msgs::Clock c;
-    c.clock = s.time;
-    clock.publish(c);
+    if (with_clock) {
+      rosgraph_msgs::Clock c;
+      c.clock = s.time;
+      clock.publish(c);
+    }
   }
   // roscpp sends from a background thread: keep the node until the bridge has gone (it stops after its
   // --duration, having read everything) or, at most, 2 s.

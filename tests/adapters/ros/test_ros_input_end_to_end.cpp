@@ -51,6 +51,7 @@ struct ScriptOptions {
   std::string extra_model;         // a model_states name the world does not have
   size_t await_after = 0;          // after this many steps, wait for await_ticks TagArrays per antenna
   int await_ticks = 0;
+  bool clock = true;               // publish /clock
 };
 
 // What Gazebo 11 and the robot's TF publishers send at each step: /tf (odom -> base_link -> mast_link), every
@@ -64,6 +65,7 @@ void write_script(const fs::path& path, const ScriptOptions& o) {
   const GazeboWorld world = load_world(wo);
   std::FILE* f = std::fopen(path.c_str(), "w");
   ASSERT_NE(f, nullptr);
+  if (!o.clock) std::fprintf(f, "noclock\n");
   std::fprintf(f, "static world odom");
   put_pose(f, Pose{});
   std::fprintf(f, "\n");
@@ -259,8 +261,10 @@ struct BridgeRun {
 BridgeRun run_bridge(const fs::path& dir, const ScriptOptions& script, std::vector<std::string> extra_args) {
   write_script(dir / "script.txt", script);
   std::vector<std::string> args = {"gazebo", "--input", "ros", "--world", kRosDir + "/paper_robot.world", "--frame",
-                                   "mobile=mast_link", "--sim-time", "--seed", std::to_string(kRosSeed), "--csv",
+                                   "mobile=mast_link", "--seed", std::to_string(kRosSeed), "--csv",
                                    (dir / "bridge").string(), "--idle-timeout", "20"};
+  if (std::find(extra_args.begin(), extra_args.end(), "--no-sim-time") == extra_args.end())
+    args.push_back("--sim-time");
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   BridgeRun r;
   BridgeProcess bridge(args, dir / "bridge.log");
@@ -297,6 +301,23 @@ TEST(RosInputErrors, TfChainThatNeverResolvesIsAnErrorNamingIt) {
   EXPECT_NE(r.log.find("TF: no transform world -> mast_link (antenna 'mobile') at t = 0 s within 1 s"),
             std::string::npos) << r.log;
   EXPECT_NE(r.log.find("frames known: "), std::string::npos) << r.log;
+  fs::remove_all(ros.dir);
+}
+
+TEST(RosInputTime, WithoutSimTimeTheTfStampsAreTheTime) {
+  if (!have_rosmaster()) GTEST_SKIP() << "rosmaster not installed (Debian package python3-rosmaster)";
+  RosMaster ros("rfidray_ros_tf_time");
+  ASSERT_TRUE(ros.up());
+  // No /clock: ticks 0 … 7 (k / 15 <= 0.5) come as the /tf stamps pass them.
+  ScriptOptions script{tick_times(0, 8)};
+  script.clock = false;
+  const BridgeRun r = run_bridge(ros.dir, script, {"--duration", "0.5", "--no-sim-time", "--connect-timeout", "0"});
+  ASSERT_EQ(r.bridge, 0) << r.log;
+  EXPECT_NE(r.log.find("time from /tf stamps"), std::string::npos) << r.log;
+  EXPECT_NE(r.log.find("16 antenna ticks"), std::string::npos) << r.log;
+  ASSERT_EQ(run_simulate(ros.dir, "0.5"), 0) << slurp(ros.dir / "simulate.log");
+  for (const std::string antenna : {"mobile", "fixed"})
+    EXPECT_EQ(slurp(ros.dir / "bridge" / (antenna + ".csv")), slurp(ros.dir / "sim" / (antenna + ".csv"))) << antenna;
   fs::remove_all(ros.dir);
 }
 
