@@ -44,6 +44,7 @@ struct Mount {
   size_t entity = 0;
   Pose pose;
   std::string sensor;  // sensor name
+  std::string frame;   // antennas: the TF frame of <frame> (ROS pose input), "" = none
   int line = 0;        // of the <sensor> element
 };
 

@@ -58,6 +58,8 @@ void LiveWorld::emit_until(double t_s, const TickSink& sink, size_t& emitted) {
     out.tick = next_tick_[best];
     out.time_s = best_t;
     out.antenna_pose = s.antennas[best].motion.pose;
+    if (pose_provider_)
+      if (const std::optional<Pose> p = pose_provider_(best, best_t)) out.antenna_pose = *p;
     const size_t c = hop_index_at(reader, best_t);
     out.frequency_hz = reader.frequencies_hz[c];
     out.hop_index = static_cast<uint32_t>(c);
@@ -70,13 +72,15 @@ void LiveWorld::emit_until(double t_s, const TickSink& sink, size_t& emitted) {
   }
 }
 
-size_t LiveWorld::apply(double t_s, const ignition::msgs::Pose_V& poses, const TickSink& sink) {
+size_t LiveWorld::advance(double t_s, const TickSink& sink, bool* restarted) {
   size_t emitted = 0;
+  if (restarted) *restarted = false;
   if (!std::isfinite(t_s)) return 0;
-  // Simulation time a second or more back: Gazebo was reset. Ticks start again from there.
+  // Simulation time a second or more back: the simulator was reset. Ticks start again from there.
   if (started_ && t_s + 1.0 < time_s_) {
     started_ = false;
     time_s_ = t_s;
+    if (restarted) *restarted = true;
   }
   if (!started_) {
     started_ = true;
@@ -85,20 +89,33 @@ size_t LiveWorld::apply(double t_s, const ignition::msgs::Pose_V& poses, const T
   } else if (t_s > time_s_) {
     emit_until(t_s, sink, emitted);
   }
-  // An older stamp (the other pose topic, a step behind) still updates poses: the latest value wins.
+  // An older stamp (another pose topic, a step behind) still updates poses: the latest value wins.
   time_s_ = std::max(time_s_, t_s);
+  return emitted;
+}
+
+void LiveWorld::set_entity_pose(size_t entity, const Pose& relative_pose) {
+  Entity& e = world_.entities.at(entity);
+  if (moves_scene_[entity] && !(e.pose == relative_pose)) scene_dirty_ = true;
+  e.pose = relative_pose;
+}
+
+void LiveWorld::set_antenna_mount_pose(size_t antenna, const Pose& pose) { world_.antenna_mounts.at(antenna).pose = pose; }
+void LiveWorld::set_tag_mount_pose(size_t tag, const Pose& pose) { world_.tag_mounts.at(tag).pose = pose; }
+
+size_t LiveWorld::apply(double t_s, const ignition::msgs::Pose_V& poses, const TickSink& sink) {
+  if (!std::isfinite(t_s)) return 0;
+  const size_t emitted = advance(t_s, sink);
   for (const auto& p : poses.pose()) {
     const auto ref = resolve(map_, world_, p);
     if (!ref) continue;
     const Pose pose = from_msg(p);
     if (ref->kind == EntityRef::Kind::kAntenna) {
-      world_.antenna_mounts[ref->index].pose = pose;
+      set_antenna_mount_pose(ref->index, pose);
     } else if (ref->kind == EntityRef::Kind::kTag) {
-      world_.tag_mounts[ref->index].pose = pose;
+      set_tag_mount_pose(ref->index, pose);
     } else {
-      Entity& e = world_.entities[ref->index];
-      if (moves_scene_[ref->index] && !(e.pose == pose)) scene_dirty_ = true;
-      e.pose = pose;
+      set_entity_pose(ref->index, pose);
     }
   }
   return emitted;

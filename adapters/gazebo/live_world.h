@@ -7,9 +7,15 @@
 // stamped later than t_k arrives (Gazebo publishes poses every step, far faster than readers tick). The first
 // tick is the first one at or after the first message; a stamp a second or more back (a reset) starts the
 // ticks again from there. Moving obstacles rebuild the radio scene before the next tick that traces through it.
+//
+// Two pose sources drive it: ign-transport Pose_V messages (apply, adapters/gazebo/bridge.cpp) and ROS 1 model
+// states and TF (adapters/gazebo/ros_bridge.cpp), both as advance(t) then set_*_pose. An antenna whose pose at a
+// tick comes from elsewhere (a TF chain looked up at the tick time) has a pose provider; it may block until its
+// pose is known and throws InputError when it never is.
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "adapters/gazebo/entity_map.h"
@@ -36,6 +42,8 @@ struct TickReadings {
   std::vector<ReadRecord> reads;
 };
 using TickSink = std::function<void(const TickReadings&)>;
+// World pose of antenna `a` at tick time t_s, or nullopt: the antenna follows its mount in the entity tree.
+using AntennaPoseProvider = std::function<std::optional<Pose>(size_t antenna, double t_s)>;
 
 class LiveWorld {
  public:
@@ -48,6 +56,16 @@ class LiveWorld {
   // Applies the poses of a Pose_V stamped t_s, first emitting (in time order, antennas by index) every tick
   // the poses held so far cover. Entities it does not know are ignored. Returns the ticks emitted.
   size_t apply(double t_s, const ignition::msgs::Pose_V& poses, const TickSink& sink);
+
+  // Simulation time has reached t_s: emits (in time order, antennas by index) every tick before t_s that the
+  // poses held so far cover. A first call starts the ticks at t_s; a t_s a second or more before the latest
+  // (a reset) starts them again from there (then `restarted` is set). Non-finite t_s is ignored.
+  size_t advance(double t_s, const TickSink& sink, bool* restarted = nullptr);
+  // Poses after advance(): relative to the parent entity (a top-level model's parent is the world).
+  void set_entity_pose(size_t entity, const Pose& relative_pose);
+  void set_antenna_mount_pose(size_t antenna, const Pose& pose_in_entity);
+  void set_tag_mount_pose(size_t tag, const Pose& pose_in_entity);
+  void set_antenna_pose_provider(AntennaPoseProvider provider) { pose_provider_ = std::move(provider); }
   // True once every antenna's next tick lies beyond duration_s.
   bool finished() const;
   uint64_t ticks() const { return ticks_; }
@@ -69,6 +87,7 @@ class LiveWorld {
   uint64_t ticks_ = 0, scene_builds_ = 0;
   std::unique_ptr<Channel> channel_;
   IdealChannel ideal_;  // for paper-model antennas (they use the distance only)
+  AntennaPoseProvider pose_provider_;
 };
 
 }  // namespace rfidray::gazebo

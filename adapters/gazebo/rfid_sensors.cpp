@@ -110,7 +110,7 @@ ReaderParams antenna_params(const sdf::ElementPtr& sensor, const std::string& wh
       std::vector<std::string> ignored;
       map = children_as_yaml(plugin, where, &keep, &ignored);
       for (const std::string& k : ignored)
-        warnings.push_back(where + ": plugin parameter <" + k + "> is not one of the seed plugin's; ignored");
+        if (k != "frame") warnings.push_back(where + ": plugin parameter <" + k + "> is not one of the seed plugin's; ignored");
     }
     // The seed plugin ignores the parameters of distribution "none".
     if (map["optional_distribution"].IsScalar() && map["optional_distribution"].Scalar() == "none" &&
@@ -136,13 +136,21 @@ ReaderParams antenna_params(const sdf::ElementPtr& sensor, const std::string& wh
       notes.push_back(where + ": " + (plugin ? "" : "no <plugin>; ") + "seed plugin defaults applied: " + defaulted);
     r = io::parse_reader_params(map, where, "plugin", seed);
   } else {
-    const YAML::Node map = children_as_yaml(sensor->GetElementImpl("rfid_antenna"), where, nullptr, nullptr);
+    YAML::Node map = children_as_yaml(sensor->GetElementImpl("rfid_antenna"), where, nullptr, nullptr);
+    map.remove("frame");  // antenna_tf_frame's, not a reader parameter
     if (map["update_rate"].IsDefined() || map["update_rate_hz"].IsDefined())
       throw InputError(where + ": <rfid_antenna>: the rate is the sensor's <update_rate>, not an rfid_antenna key");
     r = io::parse_reader_params(map, where, "rfid_antenna", ReaderParams{});
   }
   apply_update_rate(sensor, where, r, notes);
   return r;
+}
+
+std::string antenna_tf_frame(const sdf::ElementPtr& sensor) {
+  for (const char* holder : {"plugin", "rfid_antenna"})
+    if (const sdf::ElementPtr h = sensor->GetElementImpl(holder))
+      if (const sdf::ElementPtr f = h->GetElementImpl("frame")) return text_of(f);
+  return "";
 }
 
 TagParams tag_params(const sdf::ElementPtr& sensor, const std::string& where, std::vector<std::string>& notes,

@@ -38,6 +38,10 @@ ReaderParams antenna_params(const sdf::ElementPtr& sensor, const std::string& wh
 TagParams tag_params(const sdf::ElementPtr& sensor, const std::string& where, std::vector<std::string>& notes,
                      std::vector<std::string>& warnings);
 
+// The TF frame the antenna is mounted in, for the ROS pose input (adapters/gazebo/ros_bridge.h): a <frame>
+// child of the seed form's <plugin> or of <rfid_antenna>; "" when none. The sensor's <pose> is relative to it.
+std::string antenna_tf_frame(const sdf::ElementPtr& sensor);
+
 // The seed plugin's defaults for parameters a world leaves out.
 ReaderParams seed_default_reader();
 

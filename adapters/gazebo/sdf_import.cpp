@@ -329,6 +329,7 @@ class Importer {
         a.reader = antenna_params(s, where, w_.notes, w_.warnings);
         a.reader.name = name;
         a.source_line = mount.line;
+        mount.frame = antenna_tf_frame(s);
         for (size_t i = 0; i < w_.scenario.antennas.size(); ++i)
           if (w_.scenario.antennas[i].reader.name == name)
             throw InputError(where + ": a second antenna named '" + name + "' (the first is on link '" +

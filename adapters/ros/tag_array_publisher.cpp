@@ -8,13 +8,10 @@
 
 namespace rfidray::ros_bridge {
 
-TagArrayPublisher::TagArrayPublisher(const std::string& node_name, const std::vector<std::string>& antennas) {
-  int argc = 0;
-  ros::init(argc, nullptr, node_name, ros::init_options::NoSigintHandler | ros::init_options::NoRosout);
-  // Without a master NodeHandle would block forever: check first.
-  if (!ros::master::check())
-    throw std::runtime_error("no ROS master at " + ros::master::getURI() + " (start roscore, or set ROS_MASTER_URI)");
-  node_ = std::make_unique<ros::NodeHandle>("~");
+TagArrayPublisher::TagArrayPublisher(const std::string& node_name, const std::vector<std::string>& antennas,
+                                     const std::string& topic_namespace, const std::string& frame_id)
+    : session_(RosSession::get(node_name)), frame_id_(frame_id) {
+  node_ = std::make_unique<ros::NodeHandle>(topic_namespace);
   // A deep queue: Gazebo running faster than real time gives bursts of ticks, and roscpp drops what does not fit.
   for (const std::string& a : antennas)
     publishers_.push_back(node_->advertise<rfid_sensor::TagArray>(a + "/data", 1000));
@@ -26,7 +23,6 @@ TagArrayPublisher::~TagArrayPublisher() {
   if (!publishers_.empty()) ros::WallDuration(0.5).sleep();
   publishers_.clear();
   node_.reset();
-  if (ros::isStarted()) ros::shutdown();
 }
 
 std::string TagArrayPublisher::topics() const {
@@ -43,7 +39,7 @@ bool TagArrayPublisher::all_connected() const {
 
 void TagArrayPublisher::publish(size_t antenna, double time_s, const PoseValue& pose, const std::vector<TagValue>& tags) {
   rfid_sensor::TagArray m;
-  m.header.frame_id = "world";
+  m.header.frame_id = frame_id_;
   m.header.stamp = ros::Time(time_s);
   m.antennaPose.position.x = pose.x;
   m.antennaPose.position.y = pose.y;

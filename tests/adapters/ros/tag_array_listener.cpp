@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
     ros::WallDuration(0.05).sleep();
   }
   ros::NodeHandle nh;
-  ros::Subscriber sub = nh.subscribe<rfid_sensor::TagArray>(topic, 100, [&](const rfid_sensor::TagArray::ConstPtr& m) {
+  // A deep queue: the bridge publishes ticks in bursts when the simulation runs faster than real time.
+  ros::Subscriber sub = nh.subscribe<rfid_sensor::TagArray>(topic, 100000, [&](const rfid_sensor::TagArray::ConstPtr& m) {
     std::fprintf(out, "%.17g %u %.17g %.17g %.17g %.17g %.17g %.17g %.17g %s", m->header.stamp.toSec(), m->ntags,
                  m->antennaPose.position.x, m->antennaPose.position.y, m->antennaPose.position.z,
                  m->antennaPose.orientation.x, m->antennaPose.orientation.y, m->antennaPose.orientation.z,

@@ -3,6 +3,9 @@
 // (and the seed's data collector) accept it. The MD5 is computed here independently — genmsg's algorithm:
 // the definition reduced to "type name" lines, every non-builtin type replaced by its own MD5 — and checked on
 // std_msgs/Header and geometry_msgs/Pose first. C++17: ROS 1 message headers do not build as C++20.
+#ifdef RFIDRAY_HAVE_ROS_INPUT
+#include <gazebo_msgs/ModelStates.h>
+#endif
 #include <geometry_msgs/Pose.h>
 #include <gtest/gtest.h>
 #include <rfid_sensor/Tag.h>
@@ -87,6 +90,7 @@ std::string installed_msg(const std::string& package, const std::string& type) {
   if (package == "std_msgs") return read_file(std::string(RFIDRAY_STD_MSGS_MSG) + "/" + type + ".msg");
   if (package == "geometry_msgs") return read_file(std::string(RFIDRAY_GEOMETRY_MSGS_MSG) + "/" + type + ".msg");
   if (package == "rfid_sensor" && type == "Tag") return kSeedTag;
+  if (package == "gazebo_msgs") return read_file(std::string(RFIDRAY_ROS_MSG_DIR) + "/gazebo_msgs/" + type + ".msg");
   ADD_FAILURE() << "unexpected dependency " << package << "/" << type;
   return "";
 }
@@ -119,5 +123,53 @@ TEST(RosMessage, Md5ChangesWithTheDefinition) {
   renamed.replace(renamed.find("phi"), 3, "phase");
   EXPECT_NE(ros_md5("rfid_sensor", renamed, installed_msg), ros::message_traits::MD5Sum<rfid_sensor::Tag>::value());
 }
+
+#ifdef RFIDRAY_HAVE_ROS_INPUT
+// gazebo_msgs is not in Debian: its ModelStates.msg ships in adapters/ros/msg/gazebo_msgs. ROS Noetic's
+// gazebo_ros publishes /gazebo/model_states with MD5 48c080191eb15c41858319b4d8a609c2 (the value its
+// generated headers carry); ours must be that, by genmsg's algorithm here, by genmsg itself, and in the
+// gencpp-generated header, or rosmaster would never connect us to Gazebo.
+constexpr const char* kNoeticModelStatesMd5 = "48c080191eb15c41858319b4d8a609c2";
+
+TEST(RosMessage, ModelStatesHasNoeticsMd5) {
+  const std::string text = installed_msg("gazebo_msgs", "ModelStates");
+  EXPECT_EQ(ros_md5("gazebo_msgs", text, installed_msg), kNoeticModelStatesMd5);
+  EXPECT_STREQ(ros::message_traits::MD5Sum<gazebo_msgs::ModelStates>::value(), kNoeticModelStatesMd5);
+  EXPECT_STREQ(ros::message_traits::DataType<gazebo_msgs::ModelStates>::value(), "gazebo_msgs/ModelStates");
+  // Noetic's three fields, in order (the rest of the file is comments).
+  std::string fields;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line))
+    if (!line.empty() && line[0] != '#') fields += line + "\n";
+  EXPECT_EQ(fields, "string[] name\ngeometry_msgs/Pose[] pose\ngeometry_msgs/Twist[] twist\n");
+  // A header (the ROS 2 branch's message has one) changes the MD5: it would not talk to Noetic.
+  EXPECT_NE(ros_md5("gazebo_msgs", "Header header\n" + fields, installed_msg), kNoeticModelStatesMd5);
+}
+
+TEST(RosMessage, GenmsgComputesTheSameModelStatesMd5) {
+  const std::string script =
+      "import sys, genmsg, genmsg.msg_loader as ml, genmsg.gentools as gt\n"
+      "ctx = genmsg.MsgContext.create_default()\n"
+      "paths = {'gazebo_msgs': [sys.argv[1]], 'geometry_msgs': [sys.argv[2]], 'std_msgs': [sys.argv[3]]}\n"
+      "spec = ml.load_msg_by_type(ctx, 'gazebo_msgs/ModelStates', paths)\n"
+      "ml.load_depends(ctx, spec, paths)\n"
+      "print(gt.compute_md5(ctx, spec))\n";
+  char path[] = "/tmp/rfidray_genmsg_XXXXXX";
+  const int fd = mkstemp(path);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(write(fd, script.data(), script.size()), static_cast<ssize_t>(script.size()));
+  close(fd);
+  const std::string cmd = std::string(RFIDRAY_ROS_PYTHON) + " " + path + " " + RFIDRAY_ROS_MSG_DIR + "/gazebo_msgs " +
+                          RFIDRAY_GEOMETRY_MSGS_MSG + " " + RFIDRAY_STD_MSGS_MSG + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  char buf[256] = {0};
+  const size_t n = fread(buf, 1, sizeof buf - 1, p);
+  pclose(p);
+  std::remove(path);
+  EXPECT_EQ(std::string(buf, n), std::string(kNoeticModelStatesMd5) + "\n");
+}
+#endif
 
 }  // namespace
