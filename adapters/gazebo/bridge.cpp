@@ -249,19 +249,25 @@ int run_bridge(const BridgeOptions& o) {
       continue;
     }
     last_message = std::chrono::steady_clock::now();
+    const uint64_t rejected_before = live.rejected_poses();
     live.apply(msg.has_header() ? seconds(msg.header().stamp()) : live.time_s(), msg, sink);
     ++pose_messages;
+    if (rejected_before == 0 && live.rejected_poses() > 0)
+      say("warning: dropped a malformed pose (not finite, beyond the coordinate range or a zero quaternion): " +
+          live.first_rejected_pose() + "; further ones are counted in /rfid/status");
     rfidray::msgs::BridgeStatus st;
     set_time(live.time_s(), *st.mutable_header()->mutable_stamp());
     st.set_world(name);
     st.set_pose_messages(pose_messages);
     st.set_ticks(live.ticks());
     st.set_entities_matched(static_cast<uint32_t>(live.entity_map().matched));
+    st.set_rejected_poses(live.rejected_poses());
     status_pub.Publish(st);
   }
   for (const std::string& topic : pose_topics) node.Unsubscribe(topic);
-  say(std::to_string(live.ticks()) + " antenna ticks from " + std::to_string(pose_messages) + " pose messages, " +
-      std::to_string(live.scene_builds()) + " scene builds, simulation time " + fmt_s(live.time_s()) + " s");
+  say(std::to_string(live.ticks()) + " antenna ticks from " + std::to_string(pose_messages) + " pose messages (" +
+      std::to_string(live.rejected_poses()) + " malformed poses dropped), " + std::to_string(live.scene_builds()) +
+      " scene builds, simulation time " + fmt_s(live.time_s()) + " s");
   return 0;
 }
 

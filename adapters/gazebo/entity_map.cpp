@@ -1,5 +1,7 @@
 #include "adapters/gazebo/entity_map.h"
 
+#include "core/limits.h"
+
 namespace rfidray::gazebo {
 namespace {
 
@@ -12,7 +14,8 @@ struct Walker {
     const int e = world.find(scoped);
     if (e < 0) return;
     map.by_id[id] = {EntityRef::Kind::kEntity, static_cast<size_t>(e)};
-    if (pose) world.entities[e].pose = from_msg(*pose);
+    if (pose)
+      if (const auto checked = checked_from_msg(*pose)) world.entities[e].pose = *checked;  // else the SDF pose
     seen[e] = true;
     ++map.matched;
   }
@@ -23,12 +26,14 @@ struct Walker {
       for (size_t a = 0; a < world.antenna_mounts.size(); ++a)
         if (world.antenna_mounts[a].entity == static_cast<size_t>(e) && world.antenna_mounts[a].sensor == s.name()) {
           map.by_id[s.id()] = {EntityRef::Kind::kAntenna, a};
-          if (s.has_pose()) world.antenna_mounts[a].pose = from_msg(s.pose());
+          if (s.has_pose())
+            if (const auto checked = checked_from_msg(s.pose())) world.antenna_mounts[a].pose = *checked;
         }
       for (size_t t = 0; t < world.tag_mounts.size(); ++t)
         if (world.tag_mounts[t].entity == static_cast<size_t>(e) && world.tag_mounts[t].sensor == s.name()) {
           map.by_id[s.id()] = {EntityRef::Kind::kTag, t};
-          if (s.has_pose()) world.tag_mounts[t].pose = from_msg(s.pose());
+          if (s.has_pose())
+            if (const auto checked = checked_from_msg(s.pose())) world.tag_mounts[t].pose = *checked;
         }
     }
   }
@@ -51,6 +56,19 @@ Pose from_msg(const ignition::msgs::Pose& p) {
   if (p.has_orientation()) {
     const Quat q(p.orientation().w(), p.orientation().x(), p.orientation().y(), p.orientation().z());
     out.orientation = q.norm() > 0.0 ? q.normalized() : Quat::Identity();
+  }
+  return out;
+}
+
+std::optional<Pose> checked_from_msg(const ignition::msgs::Pose& p) {
+  const Vec3 position(p.position().x(), p.position().y(), p.position().z());
+  if (!position.allFinite() || position.cwiseAbs().maxCoeff() > limits::kMaxCoordinateM) return std::nullopt;
+  Pose out;
+  out.position = position;
+  if (p.has_orientation()) {
+    const Quat q(p.orientation().w(), p.orientation().x(), p.orientation().y(), p.orientation().z());
+    if (!q.coeffs().allFinite() || !(q.norm() > 1e-6)) return std::nullopt;
+    out.orientation = q.normalized();
   }
   return out;
 }

@@ -7,6 +7,7 @@
 #include <ignition/msgs/pose_v.pb.h>
 #include <ignition/msgs/scene.pb.h>
 
+#include <optional>
 #include <unordered_map>
 
 #include "adapters/gazebo/gazebo_world.h"
@@ -27,6 +28,10 @@ struct EntityMap {
 };
 
 Pose from_msg(const ignition::msgs::Pose& p);
+// The pose of a message from outside, or nullopt when it cannot be a pose: a position that is not finite or
+// beyond core/limits.h's coordinate range, an orientation that is not finite or has a norm below 1e-6 (a zero
+// quaternion). The orientation is normalized. A bridge must not let one bad message put NaN into its scene.
+std::optional<Pose> checked_from_msg(const ignition::msgs::Pose& p);
 void to_msg(const Pose& pose, ignition::msgs::Pose& out);
 
 // Matches the scene's entities to the world's and sets the world's poses to the scene's (the current ones,

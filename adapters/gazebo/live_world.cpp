@@ -109,7 +109,16 @@ size_t LiveWorld::apply(double t_s, const ignition::msgs::Pose_V& poses, const T
   for (const auto& p : poses.pose()) {
     const auto ref = resolve(map_, world_, p);
     if (!ref) continue;
-    const Pose pose = from_msg(p);
+    const std::optional<Pose> checked = checked_from_msg(p);
+    if (!checked) {
+      // A malformed pose (NaN, inf, beyond the coordinate range, zero quaternion) is dropped: the entity keeps
+      // its last pose, and the count goes to /rfid/status.
+      if (rejected_poses_++ == 0)
+        first_rejected_pose_ = "entity id " + std::to_string(p.id()) + " ('" + clip(p.name()) + "') at t = " +
+                               std::to_string(t_s) + " s";
+      continue;
+    }
+    const Pose& pose = *checked;
     if (ref->kind == EntityRef::Kind::kAntenna) {
       set_antenna_mount_pose(ref->index, pose);
     } else if (ref->kind == EntityRef::Kind::kTag) {

@@ -54,7 +54,8 @@ class LiveWorld {
   EntityMap& entity_map() { return map_; }
 
   // Applies the poses of a Pose_V stamped t_s, first emitting (in time order, antennas by index) every tick
-  // the poses held so far cover. Entities it does not know are ignored. Returns the ticks emitted.
+  // the poses held so far cover. Entities it does not know are ignored; a pose that is not one
+  // (checked_from_msg) is dropped and counted in rejected_poses(). Returns the ticks emitted.
   size_t apply(double t_s, const ignition::msgs::Pose_V& poses, const TickSink& sink);
 
   // Simulation time has reached t_s: emits (in time order, antennas by index) every tick before t_s that the
@@ -69,6 +70,9 @@ class LiveWorld {
   // True once every antenna's next tick lies beyond duration_s.
   bool finished() const;
   uint64_t ticks() const { return ticks_; }
+  // Poses dropped by apply() as malformed, and which was the first ("" while none).
+  uint64_t rejected_poses() const { return rejected_poses_; }
+  const std::string& first_rejected_pose() const { return first_rejected_pose_; }
   uint64_t scene_builds() const { return scene_builds_; }
   double time_s() const { return time_s_; }
   bool started() const { return started_; }
@@ -84,7 +88,8 @@ class LiveWorld {
   std::vector<uint64_t> next_tick_;
   bool started_ = false, scene_dirty_ = true, needs_trace_ = false;
   double time_s_ = 0.0;
-  uint64_t ticks_ = 0, scene_builds_ = 0;
+  uint64_t ticks_ = 0, scene_builds_ = 0, rejected_poses_ = 0;
+  std::string first_rejected_pose_;
   std::unique_ptr<Channel> channel_;
   IdealChannel ideal_;  // for paper-model antennas (they use the distance only)
   AntennaPoseProvider pose_provider_;
