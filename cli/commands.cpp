@@ -19,6 +19,7 @@ std::function<int()> setup_localize(CLI::App& app);
 std::function<int()> setup_calibrate(CLI::App& app);
 std::function<int()> setup_bench(CLI::App& app);
 std::function<int()> setup_import(CLI::App& app);
+std::function<int()> setup_view(CLI::App& app);
 #ifdef RFIDRAY_HAVE_IGN_TRANSPORT
 std::function<int()> setup_gazebo(CLI::App& app);
 #endif
@@ -60,6 +61,7 @@ void register_commands(CLI::App& app) {
   add(app, setup_calibrate);
   add(app, setup_bench);
   add(app, setup_import);
+  add(app, setup_view);
   add(app, setup_gazebo);
 }
 
