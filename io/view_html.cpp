@@ -118,13 +118,13 @@ nlohmann::json data_json(const ViewInput& in) {
 
 constexpr const char* kStyle = R"CSS(
 html, body { margin: 0; height: 100%; overflow: hidden; font: 13px/1.35 system-ui, sans-serif; background: #1d2127; color: #e8e8e8; }
-#view { position: absolute; left: 0; top: 0; right: 360px; bottom: 0; }
-#side { position: absolute; top: 0; right: 0; width: 360px; bottom: 0; overflow: auto; background: #262b33; padding: 8px 10px; box-sizing: border-box; }
+#view { position: absolute; left: 0; top: 0; right: 440px; bottom: 0; }
+#side { position: absolute; top: 0; right: 0; width: 440px; bottom: 0; overflow: auto; background: #262b33; padding: 8px 10px; box-sizing: border-box; }
 h1 { font-size: 15px; margin: 0 0 4px; } h2 { font-size: 13px; margin: 10px 0 4px; }
 .swatch { display: inline-block; width: 12px; height: 12px; margin-right: 6px; vertical-align: -2px; border: 1px solid #0006; }
 #powerbar { height: 10px; background: linear-gradient(to right, hsl(240,90%,55%), hsl(120,90%,50%), hsl(0,90%,55%)); }
 .scale { display: flex; justify-content: space-between; font-size: 11px; color: #aaa; }
-table { border-collapse: collapse; width: 100%; font-size: 11.5px; } td, th { padding: 1px 4px; text-align: right; white-space: nowrap; }
+table { border-collapse: collapse; width: 100%; font-size: 11px; } td, th { padding: 1px 3px; text-align: right; white-space: nowrap; }
 th { color: #aaa; font-weight: normal; } td.l, th.l { text-align: left; }
 tr.path:hover, tr.path.hot { background: #3b4452; cursor: default; }
 #tip { position: absolute; pointer-events: none; background: #000c; padding: 5px 7px; border-radius: 4px; display: none; white-space: pre; font-size: 12px; }
@@ -142,9 +142,9 @@ constexpr const char* kScript = R"JS(
     var t = Math.min(1, Math.max(0, -db / 40));
     return new THREE.Color().setHSL((240 * t) / 360, 0.9, 0.55);
   }
-  function coefText(c) {
+  function coefText(c, digits) {
     var mag = Math.hypot(c[0], c[1]), deg = Math.atan2(c[1], c[0]) * 180 / Math.PI;
-    return fmt(mag, 4) + ' \u2220 ' + fmt(deg, 1) + '\u00b0';
+    return fmt(mag, digits) + '\u2220' + fmt(deg, digits > 3 ? 2 : 0) + '\u00b0';
   }
 
   var renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
@@ -218,7 +218,7 @@ constexpr const char* kScript = R"JS(
     line.userData.info = 'path ' + i + ': ' + p.kind + (p.material ? ' (' + p.material + ')' : '') +
       '\n' + data.antennas[link.antenna].name + ' \u2192 ' + data.tags[link.tag].name +
       '\nlength ' + fmt(p.length_m, 4) + ' m' +
-      '\ncoefficient ' + coefText(p.coefficient) +
+      '\ncoefficient ' + coefText(p.coefficient, 5) +
       (p.kind === 'blocked' ? '\ncrossings ' + p.crossings : '') +
       '\npower ' + fmt(p.relative_db, 1) + ' dB (vs strongest of link)';
     scene.add(line); lines.push(line); pickable.push(line);
@@ -226,8 +226,8 @@ constexpr const char* kScript = R"JS(
     tr.className = 'path';
     tr.dataset.index = i;
     tr.innerHTML = '<td>' + i + '</td><td class="l">' + data.antennas[link.antenna].name + '\u2192' + data.tags[link.tag].name +
-      '</td><td class="l">' + p.kind + '</td><td>' + fmt(p.length_m, 3) + '</td><td class="l">' + (p.material || '') +
-      '</td><td>' + coefText(p.coefficient) + '</td><td><span class="swatch" style="background:#' + colour.getHexString() +
+      '</td><td class="l">' + p.kind + '</td><td>' + fmt(p.length_m, 2) + '</td><td class="l">' + (p.material || '') +
+      '</td><td>' + coefText(p.coefficient, 3) + '</td><td><span class="swatch" style="background:#' + colour.getHexString() +
       '"></span>' + fmt(p.relative_db, 1) + '</td>';
     tr.addEventListener('mouseenter', function () { highlight(i); });
     tr.addEventListener('mouseleave', function () { highlight(-1); });

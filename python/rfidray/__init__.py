@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
@@ -60,6 +61,9 @@ def _structured(columns: Mapping[str, Any], names: np.ndarray, antennas: np.ndar
     return out
 
 
+_DICT_SOURCE = "<scenario dict>"
+
+
 class Simulation(dict):
     """The result of :func:`simulate`: a dict antenna name → readings array (the antenna's CSV file).
 
@@ -94,7 +98,10 @@ def simulate(scenario: Union[str, os.PathLike, Mapping[str, Any]], *, seed: Opti
     if isinstance(scenario, Mapping):
         # JSON is YAML: the scenario reader checks every key of the dict as it checks a file.
         text = json.dumps(scenario, indent=1, default=_jsonable)
-        raw = _simulate(None, text, "<scenario dict>", seed, channel, model, duration_s, threads)
+        try:
+            raw = _simulate(None, text, _DICT_SOURCE, seed, channel, model, duration_s, threads)
+        except InputError as e:  # a line of the JSON text means nothing to the caller: the field says where
+            raise InputError(re.sub(r"^" + re.escape(_DICT_SOURCE) + r":\d+: ", "scenario dict: ", str(e))) from None
     else:
         raw = _simulate(os.fspath(scenario), None, "", seed, channel, model, duration_s, threads)
     tag_names = np.array([t[0] for t in raw["tags"]] or [""])

@@ -92,8 +92,8 @@ def main():
         matplotlib.use("Agg")
         import matplotlib.image
         img = matplotlib.image.imread(str(shot))[..., :3]
-        # The 3-D view is the left part of the page (the side panel is 360 px wide on the right).
-        view = img[:, : img.shape[1] - 380]
+        # The 3-D view is the left part of the page (the side panel is 440 px wide on the right).
+        view = img[:, : img.shape[1] - 460]
         background = np.array([0x1D, 0x21, 0x27]) / 255.0
         drawn = np.abs(view - background).max(axis=2) > 0.08
         colours = len(np.unique((view * 255).astype(np.uint8).reshape(-1, 3), axis=0))
