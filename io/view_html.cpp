@@ -259,6 +259,7 @@ constexpr const char* kScript = R"JS(
     render();
   });
   var raycaster = new THREE.Raycaster();
+  raycaster.linePrecision = size * 0.004;  // r111; later releases read params.Line.threshold
   raycaster.params.Line = { threshold: size * 0.004 };
   renderer.domElement.addEventListener('mousemove', function (e) {
     var r = renderer.domElement.getBoundingClientRect();
@@ -272,6 +273,15 @@ constexpr const char* kScript = R"JS(
     tip.style.display = 'block';
   });
   render();
+  // #hover=N moves the mouse over the middle of path N's first leg (for tests: the tooltip must name a path).
+  var hover = /hover=(\d+)/.exec(location.hash);
+  if (hover && data.paths[+hover[1]]) {
+    var pts = data.paths[+hover[1]].points;
+    var mid = new THREE.Vector3().fromArray(pts[0]).lerp(new THREE.Vector3().fromArray(pts[1]), 0.5).project(camera);
+    var rect = renderer.domElement.getBoundingClientRect();
+    renderer.domElement.dispatchEvent(new MouseEvent('mousemove', {
+      clientX: rect.left + (mid.x + 1) / 2 * rect.width, clientY: rect.top + (1 - mid.y) / 2 * rect.height }));
+  }
   body.dataset.paths = String(lines.length);
   if (body.dataset.status !== 'error') body.dataset.status = 'ready';
 })();

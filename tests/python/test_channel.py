@@ -122,3 +122,23 @@ def test_scene_reports_its_geometry():
     # The README's hand check: LoS 3.0414 m, ground 3.9051 m, wall 7.0178 m.
     lengths = sorted(p.length_m for p in rfidray.Channel(scene).paths([0, 0, 1], [3, 0, 1.5]))
     assert lengths == pytest.approx([math.sqrt(9.25), math.sqrt(15.25), math.sqrt(49.25)], abs=1e-12)
+
+
+def test_world_scene_matches_rfidray_link_world():
+    world_dir = SOURCE_DIR / "scenes" / "tests" / "gazebo"
+    try:
+        scene = rfidray.Scene.load(world_dir / "rfid_test.world", resource_path=[str(world_dir / "models")])
+    except ValueError as e:
+        if "built without sdformat" in str(e):
+            pytest.skip(str(e))
+        raise
+    expected = link_json("--world", world_dir / "rfid_test.world", "--resource-path", world_dir / "models",
+                         "--antenna", "reader", "--tag", "tag_1::link")
+    assert scene.triangles == expected["scene"]["triangles"]
+    antennas, tags = dict(scene.antennas), dict(scene.tags)
+    assert set(antennas) == {"reader", "gate"} and "tag_1::link" in tags
+    # link --world takes the world's poses with its own pattern and polarization flags; lengths and materials
+    # depend on the positions alone.
+    paths = rfidray.Channel(scene).paths(antennas["reader"].position, tags["tag_1::link"].position)
+    assert [(p.kind, p.length_m, p.material) for p in paths] == \
+        [(e["kind"], e["length_m"], e["material"]) for e in expected["raytraced"]["paths"]]

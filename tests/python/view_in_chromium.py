@@ -1,6 +1,7 @@
 """`rfidray view` in headless Chromium (Debian's chromium, software WebGL): the paper warehouse page loads with
-no script errors, draws something (pixel check of a screenshot), and lists the expected number of paths — the
-sum over its links of the paths the Python API (identical to `rfidray link --json`, test_channel.py) finds.
+no script errors, draws something (pixel check of a screenshot), lists the expected number of paths — the sum
+over its links of the paths the Python API (identical to `rfidray link --json`, test_channel.py) finds — and
+hovering over a path shows its kind, length and coefficient.
 Exit 77 (ctest: skipped) when Chromium is not installed."""
 import os
 import pathlib
@@ -24,14 +25,14 @@ def chromium():
     return None
 
 
-def browse(browser, html, work, *extra):
-    """Runs headless Chromium on a file with a fresh profile; returns its stdout."""
+def browse(browser, html, work, *extra, fragment=""):
+    """Runs headless Chromium on a file (+ #fragment) with a fresh profile; returns its stdout."""
     profile = tempfile.mkdtemp(prefix="profile-", dir=work)
     cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-quic",
            "--no-first-run", "--disable-background-networking", "--disable-component-update", "--disable-sync",
            "--hide-scrollbars", f"--user-data-dir={profile}", "--window-size=1280,800",
            # let the page's script run before the DOM is dumped or the screenshot taken
-           "--virtual-time-budget=5000", *extra, html.as_uri()]
+           "--virtual-time-budget=5000", *extra, html.as_uri() + fragment]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=180)
     if proc.returncode != 0:
         raise SystemExit(f"chromium exited {proc.returncode}:\n{proc.stderr[-3000:]}")
@@ -85,6 +86,15 @@ def main():
         assert int(attrs.get("paths", -1)) == expected, attrs
         rows = len(re.findall(r'<tr class="path"', dom))
         assert rows == expected, (rows, expected)
+
+        # Hover: the page moves the mouse over path 0 (#hover=0); the tooltip must describe a path.
+        dom = browse(browser, html, work, "--dump-dom", fragment="#hover=0")
+        tip = re.search(r'<div id="tip"[^>]*>([^<]*)</div>', dom)
+        assert tip and "display: block" in tip.group(0), tip and tip.group(0)
+        print("tooltip:", tip.group(1).replace("\n", " | "))
+        assert re.match(r"path \d+: (los|blocked|reflection)", tip.group(1)), tip.group(1)
+        assert "length " in tip.group(1) and "coefficient " in tip.group(1), tip.group(1)
+        assert body_attributes(dom).get("errors") == "0"
 
         shot = work / "shot.png"
         browse(browser, html, work, f"--screenshot={shot}")
