@@ -77,7 +77,8 @@ void check_apart(const Vec3& antenna, const Vec3& tag, const std::string& what) 
 
 PyScene load_scene_py(pyb::object source, std::optional<std::string> material,
                       std::optional<std::string> default_material, std::optional<double> thickness_m,
-                      std::optional<std::string> materials, std::vector<std::string> resource_path) {
+                      std::optional<std::filesystem::path> materials,
+                      std::vector<std::filesystem::path> resource_path) {
   std::vector<std::filesystem::path> files;
   if (pyb::isinstance<pyb::str>(source) || pyb::hasattr(source, "__fspath__")) {
     files.push_back(source.cast<std::filesystem::path>());
@@ -93,8 +94,8 @@ PyScene load_scene_py(pyb::object source, std::optional<std::string> material,
                        ": a world's materials come from materials=FILE (and default_material=), not material=/thickness_m=");
     io::WorldSourceOptions o;
     o.file = files[0].string();
-    o.resource_path = resource_path;
-    o.materials_file = materials.value_or("");
+    for (const auto& dir : resource_path) o.resource_path.push_back(dir.string());
+    if (materials) o.materials_file = materials->string();
     io::WorldSource world = io::load_world_source(o, default_material.value_or(""));
     out.scene = world.scene;
     out.warnings = world.warnings;
@@ -139,7 +140,7 @@ void bind_scene(pyb::module_& m) {
   pyb::class_<PyScene>(m, "Scene", "A static radio scene: triangle meshes with radio materials and their BVH.")
       .def_static("load", &load_scene_py, pyb::arg("source"), pyb::kw_only(), pyb::arg("material") = pyb::none(),
                   pyb::arg("default_material") = pyb::none(), pyb::arg("thickness_m") = pyb::none(),
-                  pyb::arg("materials") = pyb::none(), pyb::arg("resource_path") = std::vector<std::string>{},
+                  pyb::arg("materials") = pyb::none(), pyb::arg("resource_path") = std::vector<std::filesystem::path>{},
                   R"(Loads OBJ file(s) or a Gazebo world (.world/.sdf) as `rfidray link --scene/--world` does.
 
 OBJ: usemtl names are radio materials; material= forces one material everywhere, default_material= covers
