@@ -2,7 +2,7 @@
 no script errors, draws something (pixel check of a screenshot), lists the expected number of paths — the sum
 over its links of the paths the Python API (identical to `rfidray link --json`, test_channel.py) finds — and
 hovering over a path shows its kind, length and coefficient.
-Exit 77 (ctest: skipped) when Chromium is not installed."""
+Exit 77 (ctest: skipped) when Chromium or libjs-three is not installed."""
 import os
 import pathlib
 import re
@@ -28,8 +28,9 @@ def chromium():
 def browse(browser, html, work, *extra, fragment=""):
     """Runs headless Chromium on a file (+ #fragment) with a fresh profile; returns its stdout."""
     profile = tempfile.mkdtemp(prefix="profile-", dir=work)
-    cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-quic",
-           "--no-first-run", "--disable-background-networking", "--disable-component-update", "--disable-sync",
+    cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
+           "--disable-dev-shm-usage", "--disable-quic", "--no-first-run", "--disable-background-networking",
+           "--disable-component-update", "--disable-sync",
            "--hide-scrollbars", f"--user-data-dir={profile}", "--window-size=1280,800",
            # let the page's script run before the DOM is dumped or the screenshot taken
            "--virtual-time-budget=5000", *extra, html.as_uri() + fragment]
@@ -62,6 +63,9 @@ def main():
     browser = chromium()
     if browser is None:
         print("chromium not installed: skipped (apt-get install chromium)")
+        return 77
+    if not pathlib.Path("/usr/share/javascript/three/three.min.js").exists():
+        print("libjs-three not installed (rfidray view inlines it): skipped (apt-get install libjs-three)")
         return 77
     work = pathlib.Path(tempfile.mkdtemp(prefix="rfidray-view-"))
     try:
