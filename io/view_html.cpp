@@ -313,9 +313,12 @@ std::string view_html(const ViewInput& input, const std::string& three_js, const
   std::ostringstream out;
   out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rfidray view: " << title
       << "</title>\n<style>" << kStyle << "</style>\n"
-      // Errors anywhere (three.js included) are counted on <body>, so a headless browser can read them back.
-      << "<script>window.onerror = function () { var b = document.body || document.documentElement;"
-         " b.dataset.errors = String(Number(b.dataset.errors || 0) + 1); b.dataset.status = 'error'; };</script>\n"
+      // Uncaught errors and console.error calls anywhere (three.js included) are counted on <body>, so a
+      // headless browser can read them back.
+      << "<script>(function () { function count() { var b = document.body || document.documentElement;"
+         " b.dataset.errors = String(Number(b.dataset.errors || 0) + 1); b.dataset.status = 'error'; }"
+         " window.addEventListener('error', count); var log = console.error;"
+         " console.error = function () { count(); return log.apply(console, arguments); }; })();</script>\n"
       << "</head>\n<body data-status=\"loading\" data-errors=\"0\" data-paths=\"0\">\n"
       << "<div id=\"view\"></div><div id=\"tip\"></div>\n"
       << "<div id=\"help\">drag: orbit · right-drag: pan · wheel: zoom · hover a path for its length, material and "

@@ -5,7 +5,8 @@
 // strongest path of its link; hovering a path shows its kind, length, material and coefficient; orbit controls.
 // three.js (r111) and its OrbitControls come from Debian's libjs-three and are inlined, so the page needs no
 // network. The page lists every path in a table (rows `tr.path`) and reports itself on <body>:
-// data-status="ready" | "error", data-paths (paths drawn), data-errors (script errors caught by window.onerror).
+// data-status="ready" | "error", data-paths (paths drawn), data-errors (uncaught script errors and console.error
+// calls). Opened as view.html#hover=N it moves the mouse over path N (so a test can read the tooltip).
 // Functions are thread-safe (no shared state).
 #include <filesystem>
 #include <string>

@@ -91,6 +91,13 @@ def main():
         rows = len(re.findall(r'<tr class="path"', dom))
         assert rows == expected, (rows, expected)
 
+        # The error counter itself: a console.error and an uncaught exception planted in a copy must show.
+        planted = work / "planted.html"
+        planted.write_text(page.replace("</body>", "<script>console.error('planted')</script>"
+                                                   "<script>no_such_function()</script></body>"))
+        attrs = body_attributes(browse(browser, planted, work, "--dump-dom"))
+        assert attrs.get("status") == "error" and attrs.get("errors") == "2", attrs
+
         # Hover: the page moves the mouse over path 0 (#hover=0); the tooltip must describe a path.
         dom = browse(browser, html, work, "--dump-dom", fragment="#hover=0")
         tip = re.search(r'<div id="tip"[^>]*>([^<]*)</div>', dom)
