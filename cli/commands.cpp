@@ -21,6 +21,7 @@ std::function<int()> setup_bench(CLI::App& app);
 std::function<int()> setup_import(CLI::App& app);
 std::function<int()> setup_coverage(CLI::App& app);
 std::function<int()> setup_place(CLI::App& app);
+std::function<int()> setup_view(CLI::App& app);
 #ifdef RFIDRAY_HAVE_IGN_TRANSPORT
 std::function<int()> setup_gazebo(CLI::App& app);
 #endif
@@ -64,6 +65,7 @@ void register_commands(CLI::App& app) {
   add(app, setup_import);
   add(app, setup_coverage);
   add(app, setup_place);
+  add(app, setup_view);
   add(app, setup_gazebo);
 }
 

@@ -705,6 +705,29 @@ TagParams parse_tag_params(const YAML::Node& map, const std::string& where, cons
   return t;
 }
 
+Endpoint parse_endpoint(const YAML::Node& map, const std::string& where, const std::string& field) {
+  const YamlFile src(where, false);
+  YamlMap m(src, map, field);
+  Endpoint e;
+  e.pose.position = src.point(m.required("position"), m.field("position"));
+  e.pose.orientation = parse_orientation(m);
+  const double gain_dbi = m.number("gain_dbi", 0.0);
+  e.pattern = m.has("pattern") ? parse_pattern(src, *m.get("pattern"), m.field("pattern"), gain_dbi)
+                               : isotropic_pattern(gain_dbi);
+  src.located(map, [&] {
+    e.pattern.validate(m.field("pattern"));
+    return 0;
+  });
+  if (auto pol = m.get("polarization")) e.polarization = parse_polarization(src, *pol, m.field("polarization"));
+  m.finish();
+  return e;
+}
+
+ChannelOptionsSpec parse_channel_options(const YAML::Node& map, const std::string& where) {
+  const YamlFile src(where, false);
+  return parse_channel_options(src, map);
+}
+
 Scenario load_scenario(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))

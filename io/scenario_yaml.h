@@ -35,6 +35,7 @@
 
 #include <string>
 
+#include "core/channel.h"
 #include "core/scenario.h"
 
 namespace rfidray::io {
@@ -53,6 +54,14 @@ ReaderParams parse_reader_params(const YAML::Node& map, const std::string& where
                                  const ReaderParams& defaults);
 TagParams parse_tag_params(const YAML::Node& map, const std::string& where, const std::string& field,
                            const TagParams& defaults);
+
+// One end of a link written as a scenario writes a fixed antenna or tag: `position` (required), `rpy_deg` |
+// `yaw_deg` | `quaternion`, `pattern`, `polarization`, `gain_dbi` — isotropic 0 dBi and linear polarization
+// along the local z axis unless given, the defaults of `rfidray link`. And `channel_options` (README table).
+// For front ends that are not scenario files (the Python API builds the map from its arguments): nodes are
+// unmarked, so every message starts with `where`, then names the field.
+Endpoint parse_endpoint(const YAML::Node& map, const std::string& where, const std::string& field);
+ChannelOptionsSpec parse_channel_options(const YAML::Node& map, const std::string& where);
 
 // The EU channel plan of `hopping: eu` (ETSI EN 302 208 high-power channels), Hz.
 inline const std::vector<double>& eu_channels_hz() {

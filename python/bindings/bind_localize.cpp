@@ -1,0 +1,191 @@
+// localize(): tag positions from readings, with the options and the per-tag loop of `rfidray localize`
+// (io::group_by_tag, io::label_groups_by_antenna, loc::localize). Readings arrive as the CSV's columns
+// (from load_readings, simulate or the user's own arrays), so they are checked here as the CSV reader would.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <map>
+#include <optional>
+
+#include "core/error.h"
+#include "io/antenna_file.h"
+#include "io/checked_yaml.h"
+#include "io/readings_csv.h"
+#include "localization/methods.h"
+#include "python/bindings/bindings.h"
+
+namespace rfidray::py {
+namespace {
+
+std::vector<io::ReadingRow> rows_from(const pyb::dict& columns, size_t file) {
+  const std::string where = "readings[" + std::to_string(file) + "]";
+  auto column = [&](const char* name) {
+    if (!columns.contains(name)) throw InputError(where + ": no column '" + std::string(name) + "'");
+    return columns[name].cast<pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>>();
+  };
+  const char* required[] = {"time", "posx", "posy", "posz", "q1", "q2", "q3", "q4", "phase"};
+  std::map<std::string, pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>> num;
+  for (const char* c : required) num.emplace(c, column(c));
+  if (!columns.contains("name")) throw InputError(where + ": no column 'name'");
+  const auto names = columns["name"].cast<std::vector<std::string>>();
+  const size_t n = names.size();
+  std::optional<std::vector<std::string>> antennas;
+  if (columns.contains("antenna")) antennas = columns["antenna"].cast<std::vector<std::string>>();
+  std::optional<pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>> frequency, hop;
+  if (columns.contains("frequency_hz")) frequency = column("frequency_hz");
+  if (columns.contains("channel")) hop = column("channel");
+  auto check_size = [&](const std::string& c, pyb::ssize_t size) {
+    if (size != static_cast<pyb::ssize_t>(n))
+      throw InputError(where + ": column '" + c + "' has " + std::to_string(size) + " rows, 'name' has " + std::to_string(n));
+  };
+  for (const auto& [c, a] : num) check_size(c, a.size());
+  if (antennas) check_size("antenna", static_cast<pyb::ssize_t>(antennas->size()));
+  if (frequency) check_size("frequency_hz", frequency->size());
+  if (hop) check_size("channel", hop->size());
+
+  std::vector<io::ReadingRow> rows(n);
+  for (size_t i = 0; i < n; ++i) {
+    io::ReadingRow& r = rows[i];
+    r.line = static_cast<int>(i + 1);
+    auto value = [&](const char* c, const pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>& a) {
+      const double v = a.at(static_cast<pyb::ssize_t>(i));
+      if (!std::isfinite(v)) throw InputError(where + ": row " + std::to_string(i) + ": column '" + c + "': not finite");
+      return v;
+    };
+    r.time_s = value("time", num.at("time"));
+    r.antenna_pose.position = Vec3(value("posx", num.at("posx")), value("posy", num.at("posy")), value("posz", num.at("posz")));
+    const Quat q(value("q4", num.at("q4")), value("q1", num.at("q1")), value("q2", num.at("q2")), value("q3", num.at("q3")));
+    if (q.norm() < 1e-9) throw InputError(where + ": row " + std::to_string(i) + ": quaternion q1..q4 is zero");
+    r.antenna_pose.orientation = q.normalized();
+    r.tag = names[i];
+    if (r.tag.empty()) throw InputError(where + ": row " + std::to_string(i) + ": column 'name': empty");
+    r.phase_rad = value("phase", num.at("phase"));
+    if (antennas) r.antenna = (*antennas)[i];
+    if (frequency) {
+      r.frequency_hz = value("frequency_hz", *frequency);
+      if (!(r.frequency_hz > 0.0)) throw InputError(where + ": row " + std::to_string(i) + ": column 'frequency_hz': must be > 0");
+    }
+    if (hop) r.hop_index = static_cast<int>(value("channel", *hop));
+  }
+  return rows;
+}
+
+pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std::string& method,
+                       bool height_known, const std::string& mirror_prior, double frequency_hz, double max_range_m,
+                       double stride_m, std::optional<std::string> antenna_file, bool fold_pi,
+                       double max_residual_rad, double systematic_phase_rad) {
+  // The checks and options of `rfidray localize` (cli/cmd_localize.cpp), with the keyword names of this API.
+  std::vector<loc::Method> methods;
+  if (method == "all") {
+    methods = {loc::Method::kHyperbolic, loc::Method::kNlls, loc::Method::kSar};
+  } else {
+    loc::Method m;
+    if (!loc::parse_method(method, m)) throw field_error("method", "must be hyperbolic, nlls, sar or all (got '" + method + "')");
+    methods = {m};
+  }
+  loc::MirrorPrior prior = loc::MirrorPrior::kNone;
+  if (mirror_prior == "boresight") prior = loc::MirrorPrior::kBoresight;
+  else if (mirror_prior == "truth") prior = loc::MirrorPrior::kPoint;
+  else if (mirror_prior != "none") throw field_error("mirror_prior", "must be none, boresight or truth (got '" + mirror_prior + "')");
+  auto positive = [](double v, const char* name) {
+    if (!(v > 0.0) || !std::isfinite(v)) throw field_error(name, "must be a finite number > 0 (got " + io::num(v) + ")");
+  };
+  positive(frequency_hz, "frequency_hz");
+  positive(max_range_m, "max_range_m");
+  positive(stride_m, "stride_m");
+  positive(max_residual_rad, "max_residual_rad");
+  if (!(systematic_phase_rad >= 0.0) || !std::isfinite(systematic_phase_rad))
+    throw field_error("systematic_phase_rad", "must be a finite number >= 0");
+  std::optional<loc::AntennaCalibration> calibration;
+  if (antenna_file) calibration = io::read_antenna_file(*antenna_file);
+
+  std::map<std::string, Vec3> truth;
+  const bool have_truth = !truth_arg.is_none();
+  if (pyb::isinstance<pyb::str>(truth_arg)) {
+    truth = io::read_truth_csv(truth_arg.cast<std::string>());
+  } else if (have_truth) {
+    for (auto item : truth_arg.cast<pyb::dict>()) {
+      const std::string name = pyb::str(item.first).cast<std::string>();
+      const auto p = item.second.cast<std::vector<double>>();
+      if (p.size() != 3 || !std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+        throw InputError("truth['" + clip(name) + "']: needs 3 finite numbers x, y, z");
+      truth[name] = Vec3(p[0], p[1], p[2]);
+    }
+  }
+  if (height_known && !have_truth) throw field_error("height_known", "needs truth (the tag z comes from it)");
+  if (prior == loc::MirrorPrior::kPoint && !have_truth) throw field_error("mirror_prior='truth'", "needs truth");
+
+  std::vector<std::vector<io::ReadingRow>> rows;
+  for (size_t i = 0; i < files.size(); ++i) rows.push_back(rows_from(files[i].cast<pyb::dict>(), i));
+  std::vector<loc::TagReads> tags = io::group_by_tag(rows, frequency_hz);
+  io::label_groups_by_antenna(tags);
+
+  struct Item {
+    std::string tag;
+    loc::Method method;
+    loc::LocalizeResult result;
+    size_t reads;
+    std::optional<double> error_m;
+  };
+  std::vector<Item> items;
+  {
+    pyb::gil_scoped_release release;
+    for (const loc::TagReads& tag : tags) {
+      loc::LocalizeOptions o;
+      o.max_range_m = max_range_m;
+      o.stride_m = stride_m;
+      o.mirror_prior = prior;
+      o.calibration = calibration;
+      o.fold_pi = fold_pi;
+      o.max_residual_rad = max_residual_rad;
+      o.systematic_phase_rad = systematic_phase_rad;
+      const auto t = truth.find(tag.tag);
+      if (height_known || prior == loc::MirrorPrior::kPoint) {
+        if (t == truth.end())
+          throw InputError("truth: no ground truth for tag '" + tag.tag + "' (needed by height_known / mirror_prior='truth')");
+        o.height_known = height_known;
+        o.tag_height_m = t->second.z();
+        o.prior_point = t->second;
+      }
+      for (loc::Method m : methods) {
+        Item it{tag.tag, m, loc::localize(m, tag, o), tag.read_count(), std::nullopt};
+        if (it.result.ok && t != truth.end()) it.error_m = (it.result.position - t->second).norm();
+        items.push_back(std::move(it));
+      }
+    }
+  }
+  // The keys of `rfidray localize --json` results (without time_ms); None where the JSON has null.
+  auto number = [](double v) -> pyb::object { return std::isfinite(v) ? pyb::object(pyb::float_(v)) : pyb::none(); };
+  pyb::list out;
+  for (const Item& it : items) {
+    const loc::LocalizeResult& r = it.result;
+    pyb::dict d;
+    d["name"] = it.tag;
+    d["method"] = loc::to_string(it.method);
+    d["status"] = r.ok ? "ok" : "failed";
+    d["reason"] = r.ok ? pyb::object(pyb::none()) : pyb::object(pyb::str(loc::to_string(r.reason)));
+    d["detail"] = r.ok ? pyb::object(pyb::none()) : pyb::object(pyb::str(r.detail));
+    d["x"] = r.ok ? number(r.position.x()) : pyb::none();
+    d["y"] = r.ok ? number(r.position.y()) : pyb::none();
+    d["z"] = r.ok ? number(r.position.z()) : pyb::none();
+    d["error_m"] = it.error_m ? pyb::object(pyb::float_(*it.error_m)) : pyb::none();
+    d["uncertainty_m"] = r.ok ? number(r.uncertainty_m) : pyb::none();
+    d["residual_rad"] = number(r.residual_rad);
+    d["mirror_resolved_by"] = r.ok && !r.mirror_resolved_by.empty() ? pyb::object(pyb::str(r.mirror_resolved_by)) : pyb::none();
+    d["reads"] = it.reads;
+    out.append(d);
+  }
+  return out;
+}
+
+}  // namespace
+
+void bind_localize(pyb::module_& m) {
+  m.def("_localize", &run_localize, pyb::arg("files"), pyb::arg("truth"), pyb::arg("method"),
+        pyb::arg("height_known"), pyb::arg("mirror_prior"), pyb::arg("frequency_hz"), pyb::arg("max_range_m"),
+        pyb::arg("stride_m"), pyb::arg("antenna_file"), pyb::arg("fold_pi"), pyb::arg("max_residual_rad"),
+        pyb::arg("systematic_phase_rad"));
+}
+
+}  // namespace rfidray::py
