@@ -95,10 +95,11 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
                                              polarization_match(e_out, tag.polarization, tag.pose.orientation, s_hat_out);
     const std::complex<double> contribution = path_contribution(length, coefficient, f);
     if (std::norm(contribution) < floor) continue;  // would be dropped: no ray for it
-    // Both legs clear (they end / start just off the edge).
+    // Both legs clear, each shot from the edge (Embree works in float: the ray's origin is where its precision
+    // matters, next to the faces that meet at the edge), starting and ending just off the edge and the ends.
     const double end_in = std::min(options_.endpoint_epsilon_m, 0.25 * s_in);
     const double end_out = std::min(options_.endpoint_epsilon_m, 0.25 * s_out);
-    if (bvh.occluded(a, s_hat_in, end_in, s_in - end_in)) continue;
+    if (bvh.occluded(q, -s_hat_in, end_in, s_in - end_in)) continue;
     if (bvh.occluded(q, s_hat_out, end_out, s_out - end_out)) continue;
     TracedPath p;
     p.kind = PathKind::kDiffraction;

