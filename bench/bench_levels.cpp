@@ -3,7 +3,8 @@
 // rays per link, and the errors of what a reader reports against `full` with the exhaustive candidate search
 // (core/channel_error.h: p95 round-trip phase and RSSI errors over links readable in either, read flips).
 //
-//   bench_levels [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes paper,w10k]
+//   bench_levels [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes paper,w10k] [--reference LEVEL]
+// (--reference double-bounce: what double reflections alone add, without diffraction.)
 // Writes DIR/levels.csv and DIR/levels_pareto.png (error against µs per link).
 #include <omp.h>
 
@@ -52,15 +53,21 @@ std::vector<std::complex<double>> values(const Channel& ch, const bench::Workloa
 
 int main(int argc, char** argv) {
   CLI::App app{"Links/s and accuracy (against full, exhaustive) of every traced channel level"};
-  std::string out_dir = "bench/results", scene_list = "paper";
+  std::string out_dir = "bench/results", scene_list = "paper", reference_level = "full";
   int runs = 5, tags = 1000, poses = 8;
   app.add_option("--out", out_dir, "output directory")->capture_default_str();
   app.add_option("--runs", runs, "runs per measurement (median reported)")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--tags", tags, "tags per antenna pose")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--poses", poses, "antenna poses")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--scenes", scene_list, "comma-separated subset of paper,w10k,w100k")->capture_default_str();
+  app.add_option("--reference", reference_level, "reference level (exhaustive candidates)")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   std::filesystem::create_directories(out_dir);
+  const auto reference_parsed = parse_channel_level(std::string_view(reference_level));
+  if (!reference_parsed || !is_traced(*reference_parsed)) {
+    std::cerr << "bench_levels: --reference must be a traced level\n";
+    return 2;
+  }
   std::vector<bench::BenchScene> scenes;
   try {
     for (const std::string& n : bench::split_commas(scene_list)) scenes.push_back(bench::find_bench_scene(n));
@@ -78,19 +85,20 @@ int main(int argc, char** argv) {
     const auto scene = std::make_shared<const Scene>(bench::scene_meshes(bs), MaterialAssignment{});
     const bench::Workload w = bench::scene_workload(bs, tags, poses);
     TraceOptions ref_options;
-    ref_options.level = ChannelLevel::kFull;
+    ref_options.level = *reference_parsed;
     ref_options.candidates = CandidateMode::kExhaustive;
     const RaytracedChannel reference(scene, ref_options);
     omp_set_num_threads(2);
     const auto t_ref = std::chrono::steady_clock::now();
     const auto ref = values(reference, w);
-    std::printf("%s: %zu triangles, %zu edges; %zu tags x %zu poses; reference (full exhaustive) %.1f µs/link\n",
+    std::printf("%s: %zu triangles, %zu edges; %zu tags x %zu poses; reference (%s exhaustive) %.1f µs/link\n",
                 bs.name.c_str(), scene->triangle_count(), reference.finder().edges().size(), w.tags.size(),
-                w.antennas.size(), 1e6 * seconds_since(t_ref) / double(w.links()));
+                w.antennas.size(), reference_level.c_str(), 1e6 * seconds_since(t_ref) / double(w.links()));
     const std::vector<double> min_h2(ref.size(), min_readable_h2(ReaderParams{}, TagParams{}));
     io::Series ph{bs.name + " phase p95 (rad)", {}, {}, "linespoints", {}};
     io::Series rs{bs.name + " RSSI p95 (dB)", {}, {}, "linespoints", {}};
     for (ChannelLevel level : levels) {
+      if (static_cast<int>(level) > static_cast<int>(*reference_parsed)) continue;
       TraceOptions o;
       o.level = level;
       const RaytracedChannel ch(scene, o);
