@@ -110,14 +110,24 @@ nlohmann::json channel_json(const Channel& channel, const Endpoint& antenna, con
                             const ReaderParams& reader, const TagParams& tag_params) {
   const std::vector<Path> paths = channel.paths(antenna, tag, frequency_hz);
   nlohmann::json jp = nlohmann::json::array();
-  for (const Path& p : paths)
-    jp.push_back({{"kind", to_string(p.kind)},
-                  {"length_m", p.length_m},
-                  {"point", {p.point.x(), p.point.y(), p.point.z()}},
-                  {"material", p.material},
-                  {"crossings", p.crossings},
-                  {"coefficient", complex_json(p.coefficient)},
-                  {"contribution", complex_json(p.contribution)}});
+  for (const Path& p : paths) {
+    nlohmann::json one = {{"kind", to_string(p.kind)},
+                          {"length_m", p.length_m},
+                          {"point", {p.point.x(), p.point.y(), p.point.z()}},
+                          {"material", p.material},
+                          {"crossings", p.crossings},
+                          {"coefficient", complex_json(p.coefficient)},
+                          {"contribution", complex_json(p.contribution)}};
+    // Every interaction point in order (reflection points, the diffraction point on the edge).
+    nlohmann::json points = nlohmann::json::array();
+    if (p.kind != PathKind::kLineOfSight) points.push_back({p.point.x(), p.point.y(), p.point.z()});
+    if (p.kind == PathKind::kReflection2) {
+      points.push_back({p.point2.x(), p.point2.y(), p.point2.z()});
+      one["material2"] = p.material2;
+    }
+    one["points"] = points;
+    jp.push_back(one);
+  }
   const std::complex<double> h = sum_paths(paths);
   const double gain2 = std::norm(h);
   nlohmann::json out = {{"channel", channel.name()}, {"paths", jp}, {"h", complex_json(h)}};
@@ -243,7 +253,7 @@ int run_link(const LinkOptions& o) {
   trace.level = parse_channel_level(o.level, "--level");
   if (!is_traced(trace.level))
     throw InputError("option --level: '" + o.level + "' is not traced (link shows one of los, los+blocked, "
-                     "single-bounce; the ideal channel is printed beside it)");
+                     "single-bounce, double-bounce, full; the ideal channel is printed beside it)");
   trace.candidates = parse_candidate_mode(o.candidates, "--candidates");
   if (!(o.drop_db >= 0.0 && o.drop_db <= 1000.0)) throw InputError("option --drop-db: must be in [0, 1000] dB");
   trace.drop_below_db = o.drop_db;
@@ -327,7 +337,7 @@ std::function<int()> setup_link(CLI::App& app) {
   cmd->add_option("--tag-pattern", o->tag_pattern, "tag pattern, same syntax");
   cmd->add_option("--antenna-rpy", o->antenna_rpy, "antenna orientation roll,pitch,yaw (deg); boresight = local +X");
   cmd->add_option("--tag-rpy", o->tag_rpy, "tag orientation roll,pitch,yaw (deg)");
-  cmd->add_option("--level", o->level, "los | los+blocked | single-bounce");
+  cmd->add_option("--level", o->level, "los | los+blocked | single-bounce | double-bounce | full");
   cmd->add_option("--candidates", o->candidates, "exhaustive | fast (reflection candidate search)");
   cmd->add_option("--drop-db", o->drop_db, "drop paths this many dB below the strongest");
   cmd->add_flag("--json", o->json, "JSON output");

@@ -5,8 +5,10 @@
 namespace rfidray {
 namespace {
 
-constexpr std::array<ChannelLevel, 5> kAll{ChannelLevel::kIdeal, ChannelLevel::kLos, ChannelLevel::kLosBlocked,
-                                           ChannelLevel::kSingleBounce, ChannelLevel::kAuto};
+constexpr std::array<ChannelLevel, 7> kAll{ChannelLevel::kIdeal,        ChannelLevel::kLos,
+                                           ChannelLevel::kLosBlocked,   ChannelLevel::kSingleBounce,
+                                           ChannelLevel::kDoubleBounce, ChannelLevel::kFull,
+                                           ChannelLevel::kAuto};
 
 }  // namespace
 
@@ -16,6 +18,8 @@ const char* to_string(ChannelLevel level) {
     case ChannelLevel::kLos: return "los";
     case ChannelLevel::kLosBlocked: return "los+blocked";
     case ChannelLevel::kSingleBounce: return "single-bounce";
+    case ChannelLevel::kDoubleBounce: return "double-bounce";
+    case ChannelLevel::kFull: return "full";
     case ChannelLevel::kAuto: return "auto";
   }
   return "?";

@@ -14,19 +14,27 @@ enum class ChannelLevel {
   kLos,           // "los": the direct path if unoccluded, else nothing (h = 0)
   kLosBlocked,    // "los+blocked": the direct path, through obstacles (transmission loss per crossed surface)
   kSingleBounce,  // "single-bounce": + every single specular reflection (image method), both legs unoccluded
+  kDoubleBounce,  // "double-bounce": + every specular path with two reflections (image of the image), all legs
+  kFull,          // "full": + first-order edge diffraction (UTD, core/utd.h) at wedges and free sheet edges
   kAuto,          // "auto": not a model — pick the cheapest level the scenario needs (raytrace/fidelity.h)
 };
 
 // The modelled levels, cheapest first (kAuto is not among them).
-inline constexpr std::array<ChannelLevel, 4> kModelledLevels{ChannelLevel::kIdeal, ChannelLevel::kLos,
-                                                              ChannelLevel::kLosBlocked, ChannelLevel::kSingleBounce};
+inline constexpr std::array<ChannelLevel, 6> kModelledLevels{
+    ChannelLevel::kIdeal,        ChannelLevel::kLos,          ChannelLevel::kLosBlocked,
+    ChannelLevel::kSingleBounce, ChannelLevel::kDoubleBounce, ChannelLevel::kFull};
+
+// True when a modelled `level` includes what `feature` adds (levels are cumulative; kAuto includes nothing).
+constexpr bool includes(ChannelLevel level, ChannelLevel feature) {
+  return level != ChannelLevel::kAuto && static_cast<int>(level) >= static_cast<int>(feature);
+}
 
 // True for the levels the ray tracer computes (a scene is needed).
 constexpr bool is_traced(ChannelLevel level) {
-  return level == ChannelLevel::kLos || level == ChannelLevel::kLosBlocked || level == ChannelLevel::kSingleBounce;
+  return level != ChannelLevel::kIdeal && level != ChannelLevel::kAuto;
 }
 
-// "ideal", "los", "los+blocked", "single-bounce", "auto".
+// "ideal", "los", "los+blocked", "single-bounce", "double-bounce", "full", "auto".
 const char* to_string(ChannelLevel level);
 // Every name, in the order above, comma-separated (for --help and messages).
 std::string channel_level_names();

@@ -10,13 +10,15 @@
 
 namespace rfidray {
 
-enum class PathKind { kLineOfSight, kBlocked, kReflection };
+enum class PathKind { kLineOfSight, kBlocked, kReflection, kReflection2, kDiffraction };
 
 inline const char* to_string(PathKind k) {
   switch (k) {
     case PathKind::kLineOfSight: return "los";
     case PathKind::kBlocked: return "blocked";
     case PathKind::kReflection: return "reflection";
+    case PathKind::kReflection2: return "reflection2";
+    case PathKind::kDiffraction: return "diffraction";
   }
   return "?";
 }
@@ -24,9 +26,13 @@ inline const char* to_string(PathKind k) {
 struct Path {
   PathKind kind = PathKind::kLineOfSight;
   double length_m = 0.0;
-  // Interaction point: the reflection point for reflections; for blocked paths the first crossing.
+  // Interaction point: the reflection point for reflections (the first one for reflection2), the diffraction
+  // point on the edge for diffraction; for blocked paths the first crossing.
   Vec3 point = Vec3::Zero();
-  std::string material;  // material of the reflecting / crossed surface ("" for LoS)
+  std::string material;  // material of the reflecting / crossed surface, or of the wedge's face 0 ("" for LoS)
+  // reflection2: the second reflection point and its surface's material.
+  Vec3 point2 = Vec3::Zero();
+  std::string material2;
   int crossings = 0;     // surfaces crossed (blocked paths)
   // Everything but spreading and propagation phase: √(G_R G_T) in the path directions,
   // polarization match, Fresnel / transmission coefficients.

@@ -94,7 +94,9 @@ std::vector<FidelityRung> fidelity_ladder(const TraceOptions& base, double tags_
   const int rays = base.candidate_rays > 0 ? base.candidate_rays : tags_per_pose >= 1000.0 ? 4096 : 0;
   if (rays > 0) rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, rays, " rays=" + std::to_string(rays));
   rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, 0, "");
-  rung(ChannelLevel::kSingleBounce, CandidateMode::kExhaustive, 0, " exhaustive");
+  rung(ChannelLevel::kDoubleBounce, CandidateMode::kFast, 0, "");
+  rung(ChannelLevel::kFull, CandidateMode::kFast, 0, "");
+  rung(ChannelLevel::kFull, CandidateMode::kExhaustive, 0, " exhaustive");
   return ladder;
 }
 

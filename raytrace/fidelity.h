@@ -1,10 +1,10 @@
 #pragma once
 // `channel: auto` — model no more than the scene needs. On a sample of the scenario's own links
 // (core/link_sample.h) every rung of a ladder of channel settings, cheapest first, is compared with the
-// reference (single-bounce, exhaustive image method); the first rung whose errors on what a reader reports
-// stay within the tolerance is picked:
+// reference (full: double reflections and edge diffraction, exhaustive candidate search); the first rung whose
+// errors on what a reader reports stay within the tolerance is picked:
 //   ideal → los → los+blocked → [single-bounce with per-pose candidate rays] → single-bounce (fast, exact)
-//   → single-bounce exhaustive (the reference itself, always within).
+//   → double-bounce → full → full exhaustive (the reference itself, always within).
 // The candidate-ray rung uses the user's candidate_rays when set, else 4096 rays when the scenario has at least
 // 1000 tags per antenna pose (below that the per-pose rays cost more than they save, bench/bench_sweep).
 // The ladder's order is its cost order as measured by bench/bench_sweep (README, "Speed and accuracy").
@@ -25,7 +25,7 @@
 namespace rfidray {
 
 struct FidelityRung {
-  std::string label;     // "ideal", "los", "los+blocked", "single-bounce rays=4096", "single-bounce", ...
+  std::string label;     // "ideal", "los", "los+blocked", "single-bounce rays=4096", "single-bounce", "full", ...
   ChannelLevel level;    // kIdeal: the free-space channel (options unused); else options.level
   TraceOptions options;
 };

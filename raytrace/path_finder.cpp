@@ -10,29 +10,13 @@
 #include "core/error.h"
 #include "core/fresnel.h"
 #include "core/units.h"
+#include "raytrace/image_geometry.h"
 
 namespace rfidray {
 namespace {
 
-// Mirror image of t in the plane n·x = c and the point where a→image meets the plane; false unless a and t
-// are strictly on the same side (at least `eps` away from it).
-inline bool image_point(const Vec3& n, double c, const Vec3& a, const Vec3& t, double eps, Vec3& image, Vec3& p) {
-  const double da = n.dot(a) - c;
-  const double dt = n.dot(t) - c;
-  if (da * dt <= 0.0 || std::abs(da) < eps || std::abs(dt) < eps) return false;
-  image = t - 2.0 * dt * n;
-  p = a + (da / (da + dt)) * (image - a);
-  return true;
-}
-
 bool inside_box(const Vec3& p, const Vec3& lo, const Vec3& hi, double tol) {
   return (p.array() >= lo.array() - tol).all() && (p.array() <= hi.array() + tol).all();
-}
-
-// Distance along a leg leaving (or reaching) a plane at incidence cosine `cos_theta`, at which the leg is
-// `eps` above the plane; capped so short legs are still tested over most of their length.
-double plane_margin(double eps, double cos_theta, double leg_m) {
-  return std::min(eps / std::max(cos_theta, 1e-9), 0.25 * leg_m);
 }
 
 // Cheap key so coplanar facets (within ~1e-6) share a plane group.
@@ -75,7 +59,8 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     plane_of_facet_[f] = it->second;
   }
   // Occupancy bitmaps: ~64 cells per facet (at most 2^18 per plane), shaped like the plane's extent.
-  std::vector<std::vector<uint32_t>> members(planes_.size());
+  plane_members_.assign(planes_.size(), {});
+  std::vector<std::vector<uint32_t>>& members = plane_members_;
   for (size_t f = 0; f < facets.size(); ++f) members[plane_of_facet_[f]].push_back(static_cast<uint32_t>(f));
   constexpr double kPad = 1e-6;  // metres: facet bounds are padded so rounding never loses a cell
   for (size_t gi = 0; gi < planes_.size(); ++gi) {
@@ -118,6 +103,7 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     candidate_directions_.emplace_back(r * std::cos(golden * i), r * std::sin(golden * i), z);
   }
   if (n > 0) candidate_spacing_rad_ = std::sqrt(4.0 * kPi / n);
+  if (includes(options_.level, ChannelLevel::kFull)) edges_ = extract_edges(*scene_);
 }
 
 size_t PathFinder::cell_bit(const PlaneGroup& g, const Vec3& p) const {
@@ -158,7 +144,7 @@ void PathFinder::mark_seen(const PlaneGroup& g, const Vec3& p, const Vec3& dir, 
 void PathFinder::prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const {
   out.planes.clear();
   out.all = options_.candidates != CandidateMode::kFast || candidate_directions_.empty();
-  if (out.all || options_.level != ChannelLevel::kSingleBounce) return;  // nothing to search for
+  if (out.all || !includes(options_.level, ChannelLevel::kSingleBounce)) return;  // nothing to search for
   if (out.seen_cells.size() != occupancy_.size()) {
     out.seen_cells.assign(occupancy_.size(), 0);
     out.touched_words.clear();
@@ -204,7 +190,7 @@ void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double freq
   if (!(frequency_hz > 0.0) || !std::isfinite(frequency_hz))
     throw InputError("link: frequency must be > 0 Hz (got " + std::to_string(frequency_hz) + ")");
   direct_path(antenna, tag, frequency_hz, out);
-  if (options_.level == ChannelLevel::kSingleBounce) {
+  if (includes(options_.level, ChannelLevel::kSingleBounce)) {
     const size_t first = out.size();
     if (options_.candidates == CandidateMode::kExhaustive)
       reflections_exhaustive(antenna, tag, frequency_hz, out);
@@ -212,6 +198,26 @@ void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double freq
       reflections_fast(antenna, tag, frequency_hz, candidates, out);
     std::sort(out.begin() + first, out.end(), [](const TracedPath& x, const TracedPath& y) {
       return std::tie(x.length_m, x.facet) < std::tie(y.length_m, y.facet);
+    });
+  }
+  // The drop floor so far: the strongest path can only grow, so what is below it now is dropped at the end.
+  auto floor_so_far = [&] {
+    double strongest = 0.0;
+    for (const TracedPath& p : out) strongest = std::max(strongest, std::norm(p.contribution));
+    return strongest * drop_power_ratio_;
+  };
+  if (includes(options_.level, ChannelLevel::kDoubleBounce)) {
+    const size_t first = out.size();
+    double_reflections(antenna, tag, frequency_hz, candidates, floor_so_far(), out);
+    std::sort(out.begin() + first, out.end(), [](const TracedPath& x, const TracedPath& y) {
+      return std::tie(x.length_m, x.facet, x.facet2) < std::tie(y.length_m, y.facet, y.facet2);
+    });
+  }
+  if (includes(options_.level, ChannelLevel::kFull)) {
+    const size_t first = out.size();
+    diffractions(antenna, tag, frequency_hz, floor_so_far(), out);
+    std::sort(out.begin() + first, out.end(), [](const TracedPath& x, const TracedPath& y) {
+      return std::tie(x.length_m, x.edge) < std::tie(y.length_m, y.edge);
     });
   }
   // Drop paths far below the strongest (power ratio); a lone path is the strongest.
@@ -384,6 +390,10 @@ Path PathFinder::to_path(const TracedPath& p) const {
   out.length_m = p.length_m;
   out.point = p.point;
   if (p.material != kNoMaterial) out.material = scene_->materials()[p.material].name;
+  if (p.kind == PathKind::kReflection2) {
+    out.point2 = p.point2;
+    if (p.material2 != kNoMaterial) out.material2 = scene_->materials()[p.material2].name;
+  }
   out.crossings = p.crossings;
   out.coefficient = p.coefficient;
   out.contribution = p.contribution;

@@ -16,8 +16,27 @@
 // at the angle of incidence (TE ⊥ plane of incidence, TM in it; conventions in core/fresnel.h), and e_tag·
 // the polarization match at the tag (core/polarization.h).
 //
+// Double bounce (level double-bounce, raytrace/double_bounce.cpp): A → P1 (plane 1) → P2 (plane 2) → T by the
+// image of the image: T2 = T mirrored in plane 2, T21 = T2 mirrored in plane 1; P1 is where A→T21 meets plane
+// 1, P2 where P1→T2 meets plane 2; both must lie on their facets, A and P2 on one side of plane 1, P1 and T on
+// one side of plane 2, and all three legs unoccluded. Length |A − T21|. Coefficient
+//   √(G_R(A→P1) G_T(T→P2)) · e_tag · R2(R1(e_A)),
+// each reflection with its own Fresnel TE/TM in its own plane of incidence (reflect_field).
+//
+// Edge diffraction (level full, raytrace/diffraction.cpp): first-order UTD (core/utd.h) at every edge of
+// raytrace/edges.h. The diffraction point Q is the Fermat point on the edge (the unfolded path is straight:
+// Q divides the edge between the feet of A and T in the ratio of their distances from the edge); it must lie
+// on the edge, A and T in the same exterior region of the wedge (exterior angle nπ, n > 1: convex wedges and
+// half-planes; concave corners are left to the reflections, for n = 1/2 UTD's D vanishes exactly), both legs
+// unoccluded. Length s' + s; coefficient √(G_R(ŝ') G_T(−ŝ)) · e_tag · [−D_s (e_A·β̂0')β̂0 − D_h (e_A·φ̂')φ̂]
+// · √((s + s')/(s s')), which with the λ/(4π(s + s')) e^{−jk(s+s')} of path_contribution is KP's spherical-wave
+// diffracted field. Faces of metal give KP's coefficients, other faces Luebbers' heuristic.
+//
 // Contribution of each path: path_contribution(L, coefficient, f) = coefficient·λ/(4πL)·e^{−jkL}.
-// Paths more than drop_below_db below the strongest are dropped. Reflections are ordered by length, then facet.
+// Paths more than drop_below_db below the strongest are dropped (a double reflection or a diffraction whose
+// contribution, or an upper bound of it, is already below that floor is not traced further: it would be
+// dropped). Order: direct path, reflections by length then facet, double reflections by length then facets,
+// diffractions by length then edge.
 #include <complex>
 #include <memory>
 #include <span>
@@ -25,6 +44,7 @@
 
 #include "core/channel.h"
 #include "core/path.h"
+#include "raytrace/edges.h"
 #include "raytrace/scene.h"
 #include "raytrace/trace_options.h"
 
@@ -37,8 +57,12 @@ struct TracedPath {
   PathKind kind = PathKind::kLineOfSight;
   double length_m = 0.0;
   Vec3 point = Vec3::Zero();
-  uint32_t material = kNoMaterial;  // reflecting or first crossed surface
-  uint32_t facet = kNoFacet;        // reflecting facet
+  uint32_t material = kNoMaterial;  // reflecting or first crossed surface (diffraction: face 0's)
+  uint32_t facet = kNoFacet;        // reflecting facet (reflection2: the first)
+  Vec3 point2 = Vec3::Zero();       // reflection2: the second reflection point
+  uint32_t material2 = kNoMaterial;
+  uint32_t facet2 = kNoFacet;
+  uint32_t edge = kNoEdge;          // diffraction: index into PathFinder::edges()
   int crossings = 0;
   std::complex<double> coefficient{1.0, 0.0};
   std::complex<double> contribution{0.0, 0.0};
@@ -64,6 +88,8 @@ class PathFinder {
   const Scene& scene() const { return *scene_; }
   const TraceOptions& options() const { return options_; }
   size_t plane_count() const { return planes_.size(); }
+  // The diffracting edges (extracted at level full only, else empty).
+  const std::vector<Edge>& edges() const { return edges_; }
 
   // Per-pose candidate search (shoots options().candidate_rays rays when > 0 in fast mode).
   void prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const;
@@ -106,6 +132,13 @@ class PathFinder {
   void add_reflection(uint32_t facet, const Vec3& image, const Vec3& p, const Endpoint& a, const Endpoint& t,
                       double f, bool check_leg1, std::vector<TracedPath>& out) const;
   bool point_on_facet(const Facet& facet, const Vec3& p) const;
+  // Level double-bounce (double_bounce.cpp): every plane pair; `floor` is the drop floor so far (power).
+  void double_reflections(const Endpoint& a, const Endpoint& t, double f, const PoseCandidates& c, double floor,
+                          std::vector<TracedPath>& out) const;
+  void try_plane_pair(uint32_t g1, uint32_t g2, const Endpoint& a, const Endpoint& t, double f,
+                      const PoseCandidates& c, double floor, std::vector<TracedPath>& out) const;
+  // Level full (diffraction.cpp): every edge.
+  void diffractions(const Endpoint& a, const Endpoint& t, double f, double floor, std::vector<TracedPath>& out) const;
 
   std::shared_ptr<const Scene> scene_;
   TraceOptions options_;
@@ -113,6 +146,8 @@ class PathFinder {
   double max_length2_ = 0.0;       // max_path_length_m²
   std::vector<PlaneGroup> planes_;
   std::vector<uint32_t> plane_of_facet_;
+  std::vector<std::vector<uint32_t>> plane_members_;  // facets of each plane group
+  std::vector<Edge> edges_;
   std::vector<uint64_t> occupancy_;
   std::vector<Vec3> candidate_directions_;
   double candidate_spacing_rad_ = 0.0;  // angular spacing of the candidate rays, √(4π/N)

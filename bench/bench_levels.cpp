@@ -1,0 +1,151 @@
+// Cost and accuracy of every traced channel level, up to double-bounce and full (edge diffraction), on one
+// workload: links/s at 1 and 2 threads (median of runs, `one_way` per antenna pose as `simulate` calls it),
+// rays per link, and the errors of what a reader reports against `full` with the exhaustive candidate search
+// (core/channel_error.h: p95 round-trip phase and RSSI errors over links readable in either, read flips).
+//
+//   bench_levels [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes paper,w10k] [--reference LEVEL]
+// (--reference double-bounce: what double reflections alone add, without diffraction.)
+// Writes DIR/levels.csv and DIR/levels_pareto.png (error against µs per link).
+#include <omp.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "bench/workload.h"
+#include "core/channel_error.h"
+#include "core/reader_model.h"
+#include "io/plot.h"
+#include "raytrace/raytraced_channel.h"
+
+using namespace rfidray;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+uint64_t take_pool_rays() {
+  uint64_t rays = 0;
+#pragma omp parallel reduction(+ : rays)
+  {
+    rays += tl_rays_traced;
+    tl_rays_traced = 0;
+  }
+  return rays + std::exchange(tl_rays_traced, 0);
+}
+
+std::vector<std::complex<double>> values(const Channel& ch, const bench::Workload& w) {
+  std::vector<std::complex<double>> all, h(w.tags.size());
+  for (const Endpoint& ant : w.antennas) {
+    ch.one_way(ant, w.tags, 865.7e6, h);
+    all.insert(all.end(), h.begin(), h.end());
+  }
+  return all;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Links/s and accuracy (against full, exhaustive) of every traced channel level"};
+  std::string out_dir = "bench/results", scene_list = "paper", reference_level = "full";
+  int runs = 5, tags = 1000, poses = 8;
+  app.add_option("--out", out_dir, "output directory")->capture_default_str();
+  app.add_option("--runs", runs, "runs per measurement (median reported)")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--tags", tags, "tags per antenna pose")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--poses", poses, "antenna poses")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--scenes", scene_list, "comma-separated subset of paper,w10k,w100k")->capture_default_str();
+  app.add_option("--reference", reference_level, "reference level (exhaustive candidates)")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  std::filesystem::create_directories(out_dir);
+  const auto reference_parsed = parse_channel_level(std::string_view(reference_level));
+  if (!reference_parsed || !is_traced(*reference_parsed)) {
+    std::cerr << "bench_levels: --reference must be a traced level\n";
+    return 2;
+  }
+  std::vector<bench::BenchScene> scenes;
+  try {
+    for (const std::string& n : bench::split_commas(scene_list)) scenes.push_back(bench::find_bench_scene(n));
+  } catch (const std::exception& e) {
+    std::cerr << "bench_levels: " << e.what() << "\n";
+    return 2;
+  }
+  const ChannelLevel levels[] = {ChannelLevel::kLos, ChannelLevel::kLosBlocked, ChannelLevel::kSingleBounce,
+                                 ChannelLevel::kDoubleBounce, ChannelLevel::kFull};
+  std::ofstream csv(std::filesystem::path(out_dir) / "levels.csv");
+  csv << "scene,triangles,edges,level,threads,links,links_per_s_median,us_per_link,rays_per_link,"
+         "readable,read_flips,phase_p95_rad,rssi_p95_db,phase_p95_both_rad,rssi_p95_both_db\n";
+  std::vector<io::Series> phase_series, rssi_series;
+  for (const bench::BenchScene& bs : scenes) {
+    const auto scene = std::make_shared<const Scene>(bench::scene_meshes(bs), MaterialAssignment{});
+    const bench::Workload w = bench::scene_workload(bs, tags, poses);
+    TraceOptions ref_options;
+    ref_options.level = *reference_parsed;
+    ref_options.candidates = CandidateMode::kExhaustive;
+    const RaytracedChannel reference(scene, ref_options);
+    omp_set_num_threads(2);
+    const auto t_ref = std::chrono::steady_clock::now();
+    const auto ref = values(reference, w);
+    std::printf("%s: %zu triangles, %zu edges; %zu tags x %zu poses; reference (%s exhaustive) %.1f µs/link\n",
+                bs.name.c_str(), scene->triangle_count(), reference.finder().edges().size(), w.tags.size(),
+                w.antennas.size(), reference_level.c_str(), 1e6 * seconds_since(t_ref) / double(w.links()));
+    const std::vector<double> min_h2(ref.size(), min_readable_h2(ReaderParams{}, TagParams{}));
+    io::Series ph{bs.name + " phase p95 (rad)", {}, {}, "linespoints", {}};
+    io::Series rs{bs.name + " RSSI p95 (dB)", {}, {}, "linespoints", {}};
+    for (ChannelLevel level : levels) {
+      if (static_cast<int>(level) > static_cast<int>(*reference_parsed)) continue;
+      TraceOptions o;
+      o.level = level;
+      const RaytracedChannel ch(scene, o);
+      const ChannelErrorStats e = channel_errors(ref, values(ch, w), min_h2);
+      for (int threads : {1, 2}) {
+        omp_set_num_threads(threads);
+        std::vector<double> rates;
+        take_pool_rays();
+        std::vector<std::complex<double>> h(w.tags.size());
+        for (int r = 0; r < runs; ++r) {
+          const auto t0 = std::chrono::steady_clock::now();
+          for (const Endpoint& ant : w.antennas) ch.one_way(ant, w.tags, 865.7e6, h);
+          rates.push_back(double(w.links()) / seconds_since(t0));
+        }
+        const double rays = double(take_pool_rays()) / double(runs * w.links());
+        std::sort(rates.begin(), rates.end());
+        const double median = rates[rates.size() / 2];
+        std::printf("  %-14s %d thread%s %11.0f links/s %8.2f µs/link %8.1f rays/link | readable %zu, flips %zu, "
+                    "phase p95 %.4g rad, RSSI p95 %.4g dB (readable in both: %.4g rad, %.4g dB)\n",
+                    to_string(level), threads, threads == 1 ? " " : "s", median, 1e6 / median, rays, e.links,
+                    e.status_mismatches, e.phase_p95_rad, e.rssi_p95_db, e.phase_p95_both_rad, e.rssi_p95_both_db);
+        csv << bs.name << "," << scene->triangle_count() << "," << reference.finder().edges().size() << ","
+            << to_string(level) << "," << threads << "," << w.links() << "," << median << "," << 1e6 / median << ","
+            << rays << "," << e.links << "," << e.status_mismatches << "," << e.phase_p95_rad << "," << e.rssi_p95_db
+            << "," << e.phase_p95_both_rad << "," << e.rssi_p95_both_db << "\n";
+        if (threads == 1) {
+          // Links readable in only one channel make the p95 infinite: the chart shows the p95 over links
+          // readable in both (the table above has the flips).
+          ph.x.push_back(1e6 / median), ph.y.push_back(std::max(e.phase_p95_both_rad, 1e-4));
+          rs.x.push_back(1e6 / median), rs.y.push_back(std::max(e.rssi_p95_both_db, 1e-3));
+          ph.labels.push_back(to_string(level));
+          rs.labels.push_back(to_string(level));
+        }
+      }
+    }
+    phase_series.push_back(ph);
+    rssi_series.push_back(rs);
+  }
+  try {
+    io::write_png(std::filesystem::path(out_dir) / "levels_pareto.png",
+                  {{"Round-trip phase error vs cost, against full (exhaustive); links readable in both", "µs per link (1 thread)",
+                    "phase p95 (rad)", phase_series, true, true},
+                   {"RSSI error vs cost, against full (exhaustive)", "µs per link (1 thread)", "RSSI p95 (dB)",
+                    rssi_series, true, true}});
+  } catch (const std::exception& e) {
+    std::cerr << "bench_levels: chart not written: " << e.what() << "\n";
+  }
+  std::printf("wrote %s/levels.csv, levels_pareto.png\n", out_dir.c_str());
+  return 0;
+}

@@ -1,0 +1,117 @@
+// Level full: first-order UTD edge diffraction at every edge of raytrace/edges.h (raytrace/path_finder.h has
+// the physics, core/utd.h the coefficients).
+#include <cmath>
+
+#include "core/fresnel.h"
+#include "core/units.h"
+#include "core/utd.h"
+#include "raytrace/path_finder.h"
+
+namespace rfidray {
+namespace {
+
+// Angle of v (⟂ the edge) about +e measured from `from`, in [0, 2π).
+double angle_about(const Vec3& v, const Vec3& e, const Vec3& from) {
+  double a = std::atan2(v.dot(e.cross(from)), v.dot(from));
+  if (a < 0.0) a += kTwoPi;
+  return a;
+}
+
+}  // namespace
+
+void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f, double floor,
+                              std::vector<TracedPath>& out) const {
+  const Vec3& a = ant.pose.position;
+  const Vec3& t = tag.pose.position;
+  const double k = wavenumber_rad_m(f);
+  const auto& facets = scene_->facets();
+  const auto& materials = scene_->materials();
+  const EmbreeScene& bvh = scene_->bvh();
+  constexpr double kOnEdge = 1e-6;  // metres: an end this close to the edge's line is on it (no wedge angle)
+  for (uint32_t ei = 0; ei < edges_.size(); ++ei) {
+    const Edge& e = edges_[ei];
+    const Vec3& d = e.direction;
+    // Feet of A and T on the edge's line and their distances from it.
+    const Vec3 ra = a - e.start, rt = t - e.start;
+    const double za = ra.dot(d), zt = rt.dot(d);
+    const Vec3 va = ra - za * d, vt = rt - zt * d;
+    const double rho_a = va.norm(), rho_t = vt.norm();
+    if (rho_a < kOnEdge || rho_t < kOnEdge) continue;
+    // Fermat: the unfolded path is straight, so Q divides [za, zt] in the ratio rho_a : rho_t.
+    const double zq = za + (zt - za) * rho_a / (rho_a + rho_t);
+    if (zq < 0.0 || zq > e.length_m) continue;
+    const Vec3 q = e.start + zq * d;
+    // Which exterior region holds both ends: measured from face a over angle α, or from face b over 2π − α.
+    const double psi_a = angle_about(va, d, e.into_a), psi_t = angle_about(vt, d, e.into_a);
+    double n = 0.0, phi_prime = 0.0, phi = 0.0;
+    uint32_t face0 = e.facet_a, facen = e.facet_a;
+    if (e.half_plane()) {
+      n = 2.0;
+      phi_prime = psi_a;
+      phi = psi_t;
+    } else if (psi_a < e.alpha_rad && psi_t < e.alpha_rad) {
+      n = e.alpha_rad / kPi;
+      phi_prime = psi_a;
+      phi = psi_t;
+      facen = e.facet_b;
+    } else if (psi_a > e.alpha_rad && psi_t > e.alpha_rad) {
+      n = (kTwoPi - e.alpha_rad) / kPi;
+      phi_prime = psi_a - e.alpha_rad;
+      phi = psi_t - e.alpha_rad;
+      face0 = e.facet_b;
+    } else {
+      continue;  // the faces separate antenna and tag
+    }
+    if (n <= 1.0 + 1e-9) continue;  // concave or flat: no convex edge seen from this side
+    const Vec3 sa = q - a, st = t - q;
+    const double s_in = sa.norm(), s_out = st.norm();
+    if (!(s_in > 0.0) || !(s_out > 0.0)) continue;
+    const double length = s_in + s_out;
+    if (length * length > max_length2_) continue;
+    const Vec3 s_hat_in = sa / s_in, s_hat_out = st / s_out;
+    const double sin_beta = s_hat_in.cross(d).norm();
+    if (sin_beta < 1e-9) continue;
+    const double beta0 = std::atan2(sin_beta, s_hat_in.dot(d));
+    // Face reflection coefficients for Luebbers' form (perfect conductors: {−1, +1}, KP exactly).
+    const RadioMaterial& m0 = materials[facets[face0].material];
+    const RadioMaterial& mn = materials[facets[facen].material];
+    const FresnelCoefficients r0 = material_reflection(m0, f, std::abs(std::sin(phi_prime)));
+    const FresnelCoefficients rn = material_reflection(mn, f, std::abs(std::sin(n * kPi - phi)));
+    const double l_utd = s_in * s_out * sin_beta * sin_beta / length;
+    const UtdCoefficients dc = wedge_diffraction(n, phi, phi_prime, beta0, l_utd, k, r0, rn);
+    // Edge-fixed polarization bases (KP): φ̂' = −ê × ŝ' / |·|, β̂0' = φ̂' × ŝ', φ̂ = ê × ŝ / |·|, β̂0 = φ̂ × ŝ.
+    const Vec3 phi_in = -(d.cross(s_hat_in)).normalized();
+    const Vec3 beta_in = phi_in.cross(s_hat_in);
+    const Vec3 phi_out = d.cross(s_hat_out).normalized();
+    const Vec3 beta_out = phi_out.cross(s_hat_out);
+    const CVec3 e_in = ant.polarization.field(ant.pose.orientation, s_hat_in);
+    const std::complex<double> e_beta = beta_in.cast<std::complex<double>>().dot(e_in);
+    const std::complex<double> e_phi = phi_in.cast<std::complex<double>>().dot(e_in);
+    const CVec3 e_out = -(dc.soft * e_beta) * beta_out.cast<std::complex<double>>() -
+                        (dc.hard * e_phi) * phi_out.cast<std::complex<double>>();
+    const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, s_hat_in) *
+                                  tag.pattern.gain_linear_world(tag.pose.orientation, -s_hat_out));
+    const std::complex<double> coefficient = gain * std::sqrt(length / (s_in * s_out)) *
+                                             polarization_match(e_out, tag.polarization, tag.pose.orientation, s_hat_out);
+    const std::complex<double> contribution = path_contribution(length, coefficient, f);
+    if (std::norm(contribution) < floor) continue;  // would be dropped: no ray for it
+    // Both legs clear, each shot from the edge (Embree works in float: the ray's origin is where its precision
+    // matters, next to the faces that meet at the edge), starting and ending just off the edge and the ends.
+    const double end_in = std::min(options_.endpoint_epsilon_m, 0.25 * s_in);
+    const double end_out = std::min(options_.endpoint_epsilon_m, 0.25 * s_out);
+    if (bvh.occluded(q, -s_hat_in, end_in, s_in - end_in)) continue;
+    if (bvh.occluded(q, s_hat_out, end_out, s_out - end_out)) continue;
+    TracedPath p;
+    p.kind = PathKind::kDiffraction;
+    p.length_m = length;
+    p.point = q;
+    p.material = facets[face0].material;
+    p.facet = face0;
+    p.edge = ei;
+    p.coefficient = coefficient;
+    p.contribution = contribution;
+    out.push_back(p);
+  }
+}
+
+}  // namespace rfidray

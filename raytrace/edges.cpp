@@ -1,0 +1,213 @@
+#include "raytrace/edges.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+#include <unordered_map>
+
+#include "core/units.h"
+#include "raytrace/scene.h"
+
+namespace rfidray {
+namespace {
+
+// A piece of a facet's outline: welded endpoint ids (sorted), positions, and a point inside the facet's
+// triangle that owns it (to tell which way the facet lies from the edge).
+struct OutlinePiece {
+  uint32_t facet;
+  Vec3 p0, p1;
+  Vec3 inside;
+};
+
+bool point_in_facet(const Scene& scene, const Facet& facet, const Vec3& p, double tol) {
+  if (std::abs(facet.signed_distance(p)) > tol) return false;
+  if ((p.array() < facet.lo.array() - tol).any() || (p.array() > facet.hi.array() + tol).any()) return false;
+  for (uint32_t tri : facet.triangles) {
+    const auto c = scene.corners(tri);
+    bool pos = true, neg = true;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 e = c[(k + 1) % 3] - c[k];
+      const double s = facet.normal.dot(e.cross(p - c[k]));
+      pos = pos && s >= -tol * e.norm();
+      neg = neg && s <= tol * e.norm();
+    }
+    if (pos || neg) return true;
+  }
+  return false;
+}
+
+// Facets by 1 m cells of their bounds, to find the facets near a point (junction test) without a full scan.
+class FacetGrid {
+ public:
+  explicit FacetGrid(const Scene& scene) {
+    const auto& facets = scene.facets();
+    for (uint32_t f = 0; f < facets.size(); ++f) {
+      const auto lo = cell(facets[f].lo), hi = cell(facets[f].hi);
+      const double cells = double(hi[0] - lo[0] + 1) * double(hi[1] - lo[1] + 1) * double(hi[2] - lo[2] + 1);
+      if (cells > 4096.0) {
+        large_.push_back(f);
+        continue;
+      }
+      for (int64_t x = lo[0]; x <= hi[0]; ++x)
+        for (int64_t y = lo[1]; y <= hi[1]; ++y)
+          for (int64_t z = lo[2]; z <= hi[2]; ++z) cells_[{x, y, z}].push_back(f);
+    }
+  }
+  template <class Fn>
+  void near(const Vec3& p, Fn&& fn) const {
+    for (uint32_t f : large_) fn(f);
+    const auto c = cell(p);
+    if (const auto it = cells_.find({c[0], c[1], c[2]}); it != cells_.end())
+      for (uint32_t f : it->second) fn(f);
+  }
+
+ private:
+  static std::array<int64_t, 3> cell(const Vec3& p) {
+    return {static_cast<int64_t>(std::floor(p.x())), static_cast<int64_t>(std::floor(p.y())),
+            static_cast<int64_t>(std::floor(p.z()))};
+  }
+  std::map<std::tuple<int64_t, int64_t, int64_t>, std::vector<uint32_t>> cells_;
+  std::vector<uint32_t> large_;
+};
+
+// Unit vector in the plane with normal n, perpendicular to d, pointing towards `inside` from `on_edge`.
+Vec3 into_face(const Vec3& n, const Vec3& d, const Vec3& on_edge, const Vec3& inside) {
+  Vec3 t = n.cross(d).normalized();
+  if (t.dot(inside - on_edge) < 0.0) t = -t;
+  return t;
+}
+
+}  // namespace
+
+std::vector<Edge> extract_edges(const Scene& scene, const EdgeOptions& options) {
+  const auto& facets = scene.facets();
+  const Vec3 origin = scene.local_origin();
+  // Weld every facet vertex across meshes (1 µm grid, as merge_facets does within a mesh).
+  std::map<std::tuple<int64_t, int64_t, int64_t>, uint32_t> ids;
+  auto id_of = [&](const Vec3& v) {
+    const Vec3 r = (v - origin) * 1e6;
+    return ids.emplace(std::tuple{std::llround(r.x()), std::llround(r.y()), std::llround(r.z())},
+                       static_cast<uint32_t>(ids.size()))
+        .first->second;
+  };
+  // Outline pieces of every facet: triangle edges used once inside it.
+  std::map<uint64_t, std::vector<OutlinePiece>> pieces;
+  for (uint32_t f = 0; f < facets.size(); ++f) {
+    std::map<uint64_t, std::pair<int, OutlinePiece>> count;
+    for (uint32_t tri : facets[f].triangles) {
+      const auto c = scene.corners(tri);
+      const Vec3 centroid = (c[0] + c[1] + c[2]) / 3.0;
+      for (int k = 0; k < 3; ++k) {
+        uint64_t a = id_of(c[k]), b = id_of(c[(k + 1) % 3]);
+        if (a == b) continue;
+        Vec3 pa = c[k], pb = c[(k + 1) % 3];
+        if (a > b) {
+          std::swap(a, b);
+          std::swap(pa, pb);
+        }
+        auto& entry = count[(a << 32) | b];
+        if (entry.first++ == 0) entry.second = {f, pa, pb, centroid};
+      }
+    }
+    for (const auto& [key, entry] : count)
+      if (entry.first == 1) pieces[key].push_back(entry.second);
+  }
+  // Classify each piece; collect wedge / free segments per (facet a, facet b).
+  struct Segment {
+    Vec3 p0, p1, inside_a, inside_b;
+  };
+  std::map<std::pair<uint32_t, uint32_t>, std::vector<Segment>> groups;
+  const FacetGrid grid(scene);
+  const double cos_flat = std::cos(options.flat_tolerance_rad);
+  for (const auto& [key, list] : pieces) {
+    if (list.size() == 1) {
+      const OutlinePiece& p = list[0];
+      // A junction: the piece lies on another facet (tested at its midpoint and quarter points).
+      bool junction = false;
+      for (double s : {0.25, 0.5, 0.75}) {
+        const Vec3 q = p.p0 + s * (p.p1 - p.p0);
+        grid.near(q, [&](uint32_t g) {
+          junction = junction || (g != p.facet && point_in_facet(scene, facets[g], q, options.junction_tolerance_m));
+        });
+      }
+      if (!junction) groups[{p.facet, kNoEdge}].push_back({p.p0, p.p1, p.inside, p.inside});
+    } else if (list.size() == 2 && list[0].facet != list[1].facet) {
+      const OutlinePiece &a = list[0].facet < list[1].facet ? list[0] : list[1];
+      const OutlinePiece &b = list[0].facet < list[1].facet ? list[1] : list[0];
+      if (std::abs(facets[a.facet].normal.dot(facets[b.facet].normal)) > cos_flat) continue;  // (near) coplanar
+      groups[{a.facet, b.facet}].push_back({a.p0, a.p1, a.inside, b.inside});
+    }
+  }
+  // Merge collinear, touching segments of each group into maximal edges.
+  std::vector<Edge> edges;
+  for (auto& [faces, segments] : groups) {
+    // Canonical direction per segment (largest component positive), so collinear pieces compare equal.
+    struct Oriented {
+      Vec3 d, foot;
+      double t0, t1;
+      const Segment* s;
+    };
+    std::vector<Oriented> lines;
+    for (const Segment& s : segments) {
+      Vec3 d = (s.p1 - s.p0).normalized();
+      int k = 0;
+      d.cwiseAbs().maxCoeff(&k);
+      if (d[k] < 0.0) d = -d;
+      const Vec3 foot = s.p0 - (s.p0 - origin).dot(d) * d;
+      double t0 = (s.p0 - origin).dot(d), t1 = (s.p1 - origin).dot(d);
+      if (t0 > t1) std::swap(t0, t1);
+      lines.push_back({d, foot, t0, t1, &s});
+    }
+    std::vector<char> used(lines.size(), 0);
+    for (size_t i = 0; i < lines.size(); ++i) {
+      if (used[i]) continue;
+      // Every segment on the same line as segment i, in order along it.
+      std::vector<size_t> on_line;
+      for (size_t j = i; j < lines.size(); ++j)
+        if (!used[j] && (lines[j].d - lines[i].d).norm() < 1e-6 && (lines[j].foot - lines[i].foot).norm() < 1e-6) {
+          on_line.push_back(j);
+          used[j] = 1;
+        }
+      std::sort(on_line.begin(), on_line.end(), [&](size_t x, size_t y) { return lines[x].t0 < lines[y].t0; });
+      const Vec3& d = lines[i].d;
+      const Facet& fa = facets[faces.first];
+      auto emit = [&](double t0, double t1, const Segment& s) {
+        Edge e;
+        e.direction = d;
+        e.start = lines[i].foot + t0 * d;  // the foot is the line's point with (x − origin)·d = 0
+        e.length_m = t1 - t0;
+        e.facet_a = faces.first;
+        e.into_a = into_face(fa.normal, d, e.start, s.inside_a);
+        if (faces.second == kNoEdge) {
+          e.into_b = e.into_a;
+          e.alpha_rad = kTwoPi;
+        } else {
+          e.facet_b = faces.second;
+          e.into_b = into_face(facets[faces.second].normal, d, e.start, s.inside_b);
+          double alpha = std::atan2(e.into_a.cross(e.into_b).dot(d), e.into_a.dot(e.into_b));
+          if (alpha < 0.0) alpha += kTwoPi;
+          e.alpha_rad = alpha;
+        }
+        if (e.length_m > 1e-9) edges.push_back(e);
+      };
+      double t0 = lines[on_line[0]].t0, t1 = lines[on_line[0]].t1;
+      const Segment* first = lines[on_line[0]].s;
+      for (size_t m = 1; m < on_line.size(); ++m) {
+        const Oriented& o = lines[on_line[m]];
+        if (o.t0 <= t1 + 1e-9) {
+          t1 = std::max(t1, o.t1);
+        } else {
+          emit(t0, t1, *first);
+          t0 = o.t0;
+          t1 = o.t1;
+          first = o.s;
+        }
+      }
+      emit(t0, t1, *first);
+    }
+  }
+  return edges;
+}
+
+}  // namespace rfidray

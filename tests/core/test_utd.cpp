@@ -1,0 +1,149 @@
+// UTD (core/utd.h): the Fresnel integral against tabulated values, the transition function's limits, and the
+// Kouyoumjian–Pathak half-plane coefficients against Sommerfeld's exact half-plane solution.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+
+#include "core/units.h"
+#include "core/utd.h"
+
+namespace rfidray {
+namespace {
+
+using C = std::complex<double>;
+
+// ∫_0^a e^{−jτ²} dτ = √(π/2)·(C(x) − j S(x)), x = a√(2/π), with C, S the standard Fresnel integrals.
+C head_from_table(double x_standard, double c, double s) {
+  (void)x_standard;
+  return std::sqrt(kPi / 2.0) * C(c, -s);
+}
+
+TEST(Utd, FresnelIntegralMatchesTabulatedValues) {
+  // C(x), S(x) (Abramowitz & Stegun Table 7.7; 10 digits).
+  struct Row {
+    double x, c, s;
+  };
+  const Row rows[] = {{0.5, 0.4923442259, 0.0647324329},
+                      {1.0, 0.7798934004, 0.4382591474},
+                      {1.5, 0.4452611760, 0.6975049601},
+                      {2.0, 0.4882534061, 0.3434156784},
+                      {3.0, 0.6057207893, 0.4963129990},
+                      {4.5, 0.5260259151, 0.4342729751}};
+  const C whole = 0.5 * std::sqrt(kPi) * std::polar(1.0, -kPi / 4.0);  // ∫_0^∞ e^{−jτ²} dτ
+  for (const Row& r : rows) {
+    const double a = r.x * std::sqrt(kPi / 2.0);
+    const C expected_tail = whole - head_from_table(r.x, r.c, r.s);
+    EXPECT_LT(std::abs(fresnel_tail(a) - expected_tail), 2e-10) << "x = " << r.x;
+    EXPECT_LT(std::abs(fresnel_from_minus_infinity(a) - (whole + head_from_table(r.x, r.c, r.s))), 2e-10);
+    EXPECT_LT(std::abs(fresnel_from_minus_infinity(-a) - expected_tail), 2e-10);
+  }
+  // The series / continued-fraction switch at a = 2 is seamless: a step h across it changes the tail by
+  // h·e^{−ja²} (its derivative) and nothing more.
+  const double h = 1e-7;
+  EXPECT_LT(std::abs(fresnel_tail(2.0 - h) - fresnel_tail(2.0) - h * std::polar(1.0, -4.0)), 1e-13);
+}
+
+// An independent check of the tail by brute-force quadrature (composite Simpson on [a, 60] plus the
+// asymptotic remainder e^{−jb²}/(2jb)), at many points on both sides of the switch.
+TEST(Utd, FresnelTailMatchesQuadrature) {
+  for (double a : {0.0, 0.3, 1.1, 1.99, 2.01, 2.7, 4.0, 7.5}) {
+    const double b = 60.0;
+    const int n = 400000;
+    const double h = (b - a) / n;
+    C sum = std::polar(1.0, -a * a) + std::polar(1.0, -b * b);
+    for (int i = 1; i < n; ++i) sum += (i % 2 ? 4.0 : 2.0) * std::polar(1.0, -(a + i * h) * (a + i * h));
+    C quad = sum * h / 3.0;
+    // ∫_b^∞ e^{−jτ²} dτ ≈ e^{−jb²}/(2jb)·(1 − 1/(2jb²)) (integration by parts, twice).
+    quad += std::polar(1.0, -b * b) / C(0.0, 2.0 * b) * (1.0 - 1.0 / C(0.0, 2.0 * b * b));
+    EXPECT_LT(std::abs(fresnel_tail(a) - quad), 1e-9) << "a = " << a;
+  }
+}
+
+TEST(Utd, TransitionFunctionLimits) {
+  // Large X: F → 1 + j/(2X) − 3/(4X²) (KP eq. 30).
+  for (double x : {20.0, 100.0, 1e4}) {
+    const C expected = 1.0 + C(0.0, 1.0) / (2.0 * x) - 3.0 / (4.0 * x * x);
+    EXPECT_LT(std::abs(utd_transition(x) - expected), 2.0 / (x * x * x)) << x;
+  }
+  // Small X: F ≈ [√(πX) − 2X e^{jπ/4} − (2/3)X² e^{−jπ/4}] e^{j(π/4 + X)} (KP eq. 31).
+  for (double x : {1e-6, 1e-4, 1e-3}) {
+    const C expected = (std::sqrt(kPi * x) - 2.0 * x * std::polar(1.0, kPi / 4.0) -
+                        2.0 / 3.0 * x * x * std::polar(1.0, -kPi / 4.0)) *
+                       std::polar(1.0, kPi / 4.0 + x);
+    EXPECT_LT(std::abs(utd_transition(x) - expected), 5.0 * std::pow(x, 2.5)) << x;
+  }
+  EXPECT_EQ(utd_transition(0.0), C(0.0, 0.0));
+}
+
+// Sommerfeld's exact solution for a plane wave on a perfectly conducting half-plane (Born & Wolf, Principles
+// of Optics, §11.5): with the incident field e^{jkρ cos(φ − φ')} (unit at the edge) and
+//   V(ρ, ξ) = e^{jkρ cos ξ} · e^{jπ/4}/√π · ∫_{−∞}^{√(2kρ) cos(ξ/2)} e^{−jτ²} dτ,
+// the total field is u = V(ρ, φ − φ') ∓ V(ρ, φ + φ') (soft: E ∥ edge, u = 0 on the screen; hard: H ∥ edge).
+// The Fresnel integral here is the one of core/utd.h, independently checked above.
+C sommerfeld(double k, double rho, double phi, double phi_prime, bool soft) {
+  auto v = [&](double xi) {
+    return std::polar(1.0, k * rho * std::cos(xi)) * std::polar(1.0, kPi / 4.0) / std::sqrt(kPi) *
+           fresnel_from_minus_infinity(std::sqrt(2.0 * k * rho) * std::cos(xi / 2.0));
+  };
+  return v(phi - phi_prime) + (soft ? -1.0 : 1.0) * v(phi + phi_prime);
+}
+
+// UTD: geometrical optics (incident where |φ − φ'| < π, reflected off the face φ = 0 where φ + φ' < π, with
+// Γ = −1 soft, +1 hard) plus the diffracted field D·e^{−jkρ}/√ρ (plane wave: L = ρ).
+C utd_total(double k, double rho, double phi, double phi_prime, bool soft) {
+  C u = 0.0;
+  if (std::abs(phi - phi_prime) < kPi) u += std::polar(1.0, k * rho * std::cos(phi - phi_prime));
+  if (phi + phi_prime < kPi) u += (soft ? -1.0 : 1.0) * std::polar(1.0, k * rho * std::cos(phi + phi_prime));
+  const FresnelCoefficients pec{C(-1.0, 0.0), C(1.0, 0.0)};
+  const UtdCoefficients d = wedge_diffraction(2.0, phi, phi_prime, kPi / 2.0, rho, k, pec, pec);
+  return u + (soft ? d.soft : d.hard) * std::polar(1.0, -k * rho) / std::sqrt(rho);
+}
+
+// For a half-plane lit by a plane wave, KP's UTD reproduces Sommerfeld's solution exactly (the Fresnel
+// integral of the exact solution is the transition function): lit region, both transition regions (incident
+// and reflection shadow boundaries) and the shadow, at ρ = 5 m and 866 MHz (kρ ≈ 91).
+TEST(Utd, HalfPlaneMatchesSommerfeldEverywhere) {
+  const double k = wavenumber_rad_m(866e6), rho = 5.0;
+  double worst = 0.0;
+  for (bool soft : {true, false})
+    for (double phi_prime_deg : {30.0, 60.0, 100.0, 150.0})
+      for (double phi_deg = 0.25; phi_deg < 360.0; phi_deg += 0.5) {
+        const double phi = phi_deg * kPi / 180.0, phi_prime = phi_prime_deg * kPi / 180.0;
+        const C exact = sommerfeld(k, rho, phi, phi_prime, soft);
+        const C utd = utd_total(k, rho, phi, phi_prime, soft);
+        worst = std::max(worst, std::abs(utd - exact));
+        ASSERT_LT(std::abs(utd - exact), 1e-9) << (soft ? "soft" : "hard") << " φ' = " << phi_prime_deg
+                                               << "° φ = " << phi_deg << "°";
+      }
+  EXPECT_LT(worst, 1e-9);
+}
+
+// Across each shadow boundary the diffracted field jumps by exactly the geometrical-optics field it replaces,
+// so the total is continuous: a step of 1e-7 rad across the boundary changes u by ~kρ·1e-7.
+TEST(Utd, TotalFieldIsContinuousAcrossShadowBoundaries) {
+  const double k = wavenumber_rad_m(866e6), rho = 5.0, phi_prime = 60.0 * kPi / 180.0;
+  for (bool soft : {true, false})
+    for (double boundary : {kPi + phi_prime, kPi - phi_prime}) {  // incident, reflection shadow boundary
+      const C below = utd_total(k, rho, boundary - 1e-7, phi_prime, soft);
+      const C above = utd_total(k, rho, boundary + 1e-7, phi_prime, soft);
+      EXPECT_LT(std::abs(above - below), 1e-4) << (soft ? "soft" : "hard") << " at " << boundary;
+      EXPECT_GT(std::abs(below), 0.3);  // ~half the incident field on the boundary, not a null
+    }
+}
+
+// Luebbers' form with perfectly conducting faces is KP's; with lossy faces the reflection-boundary terms
+// are scaled by the faces' Fresnel coefficients, the incident-boundary terms are not.
+TEST(Utd, LuebbersReducesToKpForMetal) {
+  const double k = wavenumber_rad_m(866e6);
+  const FresnelCoefficients pec{C(-1.0, 0.0), C(1.0, 0.0)};
+  const UtdCoefficients kp = wedge_diffraction(1.5, 2.0, 0.7, 1.2, 3.0, k, pec, pec);
+  EXPECT_TRUE(std::isfinite(std::abs(kp.soft)) && std::isfinite(std::abs(kp.hard)));
+  const FresnelCoefficients none{C(0.0, 0.0), C(0.0, 0.0)};
+  const UtdCoefficients inc = wedge_diffraction(1.5, 2.0, 0.7, 1.2, 3.0, k, none, none);
+  EXPECT_EQ(inc.soft, inc.hard);  // only the incident-boundary terms left: polarization-independent
+  EXPECT_NE(kp.soft, kp.hard);
+}
+
+}  // namespace
+}  // namespace rfidray

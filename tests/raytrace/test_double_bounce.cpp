@@ -1,0 +1,203 @@
+// Level double-bounce (raytrace/double_bounce.cpp) against image theory: a corner of two perpendicular metal
+// walls and two parallel metal walls (image positions, path lengths, reflection points and coefficients to
+// 1e-9), and the fast candidate search against the exhaustive one on the paper warehouse.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/units.h"
+#include "raytrace/raytraced_channel.h"
+#include "raytrace/warehouse.h"
+
+namespace rfidray {
+namespace {
+
+using C = std::complex<double>;
+constexpr double kF = 866e6;
+
+Endpoint linear(const Vec3& p, const Vec3& axis) {
+  Endpoint e;
+  e.pose.position = p;
+  e.polarization.kind = PolarizationKind::kLinear;
+  e.polarization.axis_local = axis.normalized();
+  return e;
+}
+
+TriangleMesh quad(const std::string& name, const Vec3& corner, const Vec3& u, const Vec3& v) {
+  TriangleMesh m;
+  m.name = name;
+  m.material_names = {"metal"};
+  add_quad(m, corner, u, v, 0, 1, 1);
+  return m;
+}
+
+TraceOptions level_options(ChannelLevel level, CandidateMode mode) {
+  TraceOptions o;
+  o.level = level;
+  o.candidates = mode;
+  o.drop_below_db = 400.0;  // keep every path: the closed forms include them all
+  return o;
+}
+
+// The image of a current element in a perfectly conducting plane with unit normal n: tangential part reversed,
+// normal part kept, i.e. −(mirror of the vector) (image theory).
+Vec3 pec_image(const Vec3& current, const Vec3& n) { return -(current - 2.0 * current.dot(n) * n); }
+Vec3 mirror_point(const Vec3& p, const Vec3& n, double c) { return p - 2.0 * (n.dot(p) - c) * n; }
+
+// Expected coefficient of a double reflection on metal: the field the doubly imaged antenna (axis a21, at the
+// image point) radiates towards the tag, matched against the tag. Both ends isotropic.
+C image_coefficient(const Vec3& a21, const Vec3& image, const Endpoint& tag) {
+  const Vec3 d = (tag.pose.position - image).normalized();
+  Polarization p;
+  p.axis_local = a21.normalized();
+  return polarization_match(p.field(Quat::Identity(), d), tag.polarization, tag.pose.orientation, d);
+}
+
+struct Expected {
+  Vec3 image, p1, p2;
+  C coefficient;
+};
+
+// Two reflections, first in plane (n1, c1), then (n2, c2), by image theory.
+Expected expected_double(const Endpoint& a, const Endpoint& t, const Vec3& n1, double c1, const Vec3& n2, double c2) {
+  Expected e;
+  const Vec3 t2 = mirror_point(t.pose.position, n2, c2);
+  e.image = mirror_point(t2, n1, c1);
+  const Vec3& pa = a.pose.position;
+  const double s1 = (c1 - n1.dot(pa)) / n1.dot(e.image - pa);
+  e.p1 = pa + s1 * (e.image - pa);
+  const double s2 = (c2 - n2.dot(e.p1)) / n2.dot(t2 - e.p1);
+  e.p2 = e.p1 + s2 * (t2 - e.p1);
+  // The antenna imaged in plane 1, then in plane 2, sits at the mirror of the tag's double image as seen from
+  // the tag; equivalently (reciprocity) the source's image axis is pec_image(pec_image(axis, n1), n2).
+  const Vec3 axis = pec_image(pec_image(a.polarization.axis_local, n1), n2);
+  // The doubly imaged antenna stands at A21 = mirror(mirror(A, n1), n2) and radiates straight to T.
+  const Vec3 a21 = mirror_point(mirror_point(pa, n1, c1), n2, c2);
+  e.coefficient = image_coefficient(axis, a21, t);
+  return e;
+}
+
+void expect_path(const Path& p, PathKind kind, const Expected& e, const Endpoint& a) {
+  EXPECT_EQ(p.kind, kind);
+  EXPECT_NEAR(p.length_m, (e.image - a.pose.position).norm(), 1e-9);
+  EXPECT_LT((p.point - e.p1).norm(), 1e-9);
+  EXPECT_LT((p.point2 - e.p2).norm(), 1e-9);
+  EXPECT_LT(std::abs(p.coefficient - e.coefficient), 1e-9) << p.coefficient << " vs " << e.coefficient;
+  EXPECT_EQ(p.material, "metal");
+  EXPECT_EQ(p.material2, "metal");
+}
+
+TEST(DoubleBounce, CornerOfTwoPerpendicularMetalWallsMatchesImageTheory) {
+  // Walls x = 0 (y 0…50) and y = 0 (x 0…50), z −50…50; antenna and tag in the quadrant x, y > 0.
+  const auto scene = std::make_shared<const Scene>(
+      std::vector<TriangleMesh>{quad("wx", Vec3(0, 0, -50), Vec3(0, 50, 0), Vec3(0, 0, 100)),
+                                quad("wy", Vec3(0, 0, -50), Vec3(50, 0, 0), Vec3(0, 0, 100))},
+      MaterialAssignment{});
+  const Vec3 nx = Vec3::UnitX(), ny = Vec3::UnitY();
+  for (CandidateMode mode : {CandidateMode::kFast, CandidateMode::kExhaustive}) {
+    const RaytracedChannel ch(scene, level_options(ChannelLevel::kDoubleBounce, mode));
+    for (const Vec3& axis : {Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0.3, -0.5, 0.8)})
+      for (const auto& [pa, pt] : {std::pair{Vec3(1.0, 2.5, 1.2), Vec3(3.0, 0.7, 1.9)},
+                                   std::pair{Vec3(4.0, 1.0, 0.5), Vec3(0.8, 3.1, 2.2)},
+                                   std::pair{Vec3(2.0, 2.0, 1.0), Vec3(2.5, 1.5, 1.0)}}) {
+        const Endpoint a = linear(pa, axis), t = linear(pt, axis);
+        const auto paths = ch.paths(a, t, kF);
+        // LoS, the two single reflections, and exactly one double reflection: the line from A to the double
+        // image (−tx, −ty) crosses one wall first, which fixes the order.
+        ASSERT_EQ(paths.size(), 4u) << to_string(mode);
+        const Path& d = paths[3];
+        ASSERT_EQ(d.kind, PathKind::kReflection2);
+        const Expected xy = expected_double(a, t, nx, 0.0, ny, 0.0), yx = expected_double(a, t, ny, 0.0, nx, 0.0);
+        EXPECT_LT((xy.image - yx.image).norm(), 1e-12);  // the same image point either way
+        const bool x_first = std::abs(d.point.x()) < 1e-9;
+        expect_path(d, PathKind::kReflection2, x_first ? xy : yx, a);
+        // Which wall comes first: the one the line A → image crosses first.
+        const Vec3 image = xy.image;
+        const double sx = pa.x() / (pa.x() - image.x()), sy = pa.y() / (pa.y() - image.y());
+        EXPECT_EQ(x_first, sx < sy);
+        // Vertical polarization on vertical walls: TE twice, (−1)(−1) = +1.
+        if (axis == Vec3(0, 0, 1)) EXPECT_LT(std::abs(d.coefficient - 1.0), 1e-9);
+        // The double reflection is the only new path: single-bounce gives the other three unchanged.
+        const auto single = RaytracedChannel(scene, level_options(ChannelLevel::kSingleBounce, mode)).paths(a, t, kF);
+        ASSERT_EQ(single.size(), 3u);
+        for (size_t i = 0; i < 3; ++i) EXPECT_EQ(single[i].contribution, paths[i].contribution);
+      }
+  }
+}
+
+TEST(DoubleBounce, TwoParallelMetalWallsGiveBothImageOrders) {
+  // Walls x = 0 and x = 4 (y −50…50, z −50…50); antenna and tag between them.
+  const double w = 4.0;
+  const auto scene = std::make_shared<const Scene>(
+      std::vector<TriangleMesh>{quad("w0", Vec3(0, -50, -50), Vec3(0, 100, 0), Vec3(0, 0, 100)),
+                                quad("w4", Vec3(w, -50, -50), Vec3(0, 0, 100), Vec3(0, 100, 0))},
+      MaterialAssignment{});
+  const Vec3 n = Vec3::UnitX();
+  for (CandidateMode mode : {CandidateMode::kFast, CandidateMode::kExhaustive}) {
+    const RaytracedChannel ch(scene, level_options(ChannelLevel::kDoubleBounce, mode));
+    for (const Vec3& axis : {Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0.6, 0.2, -0.5)}) {
+      const Endpoint a = linear(Vec3(1.0, -2.0, 1.0), axis), t = linear(Vec3(2.7, 3.5, 1.6), axis);
+      const auto paths = ch.paths(a, t, kF);
+      ASSERT_EQ(paths.size(), 5u);  // LoS, two single reflections, two double reflections
+      const Expected first0 = expected_double(a, t, n, 0.0, n, w);  // x = 0 first, then x = 4
+      const Expected first4 = expected_double(a, t, n, w, n, 0.0);
+      // Images: T at x = 2.7 → x = 4: 5.3 → x = 0: −5.3;  x = 0: −2.7 → x = 4: 10.7.
+      EXPECT_NEAR(first0.image.x(), -5.3, 1e-12);
+      EXPECT_NEAR(first4.image.x(), 10.7, 1e-12);
+      std::vector<const Path*> doubles;
+      for (const Path& p : paths)
+        if (p.kind == PathKind::kReflection2) doubles.push_back(&p);
+      ASSERT_EQ(doubles.size(), 2u);
+      // Ordered by length: |A − (−5.3, …)| < |A − (10.7, …)| here.
+      expect_path(*doubles[0], PathKind::kReflection2, first0, a);
+      expect_path(*doubles[1], PathKind::kReflection2, first4, a);
+      if (axis == Vec3(0, 0, 1)) {
+        EXPECT_LT(std::abs(doubles[0]->coefficient - 1.0), 1e-9);
+        EXPECT_LT(std::abs(doubles[1]->coefficient - 1.0), 1e-9);
+      }
+      // h is the closed-form sum of the five image sources.
+      C expected_h = path_contribution((t.pose.position - a.pose.position).norm(), paths[0].coefficient, kF);
+      for (const Path& p : paths)
+        if (p.kind != PathKind::kLineOfSight) expected_h += path_contribution(p.length_m, p.coefficient, kF);
+      EXPECT_LT(std::abs(sum_paths(paths) - expected_h), 1e-9 * std::abs(expected_h));
+    }
+  }
+}
+
+std::vector<Endpoint> paper_tags() {
+  std::vector<Endpoint> tags;
+  for (double y : {0.57, -1.24, -3.03, -4.82, -6.75, -8.66}) tags.push_back(linear(Vec3(2.90, y, 2.05), Vec3::UnitZ()));
+  for (double y : {-7.70, -3.03, 1.44, 5.95}) tags.push_back(linear(Vec3(-4.85, y, 1.85), Vec3::UnitZ()));
+  return tags;
+}
+
+TEST(DoubleBounce, FastAgreesWithExhaustiveOnThePaperWarehouse) {
+  const auto scene = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
+  TraceOptions ref = level_options(ChannelLevel::kDoubleBounce, CandidateMode::kExhaustive);
+  ref.drop_below_db = 40.0;
+  TraceOptions fast = ref;
+  fast.candidates = CandidateMode::kFast;
+  const RaytracedChannel exhaustive(scene, ref), quick(scene, fast);
+  size_t doubles = 0;
+  for (double y = -10.0; y <= 8.0; y += 3.0) {
+    const Endpoint ant = linear(Vec3(-1.0, y, 1.68), Vec3::UnitZ());
+    for (const Endpoint& tag : paper_tags()) {
+      const auto a = exhaustive.paths(ant, tag, kF);
+      const auto b = quick.paths(ant, tag, kF);
+      ASSERT_EQ(a.size(), b.size()) << "antenna y " << y << " tag " << tag.pose.position.transpose();
+      for (size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(a[i].kind, b[i].kind);
+        EXPECT_NEAR(a[i].length_m, b[i].length_m, 1e-9);
+        EXPECT_LT((a[i].point - b[i].point).norm(), 1e-6);
+        EXPECT_LT((a[i].point2 - b[i].point2).norm(), 1e-6);
+        EXPECT_LT(std::abs(a[i].contribution - b[i].contribution), 1e-12 * std::abs(a[i].contribution) + 1e-18);
+        doubles += a[i].kind == PathKind::kReflection2;
+      }
+    }
+  }
+  EXPECT_GT(doubles, 100u);  // floor–rack, rack–rack and wall paths were really exercised
+}
+
+}  // namespace
+}  // namespace rfidray
