@@ -18,31 +18,13 @@
 #include "raytrace/raytraced_channel.h"
 #include "cli/commands.h"
 #include "io/world_source.h"
+#include "cli/number_list.h"
 
 namespace rfidray::cli {
 namespace {
 
-std::vector<double> parse_numbers(const std::string& text, const std::string& option) {
-  std::vector<double> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !std::isfinite(v))
-      throw InputError("option " + option + ": '" + clip(item) + "' is not a number (in '" + clip(text) + "')");
-    out.push_back(v);
-  }
-  return out;
-}
-
 Vec3 parse_vec3(const std::string& text, const std::string& option) {
-  const auto v = parse_numbers(text, option);
+  const auto v = parse_number_list(text, option);
   if (v.size() != 3) throw InputError("option " + option + ": expected X,Y,Z (got '" + clip(text) + "')");
   return Vec3(v[0], v[1], v[2]);
 }
@@ -76,7 +58,7 @@ AntennaPattern parse_pattern(const std::string& text, const std::string& option)
     std::string rest = text.substr(colon + 1);
     for (char& c : rest)
       if (c == ':') c = ',';
-    args = parse_numbers(rest, option);
+    args = parse_number_list(rest, option);
   }
   if (p.kind == PatternKind::kDipole && !args.empty()) throw InputError("option " + option + ": dipole takes no arguments");
   if (p.kind == PatternKind::kPatch && (args.empty() || args.size() > 2))

@@ -1,5 +1,7 @@
 #include "cli/planning.h"
 
+#include "cli/number_list.h"
+
 #include <fnmatch.h>
 
 #include <algorithm>
@@ -23,21 +25,7 @@ namespace {
 constexpr size_t kMaxCells = 50'000'000;
 
 std::vector<double> numbers(const std::string& text, const std::string& option, size_t count) {
-  std::vector<double> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !limits::coordinate_ok(v))
-      throw InputError("option " + option + ": '" + clip(item) + "' is not a coordinate (in '" + clip(text) + "')");
-    out.push_back(v);
-  }
+  const std::vector<double> out = parse_number_list(text, option, /*coordinates=*/true);
   if (out.size() != count)
     throw InputError("option " + option + ": expected " + std::to_string(count) + " numbers separated by commas (got '" +
                      clip(text) + "')");

@@ -84,13 +84,7 @@ int run_bridge(const BridgeOptions& o) {
   auto say = [&](const std::string& s) {
     if (!o.quiet) std::fprintf(stderr, "rfidray gazebo: %s\n", s.c_str());
   };
-  GazeboWorld world = load_world(o.world);
-  for (const auto& w : world.warnings) std::fprintf(stderr, "rfidray: warning: %s\n", w.c_str());
-  for (const auto& n : world.notes) std::fprintf(stderr, "rfidray: note: %s\n", n.c_str());
-  if (world.scenario.antennas.empty()) throw InputError(o.world.file + ": no RFID antenna in the world: nothing to read");
-  if (!o.model.empty())
-    for (AntennaSpec& a : world.scenario.antennas)
-      a.reader.model = o.model == "physical" ? ReaderModelKind::kPhysical : ReaderModelKind::kPaper;
+  GazeboWorld world = load_bridge_world(o.world, o.model);
   const std::string name = o.world_name.empty() ? world.name : o.world_name;
   if (o.topic_prefix.empty() || o.topic_prefix[0] != '/')
     throw InputError("option --topic-prefix: must start with '/' (got '" + o.topic_prefix + "')");

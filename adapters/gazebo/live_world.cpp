@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "io/channel_factory.h"
 #include "core/error.h"
@@ -70,6 +71,18 @@ void LiveWorld::emit_until(double t_s, const TickSink& sink, size_t& emitted) {
     ++emitted;
     sink(out);
   }
+}
+
+GazeboWorld load_bridge_world(const WorldOptions& options, const std::string& model) {
+  GazeboWorld world = load_world(options);
+  for (const auto& w : world.warnings) std::fprintf(stderr, "rfidray: warning: %s\n", w.c_str());
+  for (const auto& n : world.notes) std::fprintf(stderr, "rfidray: note: %s\n", n.c_str());
+  if (world.scenario.antennas.empty())
+    throw InputError(options.file + ": no RFID antenna in the world: nothing to read");
+  if (!model.empty())
+    for (AntennaSpec& a : world.scenario.antennas)
+      a.reader.model = model == "physical" ? ReaderModelKind::kPhysical : ReaderModelKind::kPaper;
+  return world;
 }
 
 size_t LiveWorld::advance(double t_s, const TickSink& sink, bool* restarted) {

@@ -45,6 +45,11 @@ using TickSink = std::function<void(const TickReadings&)>;
 // World pose of antenna `a` at tick time t_s, or nullopt: the antenna follows its mount in the entity tree.
 using AntennaPoseProvider = std::function<std::optional<Pose>(size_t antenna, double t_s)>;
 
+// The world a bridge runs (either pose source): load_world, its warnings and notes printed to stderr as
+// `rfidray: warning|note: ...`, and `model` ("" keeps the world's, else "paper" | "physical") applied to every
+// antenna. Throws InputError naming the file when the world cannot be used or has no RFID antenna.
+GazeboWorld load_bridge_world(const WorldOptions& world, const std::string& model);
+
 class LiveWorld {
  public:
   LiveWorld(GazeboWorld world, const LiveOptions& options);
