@@ -141,7 +141,10 @@ std::vector<Edge> extract_edges(const Scene& scene, const EdgeOptions& options) 
   }
   // Merge collinear, touching segments of each group into maximal edges.
   std::vector<Edge> edges;
-  for (auto& [faces, segments] : groups) {
+  for (auto& group : groups) {
+    // Named references, not a structured binding: clang 14 cannot capture those in the lambdas below.
+    const auto& faces = group.first;
+    auto& segments = group.second;
     // Canonical direction per segment (largest component positive), so collinear pieces compare equal.
     struct Oriented {
       Vec3 d, foot;

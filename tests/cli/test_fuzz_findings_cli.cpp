@@ -74,7 +74,15 @@ TEST_F(FuzzCli, MtllibThatIsNotARegularFileIsRejectedWithItsLine) {
 TEST_F(FuzzCli, HugeWarehouseIsRefusedWithItsEstimateBeforeAllocating) {
   // A 2 GB address-space limit proves the estimate comes before any allocation; AddressSanitizer reserves
   // terabytes of shadow memory at start-up, so under it the limit is left out (the message is still checked).
+// (g++ defines __SANITIZE_ADDRESS__; clang says so through __has_feature.)
 #if defined(__SANITIZE_ADDRESS__)
+#define RFIDRAY_TEST_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define RFIDRAY_TEST_UNDER_ASAN 1
+#endif
+#endif
+#ifdef RFIDRAY_TEST_UNDER_ASAN
   const char* limit = "";
 #else
   const char* limit = "ulimit -v 2000000; ";
