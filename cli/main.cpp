@@ -5,11 +5,17 @@
 
 #include "cli/commands.h"
 #include "core/error.h"
+#include "core/memory_budget.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"rfidray — ray-traced multipath channel engine for passive UHF RFID"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "rfidray 0.1.0");
+  std::string max_memory;
+  app.add_option("--max-memory", max_memory,
+                 "Memory budget for the size checks made before large allocations (scenes, grids, generated "
+                 "warehouses): 512M, 4G, ... (default: this machine's physical memory)");
+  app.fallthrough();  // --max-memory may also follow the subcommand
   rfidray::cli::register_commands(app);
   try {
     app.parse(argc, argv);
@@ -21,6 +27,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    if (!max_memory.empty())
+      rfidray::set_memory_budget_bytes(rfidray::parse_memory_size(max_memory, "--max-memory"), "--max-memory");
     return rfidray::cli::run_selected(app);
   } catch (const rfidray::InputError& e) {
     std::cerr << "rfidray: error: " << e.what() << "\n";

@@ -1,5 +1,7 @@
 #include "raytrace/scene.h"
 
+#include "core/memory_budget.h"
+
 #include <cstdio>
 #include <limits>
 
@@ -28,6 +30,9 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
   if (double(total_triangles) > limits::kMaxTriangles || total_triangles >= kNoFacet)
     throw InputError("scene: " + std::to_string(total_triangles) + " triangles; at most " +
                      limits::num(limits::kMaxTriangles));
+  check_memory_estimate(double(total_triangles) * Scene::kSceneBytesPerTriangle,
+                        "scene: " + std::to_string(total_triangles) + " triangles",
+                        limits::num(Scene::kSceneBytesPerTriangle) + " bytes per triangle: meshes, facets and the BVH");
   if (lo.x() <= hi.x()) {
     const Vec3 centre = 0.5 * (lo + hi);
     if (centre.cwiseAbs().maxCoeff() > kRecentreBeyondM) origin_ = centre;

@@ -41,6 +41,10 @@ class Scene {
   // origin trace exactly as they always did). Queries always take world coordinates.
   const Vec3& local_origin() const { return origin_; }
   static constexpr double kRecentreBeyondM = 1e4;
+  // Resident bytes per triangle of a built scene (meshes in double, facets, Embree BVH): 150–330 measured on
+  // the parametric warehouses (README, "Speed and accuracy"); the upper end is the estimate checked against the
+  // memory budget before a scene is built.
+  static constexpr double kSceneBytesPerTriangle = 330.0;
   // Defaults applied and other remarks from material resolution, for the user.
   const std::vector<std::string>& notes() const { return notes_; }
 
