@@ -31,15 +31,6 @@
 namespace rfidray::gazebo {
 namespace {
 
-std::atomic<bool> g_stop{false};
-void on_signal(int) { g_stop = true; }
-
-std::string fmt_s(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 double seconds(const ignition::msgs::Time& t) { return static_cast<double>(t.sec()) + 1e-9 * t.nsec(); }
 void set_time(double t_s, ignition::msgs::Time& out) {
   const double sec = std::floor(t_s);
@@ -151,7 +142,7 @@ int run_bridge(const BridgeOptions& o) {
   {
     const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.scene_timeout_s);
     bool got = false;
-    while (!got && !g_stop && std::chrono::steady_clock::now() < until) {
+    while (!got && !stop_requested() && std::chrono::steady_clock::now() < until) {
       ignition::msgs::Empty req;
       ignition::msgs::Scene rep;
       bool ok = false;
@@ -161,7 +152,7 @@ int run_bridge(const BridgeOptions& o) {
       }
     }
     if (!got)
-      throw InputError("no answer from " + scene_service + " within " + fmt_s(o.scene_timeout_s) +
+      throw InputError("no answer from " + scene_service + " within " + format_seconds(o.scene_timeout_s) +
                        " s: is Gazebo running world '" + name + "' in partition '" + node_options.Partition() +
                        "' (IGN_PARTITION) and reachable (IGN_IP)?");
     const EntityMap& map = live.entity_map();
@@ -186,13 +177,12 @@ int run_bridge(const BridgeOptions& o) {
 #endif
       return true;
     };
-    while (!all() && !g_stop && std::chrono::steady_clock::now() < until)
+    while (!all() && !stop_requested() && std::chrono::steady_clock::now() < until)
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     if (!all()) say("no subscriber on some readings topics after --connect-timeout; publishing anyway");
   }
 
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  install_stop_handlers();
   say("following /world/" + name + "/pose/info and dynamic_pose/info; readings on " + o.topic_prefix +
       "/<antenna>/readings" + (o.csv_dir.empty() ? "" : ", CSV in " + o.csv_dir));
 
@@ -233,11 +223,11 @@ int run_bridge(const BridgeOptions& o) {
 
   auto last_message = std::chrono::steady_clock::now();
   ignition::msgs::Pose_V msg;
-  while (!g_stop && !live.finished()) {
+  while (!stop_requested() && !live.finished()) {
     if (!inbox.pop(msg, std::chrono::milliseconds(100))) {
       const double idle = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_message).count();
       if (idle > o.idle_timeout_s) {
-        say("no pose message for " + fmt_s(o.idle_timeout_s) + " s; stopping");
+        say("no pose message for " + format_seconds(o.idle_timeout_s) + " s; stopping");
         break;
       }
       continue;
@@ -261,7 +251,7 @@ int run_bridge(const BridgeOptions& o) {
   for (const std::string& topic : pose_topics) node.Unsubscribe(topic);
   say(std::to_string(live.ticks()) + " antenna ticks from " + std::to_string(pose_messages) + " pose messages (" +
       std::to_string(live.rejected_poses()) + " malformed poses dropped), " + std::to_string(live.scene_builds()) +
-      " scene builds, simulation time " + fmt_s(live.time_s()) + " s");
+      " scene builds, simulation time " + format_seconds(live.time_s()) + " s");
   return 0;
 }
 

@@ -1,6 +1,8 @@
 #include "adapters/gazebo/live_world.h"
 
 #include <algorithm>
+#include <atomic>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 
@@ -71,6 +73,23 @@ void LiveWorld::emit_until(double t_s, const TickSink& sink, size_t& emitted) {
     ++emitted;
     sink(out);
   }
+}
+
+namespace {
+std::atomic<bool> g_stop_requested{false};
+void on_stop_signal(int) { g_stop_requested = true; }
+}  // namespace
+
+void install_stop_handlers() {
+  std::signal(SIGINT, on_stop_signal);
+  std::signal(SIGTERM, on_stop_signal);
+}
+bool stop_requested() { return g_stop_requested; }
+
+std::string format_seconds(double seconds) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%g", seconds);
+  return buf;
 }
 
 GazeboWorld load_bridge_world(const WorldOptions& options, const std::string& model) {

@@ -50,6 +50,13 @@ using AntennaPoseProvider = std::function<std::optional<Pose>(size_t antenna, do
 // antenna. Throws InputError naming the file when the world cannot be used or has no RFID antenna.
 GazeboWorld load_bridge_world(const WorldOptions& world, const std::string& model);
 
+// SIGINT/SIGTERM for either bridge: after install_stop_handlers(), stop_requested() turns true on the first
+// signal (async-signal-safe: an atomic flag), so the bridge finishes its tick, writes its summary and exits.
+void install_stop_handlers();
+bool stop_requested();
+// Seconds for messages ("%g").
+std::string format_seconds(double seconds);
+
 class LiveWorld {
  public:
   LiveWorld(GazeboWorld world, const LiveOptions& options);

@@ -22,15 +22,6 @@
 namespace rfidray::gazebo {
 namespace {
 
-std::atomic<bool> g_stop{false};
-void on_signal(int) { g_stop = true; }
-
-std::string fmt_s(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 Pose from_value(const ros_bridge::PoseValue& v, const std::string& what) {
   for (double x : {v.x, v.y, v.z, v.qx, v.qy, v.qz, v.qw})
     if (!std::isfinite(x)) throw InputError(what + ": pose is not finite");
@@ -142,13 +133,13 @@ int run_ros_bridge(const RosBridgeOptions& o) {
     ros_bridge::PoseValue v;
     std::string error;
     while (!input->lookup(o.world_frame, frame_of[a], t_s, v, error)) {
-      if (g_stop || std::chrono::steady_clock::now() >= until)
+      if (stop_requested() || std::chrono::steady_clock::now() >= until)
         throw InputError("TF: no transform " + o.world_frame + " -> " + frame_of[a] + " (antenna '" + names[a] +
-                         "') at t = " + fmt_s(t_s) + " s within " + fmt_s(o.tf_timeout_s) + " s (--tf-timeout): " +
+                         "') at t = " + format_seconds(t_s) + " s within " + format_seconds(o.tf_timeout_s) + " s (--tf-timeout): " +
                          error + " [frames known: " + input->frames() + "]");
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
-    const std::string what = "TF " + o.world_frame + " -> " + frame_of[a] + " at t = " + fmt_s(t_s) + " s";
+    const std::string what = "TF " + o.world_frame + " -> " + frame_of[a] + " at t = " + format_seconds(t_s) + " s";
     return from_value(v, what).compose(live.world().antenna_mounts[a].pose);
   });
 
@@ -166,21 +157,20 @@ int run_ros_bridge(const RosBridgeOptions& o) {
   // The first TagArray is lost unless its subscribers are known: wait for them, bounded.
   if (o.connect_timeout_s > 0.0) {
     const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.connect_timeout_s);
-    while (!publisher.all_connected() && !g_stop && std::chrono::steady_clock::now() < until)
+    while (!publisher.all_connected() && !stop_requested() && std::chrono::steady_clock::now() < until)
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     if (!publisher.all_connected()) say("no subscriber on some TagArray topics after --connect-timeout; publishing anyway");
   }
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  install_stop_handlers();
 
   uint64_t model_messages = 0, restarts = 0;
   auto last_message = std::chrono::steady_clock::now();
   ros_bridge::InputEvent event;
-  while (!g_stop && !live.finished()) {
+  while (!stop_requested() && !live.finished()) {
     if (!input->pop(event, 0.1)) {
       const double idle = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_message).count();
       if (idle > o.idle_timeout_s) {
-        say("no input message for " + fmt_s(o.idle_timeout_s) + " s; stopping");
+        say("no input message for " + format_seconds(o.idle_timeout_s) + " s; stopping");
         break;
       }
       continue;
@@ -190,7 +180,7 @@ int run_ros_bridge(const RosBridgeOptions& o) {
     live.advance(event.time_s, sink, &restarted);
     if (restarted) {
       ++restarts;
-      say("simulation time went back to " + fmt_s(event.time_s) + " s (a reset): ticks start again from there");
+      say("simulation time went back to " + format_seconds(event.time_s) + " s (a reset): ticks start again from there");
     }
     if (event.kind != ros_bridge::InputEvent::Kind::kModelStates) continue;
     ++model_messages;
@@ -209,7 +199,7 @@ int run_ros_bridge(const RosBridgeOptions& o) {
   }
   say(std::to_string(live.ticks()) + " antenna ticks from " + std::to_string(input->messages()) + " ROS messages (" +
       std::to_string(model_messages) + " model_states), " + std::to_string(restarts) + " resets, " +
-      std::to_string(live.scene_builds()) + " scene builds, simulation time " + fmt_s(live.time_s()) + " s");
+      std::to_string(live.scene_builds()) + " scene builds, simulation time " + format_seconds(live.time_s()) + " s");
   return 0;
 }
 
