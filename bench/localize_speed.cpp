@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <string>
 #include <vector>
 
 #include "localization/methods.h"
@@ -23,10 +24,21 @@ int main(int argc, char** argv) {
   std::string out_dir = ".";
   std::vector<int> reads{1000, 4000};
   int repeats = 5;
+  std::vector<std::string> method_names{"hyperbolic", "nlls", "sar"};
   app.add_option("--out", out_dir, "output directory")->capture_default_str();
   app.add_option("--reads", reads, "reads per tag (several)")->capture_default_str();
   app.add_option("--repeats", repeats, "runs per point (median)")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--methods", method_names, "methods to time (several)")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  std::vector<loc::Method> methods;
+  for (const std::string& name : method_names) {
+    loc::Method m;
+    if (!loc::parse_method(name, m)) {
+      std::fprintf(stderr, "localize_speed: --methods: unknown method '%s'\n", name.c_str());
+      return 2;
+    }
+    methods.push_back(m);
+  }
   omp_set_num_threads(1);
   std::filesystem::create_directories(out_dir);
   std::ofstream csv(std::filesystem::path(out_dir) / "localize_speed.csv");
@@ -49,7 +61,7 @@ int main(int argc, char** argv) {
     o.tag_height_m = 0.0;
     o.max_range_m = 3.0;
     o.mirror_prior = loc::MirrorPrior::kBoresight;
-    for (loc::Method m : {loc::Method::kHyperbolic, loc::Method::kNlls, loc::Method::kSar}) {
+    for (loc::Method m : methods) {
       std::vector<double> ms;
       loc::LocalizeResult last;
       for (int r = 0; r < repeats; ++r) {

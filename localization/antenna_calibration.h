@@ -9,6 +9,7 @@
 // hypot(x, y)), radians), pattern = Σ_t coefficient_t · basis_t(az, el) over kPatternTerms (no constant:
 // a constant is one more per-tag offset ν), c_f the reader chain's offset of carrier f relative to the first
 // carrier (c_{f0} = 0). Standard uncertainties (sd) are 1-σ from the calibration fit.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -21,8 +22,13 @@ namespace rfidray::loc {
 // Pattern basis: az, el, az², az·el, el² (radians). Low order on purpose: a UHF patch's phase varies
 // smoothly over its beam.
 inline constexpr int kPatternTerms = 5;
+inline constexpr double kHalfPiRad = 1.57079632679489661923;
+// The pattern is calibrated from tags in front of the antenna; behind it (|az| > π/2) it is held at its value
+// at the side (az = ±π/2) instead of extrapolating the polynomial, which would otherwise let a fit behind the
+// antenna bend the phase freely.
 inline std::array<double, kPatternTerms> pattern_basis(double az_rad, double el_rad) {
-  return {az_rad, el_rad, az_rad * az_rad, az_rad * el_rad, el_rad * el_rad};
+  const double az = std::clamp(az_rad, -kHalfPiRad, kHalfPiRad);
+  return {az, el_rad, az * az, az * el_rad, el_rad * el_rad};
 }
 inline const char* const kPatternTermNames[kPatternTerms] = {"az", "el", "az2", "az_el", "el2"};
 

@@ -90,20 +90,34 @@ CellGrid make_cells(const std::vector<Intersection>& set, double cell) {
 }
 
 // Quality-weighted Gaussian mean shift at bandwidth h, then h/2 and h/4.
-Vec3 shift_to_mode(const std::vector<Intersection>& set, const CellGrid& grid, double cell, Vec3 x, double bandwidth_m) {
+// z_span: how many cells the occupied cells span in z (0 when the set is planar: no z neighbours to visit).
+long z_span(const CellGrid& grid) {
+  if (grid.empty()) return 0;
+  long lo = std::get<2>(grid.begin()->first), hi = lo;
+  for (const auto& [k, idx] : grid) lo = std::min(lo, std::get<2>(k)), hi = std::max(hi, std::get<2>(k));
+  return hi - lo;
+}
+
+Vec3 shift_to_mode(const std::vector<Intersection>& set, const CellGrid& grid, double cell, Vec3 x, double bandwidth_m,
+                   long z_cells) {
   for (double h : {bandwidth_m, bandwidth_m / 2.0, bandwidth_m / 4.0}) {
     for (int it = 0; it < 30; ++it) {
       const Key c = cell_key(x, cell);
       const long reach = static_cast<long>(std::ceil(3.0 * h / cell));
+      const long reach_z = std::min(reach, z_cells);
       Vec3 num = Vec3::Zero();
       double den = 0.0;
       for (long dx = -reach; dx <= reach; ++dx)
         for (long dy = -reach; dy <= reach; ++dy)
-          for (long dz = -reach; dz <= reach; ++dz) {
+          for (long dz = -reach_z; dz <= reach_z; ++dz) {
             auto found = grid.find({std::get<0>(c) + dx, std::get<1>(c) + dy, std::get<2>(c) + dz});
             if (found == grid.end()) continue;
             for (int i : found->second) {
-              const double w = set[i].quality * std::exp(-0.5 * (set[i].point - x).squaredNorm() / (h * h));
+              // The kernel is cut at 3h (what `reach` visits): beyond it exp(−4.5) ≈ 1 % adds nothing but cost
+              // and makes the sum depend on the cell boundaries.
+              const double d2 = (set[i].point - x).squaredNorm();
+              if (d2 > 9.0 * h * h) continue;
+              const double w = set[i].quality * std::exp(-0.5 * d2 / (h * h));
               num += w * set[i].point;
               den += w;
             }
@@ -112,7 +126,7 @@ Vec3 shift_to_mode(const std::vector<Intersection>& set, const CellGrid& grid, d
       const Vec3 next = num / den;
       const double moved = (next - x).norm();
       x = next;
-      if (moved < 1e-7) break;
+      if (moved < 1e-6) break;  // 1 µm: far below the cluster spread; the joint fit polishes the point
     }
   }
   return x;
@@ -121,7 +135,8 @@ Vec3 shift_to_mode(const std::vector<Intersection>& set, const CellGrid& grid, d
 }  // namespace
 
 Vec3 intersection_mode_near(const std::vector<Intersection>& set, const Vec3& start, double bandwidth_m) {
-  return shift_to_mode(set, make_cells(set, bandwidth_m), bandwidth_m, start, bandwidth_m);
+  const CellGrid grid = make_cells(set, bandwidth_m);
+  return shift_to_mode(set, grid, bandwidth_m, start, bandwidth_m, z_span(grid));
 }
 
 std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, double bandwidth_m, int max_modes) {
@@ -129,6 +144,7 @@ std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, doubl
   if (set.empty()) return modes;
   const double cell = bandwidth_m;
   CellGrid grid = make_cells(set, cell);
+  const long z_cells = z_span(grid);
   // Kernel-density score of each occupied cell: quality summed over the 3×3×3 neighbourhood.
   std::vector<std::pair<double, Key>> scored;
   for (const auto& [k, idx] : grid) {
@@ -147,11 +163,20 @@ std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, doubl
   });
   for (const auto& [score, k] : scored) {
     if (static_cast<int>(modes.size()) >= max_modes) break;
+    // Seeds are the dense cells: a cell with under a tenth of the densest one's intersection weight holds the
+    // scatter of near-parallel conics, not a cluster (the mirror and grating-lobe clusters are as dense as
+    // the true one, so they are still seeded).
+    if (score < 0.1 * scored.front().first) break;
     Vec3 start = Vec3::Zero();
     double w = 0.0;
     for (int i : grid[k]) start += set[i].quality * set[i].point, w += set[i].quality;
     start /= w;
-    const Vec3 x = shift_to_mode(set, grid, cell, start, bandwidth_m);
+    // A start within one bandwidth of a mode already found lies in its basin: shifting it again would only
+    // find that mode (the distinctness test below needs 2 bandwidths).
+    bool known = false;
+    for (const Vec3& m : modes) known |= (m - start).norm() < bandwidth_m;
+    if (known) continue;
+    const Vec3 x = shift_to_mode(set, grid, cell, start, bandwidth_m, z_cells);
     bool distinct = true;
     for (const Vec3& m : modes) distinct &= (m - x).norm() > 2.0 * bandwidth_m;
     if (distinct) modes.push_back(x);
@@ -189,7 +214,10 @@ LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& o
     return r;
   }
   const std::vector<Intersection> set = intersect_conics(conics, options, plane_z);
-  const std::vector<Vec3> modes = intersection_modes(set, options.cluster_bandwidth_m, 5);
+  std::vector<Vec3> modes = intersection_modes(set, options.cluster_bandwidth_m, 5);
+  // Every intersection lies in the plane z = tag height; the weighted means of the mode search only round off.
+  if (options.height_known)
+    for (Vec3& m : modes) m.z() = options.tag_height_m;
   if (modes.empty()) {
     LocalizeResult r = LocalizeResult::failure(FailReason::kNoConvergence,
                                                std::to_string(conics.size()) + " conics have no intersection in range");
@@ -210,6 +238,7 @@ LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& o
   // this method's own intersection set there (the mirror cluster exists: conics are mirror-symmetric).
   if (result.ok && !result.mirror_resolved_by.empty() && (result.position - own).norm() > 0.0)
     result.position = intersection_mode_near(set, result.position, options.cluster_bandwidth_m);
+  if (options.height_known) result.position.z() = options.tag_height_m;
   // Honest uncertainty from the joint multi-carrier model: the region of its optimum reached from this
   // estimate, grown by the distance to it (the cluster mode is not the least-squares point); the same
   // consistency and uniqueness judgement (other cluster modes are the rivals).

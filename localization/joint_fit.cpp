@@ -125,6 +125,19 @@ JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOpt
     for (int i = 0; i < n; ++i)
       if (fit.mask[i]) kept.push_back(e[i]);
     fit.residual_rad = 1.4826 * median_abs(kept);
+    // The smooth part of the misfit (multipath off nearby objects, coupling, pattern residue) is what the
+    // model cannot see; white read noise is not. Their variances separate in the lag-1 autocovariance of
+    // the residuals in time order: ≈ σ_smooth² for an error that changes little from one stop to the next,
+    // ≈ 0 for independent noise.
+    std::vector<int> by_time;
+    for (int i = 0; i < n; ++i)
+      if (fit.mask[i]) by_time.push_back(i);
+    std::stable_sort(by_time.begin(), by_time.end(),
+                     [&](int a, int b) { return model.points()[a].time_s < model.points()[b].time_s; });
+    double lag1 = 0.0;
+    for (size_t k = 1; k < by_time.size(); ++k) lag1 += e[by_time[k]] * e[by_time[k - 1]];
+    if (by_time.size() >= 2) lag1 /= static_cast<double>(by_time.size() - 1);
+    fit.smooth_residual_rad = std::sqrt(std::max(0.0, lag1));
   }
   // Correlated residuals: inflation = Var(Σ r) / Σ r² (the design effect, n / n_eff), estimated on the
   // residual sums S_c of the antenna stops c (all carriers read at one antenna position: on real data their
@@ -202,7 +215,9 @@ JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOpt
   // (multipath off nearby objects, pattern residue) that happens to lie in the span of J shifts the estimate
   // by (J_uᵀJ_u)⁻¹J_uᵀε, at most σ_sys · sqrt(N λ_max((J_uᵀJ_u)⁻¹)) (Cauchy–Schwarz; J_u unweighted, rad/m).
   // It is invisible in the residuals (the fit absorbs it), so it is added as a bias bound, not averaged.
-  if (options.systematic_phase_rad > 0.0) {
+  // Its RMS is the larger of the allowance and the smooth misfit measured in this fit's residuals.
+  const double systematic_rad = std::max(options.systematic_phase_rad, fit.smooth_residual_rad);
+  if (systematic_rad > 0.0) {
     Eigen::MatrixXd Ju = J;
     for (int i = 0; i < n; ++i) {
       const double w = model.points()[i].weight * fit.mask[i];
@@ -210,7 +225,7 @@ JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOpt
     }
     Eigen::FullPivLU<Eigen::MatrixXd> lu_u(Ju.transpose() * Ju);
     if (lu_u.isInvertible())
-      fit.radius_m += options.systematic_phase_rad * std::sqrt(inliers * std::max(0.0, lambda_max(lu_u.inverse())));
+      fit.radius_m += systematic_rad * std::sqrt(inliers * std::max(0.0, lambda_max(lu_u.inverse())));
     else
       fit.radius_m = std::numeric_limits<double>::infinity();
   }
@@ -277,6 +292,23 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
           apply_fit(fit);
         }
       }
+    }
+  }
+  // The boresight prior says the tag is in front of the antenna. A fit behind it that its mirror could not
+  // displace (the mirror fits worse by ≥ unique_chi2, e.g. because a calibrated pattern is extrapolated
+  // behind the antenna) means the data and the prior disagree: no side can be reported with confidence.
+  if (options.mirror_prior == MirrorPrior::kBoresight) {
+    double cosine = 0.0;
+    for (size_t i = 0; i < positions.size(); ++i)
+      cosine += (orientations[i] * Vec3::UnitX()).dot((result.position - positions[i]).normalized());
+    cosine /= std::max<size_t>(1, positions.size());
+    if (cosine < 0.0) {
+      std::ostringstream why;
+      why << "the best fit (" << result.position.x() << ", " << result.position.y() << ", " << result.position.z()
+          << ") lies behind the antenna (mean boresight cosine " << cosine << ") and --mirror-prior boresight "
+          << "excludes it";
+      fail(FailReason::kBehindAntenna, why.str());
+      return;
     }
   }
   // (a) consistency (after the mirror is settled: a pattern makes the wrong side fit badly).

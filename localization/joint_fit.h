@@ -49,6 +49,7 @@ struct JointFit {
   double scale2 = 1.0;             // s²
   double inflation = 1.0;          // ρ
   double residual_rad = 0.0;       // robust σ of the unweighted wrapped residuals (inliers)
+  double smooth_residual_rad = 0.0;  // RMS of their smooth part: √(lag-1 autocovariance in time order, ≥ 0)
   double radius_m = 0.0;
   double predicted_std_m = 0.0;    // sqrt(trace Cov_LS)
 };

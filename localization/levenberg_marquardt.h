@@ -40,7 +40,10 @@ LmSolution levenberg_marquardt_core(Eigen::VectorXd u, Evaluate&& evaluate, int 
     out.iterations = it + 1;
     const Eigen::MatrixXd A = J.transpose() * J;
     const Eigen::VectorXd g = J.transpose() * r;
-    if (mu < 0.0) mu = 1e-3 * A.diagonal().maxCoeff();
+    // Marquardt's scaling damps by μ·diag(A): μ is relative (dimensionless), so it starts at τ = 1e-3
+    // (Nielsen's τ) — not τ·max diag(A), which belongs to the unscaled μ·I form and would start the
+    // scaled form with steps 1e-3/max diag(A) too short.
+    if (mu < 0.0) mu = 1e-3;
     if (g.lpNorm<Eigen::Infinity>() < tol.gradient_abs + tol.gradient_rel * f) {
       out.converged = true;
       break;

@@ -22,6 +22,7 @@ const char* to_string(FailReason r) {
     case FailReason::kNoisyPhase: return "phase too noisy";
     case FailReason::kInconsistentResiduals: return "residuals inconsistent with the model";
     case FailReason::kAmbiguousPeak: return "ambiguous: another optimum fits as well";
+    case FailReason::kBehindAntenna: return "behind the antenna";
   }
   return "?";
 }

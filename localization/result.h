@@ -20,6 +20,7 @@ enum class FailReason {
   kNoisyPhase,        // cycle slips in the unwrapped phase, or noise too large for the geometry
   kInconsistentResiduals,  // residuals do not fit the model (wrapped-phase σ too large, too many outliers)
   kAmbiguousPeak,     // another optimum (not the mirror) outside the confidence region fits nearly as well
+  kBehindAntenna,     // --mirror-prior boresight, yet the best fit lies behind the antenna (prior and data disagree)
 };
 
 const char* to_string(Method m);

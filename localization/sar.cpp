@@ -48,12 +48,17 @@ LocalizeResult localize_sar(const TagReads& tag, const LocalizeOptions& options)
   for (long i = 0; i < grid.size(); ++i) value[i] = -coarse.coherence(grid.point(i));
   const std::vector<long> peaks = best_separated(grid, value, options.sar_peaks, lambda_min / 2.0);
   if (peaks.empty()) return LocalizeResult::failure(FailReason::kNoConvergence, "empty search grid");
+  // Each peak is zoomed on the thinned model (the same aperture and carriers, so the same peak to a fraction
+  // of a fringe) and only the best one again on every read; the rivals are re-converged by the uniqueness test.
   std::vector<Vec3> refined;
+  std::vector<double> score;
   size_t best = 0;
   for (long i : peaks) {
-    refined.push_back(focus_near(model, grid.point(i), grid.step_m / 2.0, planar));
-    if (model.coherence(refined.back()) > model.coherence(refined[best])) best = refined.size() - 1;
+    refined.push_back(focus_near(coarse, grid.point(i), grid.step_m / 2.0, planar));
+    score.push_back(model.coherence(refined.back()));
+    if (score.back() > score[best]) best = refined.size() - 1;
   }
+  refined[best] = focus_near(model, refined[best], lambda_min / 32.0, planar);
   const JointFit fit = fit_joint(model, refined[best], options);
   LocalizeResult result;
   result.reads_used = model.reads();
