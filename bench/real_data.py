@@ -205,6 +205,9 @@ def main():
     ap.add_argument("-o", "--output", default=os.path.join("bench", "results", "real"))
     ap.add_argument("--datasets", default="1,2,3,4")
     ap.add_argument("--train-runs", type=int, default=0, help="D1 training runs used by calibrate (0: all)")
+    ap.add_argument("--train-every", type=int, default=1,
+                    help="calibrate on every K-th D1 training run (the runs are ordered by distance: spreading "
+                         "them covers every distance, which separates the phase centre from the pattern)")
     ap.add_argument("--quick", action="store_true", help="two runs per split (smoke test)")
     ap.add_argument("--no-sim", action="store_true", help="skip the simulated counterpart")
     ap.add_argument("--keep", help="keep the converted files in this folder (never inside the repository)")
@@ -221,11 +224,14 @@ def main():
     work = args.keep or tempfile.mkdtemp(prefix="rfidray-real-")
     datasets = [int(x) for x in args.datasets.split(",")]
 
-    def runs(d, split):
+    def runs(d, split, every=1, limit=0):
         folder = os.path.join(dataset, str(d), split)
         names = sorted(os.listdir(folder)) if os.path.isdir(folder) else []
         if args.quick:
             names = names[:2]
+        names = names[::max(1, every)]
+        if limit > 0:
+            names = names[:limit]
         out = []
         for n in names:
             truth = truth_of_run(n, d, split, run_config, tag_orders, separations)
@@ -238,9 +244,7 @@ def main():
         return out
 
     # 2. Calibration on D1 training runs only.
-    train = runs(1, "train")
-    if args.train_runs > 0:
-        train = train[: args.train_runs]
+    train = runs(1, "train", args.train_every, args.train_runs)
     if not train:
         fail("no D1 training run could be converted")
     antenna_file = os.path.join(args.output, "antenna.yaml")
