@@ -92,11 +92,12 @@ CoverageCells CoverageCells::slice(size_t first, size_t count) const {
   return out;
 }
 
-void CoverageValues::resize(size_t n) {
+void CoverageValues::resize(size_t n, bool with_information) {
   read_probability.assign(n, kNaN);
   rssi_dbm.assign(n, kNaN);
   phase_error_rad.assign(n, kNaN);
   localization_bound_m.assign(n, kNaN);
+  information.assign(with_information ? 6 * n : 0, 0.0);
 }
 
 size_t coverage_work(const Scenario& scenario, const SceneMotion& motion, size_t antenna, size_t cells,
@@ -116,7 +117,7 @@ CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, siz
 
   const size_t n = cells.size();
   CoverageValues out;
-  out.resize(n);
+  out.resize(n, options.information);
   const size_t n_chunks = (n + kChunk - 1) / kChunk;
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   std::exception_ptr error;
@@ -196,8 +197,14 @@ CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, siz
             pass.moving ? (certain[i] ? 1.0 : -std::expm1(miss_log[i])) : sum_p[i] / total_carrier_weight;
         if (w_rssi[i] > 0.0) out.rssi_dbm[k] = sum_rssi[i] / w_rssi[i];
         if (w_e[i] > 0.0) out.phase_error_rad[k] = std::sqrt(sum_e2[i] / w_e[i]);
-        if (pass.moving)
-          if (auto b = fisher[i].bound_m(options.height_known)) out.localization_bound_m[k] = *b;
+        if (pass.moving) {
+          const Eigen::Matrix3d info = fisher[i].information();
+          if (auto b = localization::position_bound_m(info, options.height_known)) out.localization_bound_m[k] = *b;
+          if (options.information) {
+            const std::array<double, 6> packed = localization::pack_information(info);
+            std::copy(packed.begin(), packed.end(), out.information.begin() + static_cast<std::ptrdiff_t>(6 * k));
+          }
+        }
       }
     } catch (...) {
       std::lock_guard<std::mutex> lock(error_mutex);
