@@ -312,8 +312,8 @@ int run_place(const PlaceOptions& o) {
         add(g, best_bound.greedy_curve[i]);
         add(r, refined_bound[i]);
       }
-      panel = io::Panel{"worst localization bound over the cells localized (labels: cells localized) by K antennas (" +
-                            std::to_string(n_c) + " candidates)",
+      panel = io::Panel{"worst localization bound by K antennas (" + std::to_string(n_c) +
+                            " candidates; labels: cells localized)",
                         "K (antennas)", "worst bound (m, Cramer-Rao RMS)", {g, r}};
       panel.log_y = true;
     } else {
