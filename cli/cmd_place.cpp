@@ -199,13 +199,16 @@ int run_place(const PlaceOptions& o) {
                      "so only antennas that move over a pass have a localization bound");
   p.motion = build_motion(p.scenario);
   const size_t n_c = cand.mounts.size(), n_t = p.cells.size();
-  // Per candidate and cell in flight: 4 values (+ 6 of information), three copies (local, gathered, unpacked).
-  check_memory_estimate(double(n_c) * double(n_t) * (by_bound ? 10.0 : 4.0) * 8.0 * 3.0,
+  // The passes' informations: for the objective, and for the joint bound of the choice whenever some candidate
+  // moves. Per candidate and cell in flight: 4 values (+ 6 of information), three copies (local, gathered,
+  // unpacked).
+  const bool with_info = by_bound || any_on_robot;
+  check_memory_estimate(double(n_c) * double(n_t) * (with_info ? 10.0 : 4.0) * 8.0 * 3.0,
                         "place: " + std::to_string(n_c) + " candidates x " + std::to_string(n_t) + " cells",
-                        by_bound ? "240 bytes per candidate and cell" : "96 bytes per candidate and cell");
+                        with_info ? "240 bytes per candidate and cell" : "96 bytes per candidate and cell");
   const fs::path dir(o.plan.output_dir);
   if (ranks.root()) make_output_dir(o.plan.output_dir);
-  const std::vector<io::CoverageValues> values = sharded_coverage(p, indices, o.plan, "place", by_bound);
+  const std::vector<io::CoverageValues> values = sharded_coverage(p, indices, o.plan, "place", with_info);
   if (!ranks.root()) return 0;
 
   const size_t k = static_cast<size_t>(o.k);
@@ -214,7 +217,7 @@ int run_place(const PlaceOptions& o) {
     for (size_t t = 0; t < n_t; ++t)
       if (values[c].read_probability[t] >= o.min_probability) sets.set(c, t);
   std::optional<io::InformationSets> info;
-  if (by_bound) {
+  if (with_info) {
     info.emplace(n_c, n_t, !o.plan.three_d);
     for (size_t c = 0; c < n_c; ++c) std::copy(values[c].information.begin(), values[c].information.end(), info->at(c, 0));
   }
@@ -244,11 +247,7 @@ int run_place(const PlaceOptions& o) {
     for (size_t t = 0; t < n_t; ++t)
       if (std::isfinite(values[c].read_probability[t])) best_p[t] = std::max(best_p[t], values[c].read_probability[t]);
   std::vector<double> joint_bound(n_t, std::numeric_limits<double>::quiet_NaN());
-  if (by_bound) {
-    joint_bound = info->bounds_m(chosen);
-  } else if (chosen.size() == 1) {
-    joint_bound = values[chosen[0]].localization_bound_m;
-  }
+  if (info) joint_bound = info->bounds_m(chosen);
   const bool has_bound = std::any_of(joint_bound.begin(), joint_bound.end(), [](double b) { return std::isfinite(b); });
 
   std::vector<io::CandidateMount> mounts;
@@ -388,7 +387,7 @@ int run_place(const PlaceOptions& o) {
       std::printf("  %s at (%.2f, %.2f, %.2f), rpy (%.0f, %.0f, %.0f) deg\n", m.name.c_str(), m.pose.position.x(),
                   m.pose.position.y(), m.pose.position.z(), r.x(), r.y(), r.z());
   }
-  if (has_bound && !by_bound) std::printf("  (localization bound of the chosen antenna in placement_cells.csv)\n");
+  if (has_bound && !by_bound) std::printf("  (the chosen antennas' joint localization bound per cell in placement_cells.csv)\n");
   std::printf("  -> %s, %s, %s%s\n", (dir / "placement.csv").string().c_str(), (dir / "coverage_vs_k.csv").string().c_str(),
               (dir / "placement_cells.csv").string().c_str(),
               o.plan.world.file.empty() ? (", " + (dir / "placed.yaml").string()).c_str() : "");

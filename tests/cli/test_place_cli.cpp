@@ -137,9 +137,22 @@ TEST(PlaceCli, MpiRanksWriteIdenticalFiles) {
   const auto two = run_rfidray(args + (d / "two").string(), std::string("ASAN_OPTIONS=detect_leaks=0 ") +
                                                                 RFIDRAY_MPIRUN + " -n 2 --oversubscribe --allow-run-as-root ");
   ASSERT_EQ(two.status, 0) << two.output;
-  for (const char* f : {"placement.csv", "coverage_vs_k.csv", "placed.yaml"}) {
+  for (const char* f : {"placement.csv", "coverage_vs_k.csv", "placed.yaml", "placement_cells.csv"}) {
     EXPECT_FALSE(slurp(d / "one" / f).empty()) << f;
     EXPECT_EQ(slurp(d / "one" / f), slurp(d / "two" / f)) << f;
+  }
+  // The worst-bound objective gathers each pass's information matrices too.
+  std::ofstream(d / "robot.yaml") << "robot_mounts:\n  - {name: r, height_m: [1.2, 1.68], yaw_deg: [-90, 90]}\n";
+  const std::string bound_args = "place " + kScenes + "paper_warehouse.yaml --tags --candidates " +
+                                 (d / "robot.yaml").string() + " -k 2 --objective worst-bound --pass-step 0.5 --no-png -q -o ";
+  const auto b1 = run_rfidray(bound_args + (d / "b1").string());
+  ASSERT_EQ(b1.status, 0) << b1.output;
+  const auto b2 = run_rfidray(bound_args + (d / "b2").string(), std::string("ASAN_OPTIONS=detect_leaks=0 ") +
+                                                                    RFIDRAY_MPIRUN + " -n 2 --oversubscribe --allow-run-as-root ");
+  ASSERT_EQ(b2.status, 0) << b2.output;
+  for (const char* f : {"placement.csv", "coverage_vs_k.csv", "placed.yaml", "placement_cells.csv"}) {
+    EXPECT_FALSE(slurp(d / "b1" / f).empty()) << f;
+    EXPECT_EQ(slurp(d / "b1" / f), slurp(d / "b2" / f)) << f;
   }
   fs::remove_all(d);
 #endif
