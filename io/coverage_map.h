@@ -20,7 +20,8 @@
 // adds against free space (the RMS over carriers / ticks), whatever the reader model. NaN marks "no value"
 // (no channel: h = 0; no bound: fixed antenna or a non-identifiable position; a cell within 1 µm of the antenna).
 // Deterministic (no random draws): the same numbers at any thread count and for any split of the cells.
-// Thread-safe for distinct outputs; uses OpenMP inside. Throws InputError on bad options.
+// Thread-safe for distinct outputs; uses OpenMP inside: work items of 256 cells taken in spatial (Morton) order,
+// the channel's own batch loops serial within each thread. Throws InputError on bad options.
 #include <cstddef>
 #include <functional>
 #include <vector>
