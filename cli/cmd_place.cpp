@@ -1,6 +1,7 @@
-// `rfidray place`: choose K antenna poses among candidates to read the most tags (io/placement.h), from the
-// coverage of every candidate over the cells (io/coverage_map.h, sharded over MPI ranks); writes the choice, a
-// coverage-vs-K curve, a map of the chosen placement, and a scenario with the chosen antennas that `simulate` runs.
+// `rfidray place`: choose K antenna poses among candidates to read the most tags (io/placement.h) or to minimise
+// the worst localization bound (io/placement_bound.h), from the coverage of every candidate over the cells
+// (io/coverage_map.h, sharded over MPI ranks); writes the choice, an objective-vs-K curve, a map of the chosen
+// placement, the chosen placement's value per cell, and a scenario with the chosen antennas that `simulate` runs.
 #include <yaml-cpp/yaml.h>
 
 #include <CLI/CLI.hpp>
@@ -8,17 +9,21 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
+#include <optional>
 
 #include "cli/commands.h"
 #include "cli/planning.h"
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "core/units.h"
 #include "io/atomic_file.h"
 #include "io/candidates_yaml.h"
 #include "io/checked_yaml.h"
 #include "io/map_plot.h"
 #include "io/placement.h"
+#include "io/placement_bound.h"
 #include "io/plot.h"
 #include "parallel/ranks.h"
 
@@ -30,6 +35,7 @@ namespace fs = std::filesystem;
 struct PlaceOptions {
   PlanningOptions plan;
   std::string candidates;
+  std::string objective = "coverage";  // coverage | worst-bound
   int k = 3;
   double min_probability = 0.9;
   double exact_limit = 1e6;
@@ -40,6 +46,9 @@ std::string fmt(const char* f, double v) {
   std::snprintf(buf, sizeof buf, f, v);
   return buf;
 }
+
+// A bound (m) for files and messages: empty (or `none`) when it does not exist — never "inf" or "nan".
+std::string bound_text(double v, const char* none = "") { return std::isfinite(v) ? fmt("%.6f", v) : none; }
 
 // Roll, pitch, yaw (deg) of an orientation, R = Rz(yaw)·Ry(pitch)·Rx(roll).
 Vec3 rpy_deg(const Quat& q) {
@@ -53,10 +62,12 @@ Vec3 rpy_deg(const Quat& q) {
   return Vec3(deg(roll), deg(pitch), deg(yaw));
 }
 
-// The scenario file with its antennas replaced by the chosen mounts (each a copy of the template antenna's keys
-// without its place), mesh and antenna-file paths rewritten relative to the output directory.
-void write_placed_scenario(const fs::path& out, const std::string& scenario_file, size_t template_index,
-                           const std::vector<io::CandidateMount>& chosen) {
+// The scenario file with its antennas replaced by the chosen mounts (each a copy of its template antenna's keys
+// without its place: a world pose, or `robot` + `mount` for a robot mount), mesh and antenna-file paths rewritten
+// relative to the output directory.
+void write_placed_scenario(const fs::path& out, const std::string& scenario_file,
+                           const std::vector<size_t>& template_index, const std::vector<io::CandidateMount>& chosen,
+                           const std::vector<std::string>& robot_of) {
   YAML::Node root = io::load_yaml_file(scenario_file, "scenario file");
   const fs::path base = fs::absolute(fs::path(scenario_file)).parent_path();
   const fs::path out_dir = fs::absolute(out).parent_path();
@@ -67,10 +78,11 @@ void write_placed_scenario(const fs::path& out, const std::string& scenario_file
   };
   if (root["scene"] && root["scene"]["meshes"])
     for (YAML::Node m : root["scene"]["meshes"]) rebase(m["file"]);
-  const YAML::Node tmpl = root["antennas"][template_index];
+  const YAML::Node originals = YAML::Clone(root["antennas"]);
   YAML::Node antennas(YAML::NodeType::Sequence);
-  for (const io::CandidateMount& c : chosen) {
-    YAML::Node a = YAML::Clone(tmpl);
+  for (size_t i = 0; i < chosen.size(); ++i) {
+    const io::CandidateMount& c = chosen[i];
+    YAML::Node a = YAML::Clone(originals[template_index[i]]);
     for (const char* k : {"robot", "mount", "waypoints", "speed_m_s", "mast", "position", "rpy_deg", "yaw_deg",
                           "quaternion", "start_s"})
       a.remove(k);
@@ -80,9 +92,19 @@ void write_placed_scenario(const fs::path& out, const std::string& scenario_file
     pos.SetStyle(YAML::EmitterStyle::Flow);
     rpy.SetStyle(YAML::EmitterStyle::Flow);
     const Vec3 r = rpy_deg(c.pose.orientation);
-    for (int k = 0; k < 3; ++k) pos.push_back(c.pose.position[k]), rpy.push_back(r[k]);
-    a["position"] = pos;
-    a["rpy_deg"] = rpy;
+    // 10 significant digits: 1.68, not 1.6799999999999999; −90, not −89.999999999999986.
+    for (int k = 0; k < 3; ++k) pos.push_back(fmt("%.10g", c.pose.position[k] + 0.0)), rpy.push_back(fmt("%.10g", r[k] + 0.0));
+    if (c.on_robot) {
+      YAML::Node mount(YAML::NodeType::Map);
+      mount.SetStyle(YAML::EmitterStyle::Flow);
+      mount["position"] = pos;
+      mount["rpy_deg"] = rpy;
+      a["robot"] = robot_of[i];
+      a["mount"] = mount;
+    } else {
+      a["position"] = pos;
+      a["rpy_deg"] = rpy;
+    }
     antennas.push_back(a);
   }
   root["antennas"] = antennas;
@@ -95,126 +117,279 @@ void write_placed_scenario(const fs::path& out, const std::string& scenario_file
   }, "placed scenario");
 }
 
+// The scenario antenna a candidate copies, and for a robot mount its robot (InputError naming the file).
+struct Template {
+  size_t antenna = 0;
+  std::string robot;
+};
+
+Template resolve_template(const Scenario& sc, const std::string& source, const std::string& file,
+                          const io::CandidateFile& cand, const io::CandidateMount& m) {
+  auto named = [&](const std::string& name, const std::string& field) {
+    for (size_t a = 0; a < sc.antennas.size(); ++a)
+      if (sc.antennas[a].reader.name == name) return a;
+    throw InputError(file + ": field '" + field + "': no antenna '" + name + "' in " + source);
+  };
+  Template t;
+  if (m.on_robot) {
+    std::string known;
+    for (const RobotSpec& r : sc.robots) known += (known.empty() ? "" : ", ") + r.name;
+    if (m.robot.empty()) {
+      if (sc.robots.size() != 1)
+        throw InputError(file + ": robot mount '" + m.name + "': give robot: NAME (" + source + " has " +
+                         (sc.robots.empty() ? std::string("no robot") : "robots " + known) + ")");
+      t.robot = sc.robots.front().name;
+    } else {
+      t.robot = m.robot;
+      if (std::none_of(sc.robots.begin(), sc.robots.end(), [&](const RobotSpec& r) { return r.name == m.robot; }))
+        throw InputError(file + ": robot mount '" + m.name + "': no robot '" + m.robot + "' in " + source +
+                         " (robots: " + (known.empty() ? "none" : known) + ")");
+    }
+    if (!m.template_antenna.empty()) return t.antenna = named(m.template_antenna, "robot_mounts: template"), t;
+    for (size_t a = 0; a < sc.antennas.size(); ++a)
+      if (sc.antennas[a].motion.kind == MotionSpec::Kind::kRobot && sc.antennas[a].motion.robot == t.robot)
+        return t.antenna = a, t;
+  }
+  if (!cand.template_antenna.empty()) return t.antenna = named(cand.template_antenna, "template"), t;
+  // The first fixed antenna, else the first.
+  for (size_t a = 0; a < sc.antennas.size(); ++a)
+    if (sc.antennas[a].motion.kind == MotionSpec::Kind::kFixed && !sc.antennas[a].motion.mast) return t.antenna = a, t;
+  return t;
+}
+
 int run_place(const PlaceOptions& o) {
   const parallel::Ranks& ranks = parallel::Ranks::world();
   if (o.candidates.empty()) throw InputError("option --candidates: a candidates YAML file is required");
   if (!(o.min_probability > 0.0 && o.min_probability <= 1.0))
     throw InputError("option --min-probability: must be in (0, 1]");
+  if (o.objective != "coverage" && o.objective != "worst-bound")
+    throw InputError("option --objective: expected coverage or worst-bound (got '" + clip(o.objective) + "')");
+  const bool by_bound = o.objective == "worst-bound";
   Planning p = prepare_planning(o.plan);
   const io::CandidateFile cand = io::load_candidates(o.candidates);
   if (o.k < 1 || static_cast<size_t>(o.k) > cand.mounts.size())
     throw InputError("option -k: must be in [1, " + std::to_string(cand.mounts.size()) + "] (the number of candidates)");
-  // The template: named, else the first fixed antenna, else the first.
-  size_t tmpl = p.scenario.antennas.size();
-  for (size_t a = 0; a < p.scenario.antennas.size(); ++a) {
-    const AntennaSpec& s = p.scenario.antennas[a];
-    if (cand.template_antenna.empty() ? s.motion.kind == MotionSpec::Kind::kFixed && !s.motion.mast
-                                      : s.reader.name == cand.template_antenna) {
-      tmpl = a;
-      break;
-    }
-  }
-  if (tmpl == p.scenario.antennas.size()) {
-    if (!cand.template_antenna.empty())
-      throw InputError(o.candidates + ": field 'template': no antenna '" + cand.template_antenna + "' in " + p.source);
-    tmpl = 0;
-  }
-  const size_t first = p.scenario.antennas.size();
-  std::vector<size_t> indices;
+  if (p.scenario.antennas.empty())
+    throw InputError(p.source + ": no antenna to take the candidates' radio keys from (add one as a template)");
+  std::vector<size_t> template_of, indices;
+  std::vector<std::string> robot_of;
+  bool any_on_robot = false;
   for (const io::CandidateMount& m : cand.mounts) {
-    AntennaSpec a = p.scenario.antennas[tmpl];
+    const Template t = resolve_template(p.scenario, p.source, o.candidates, cand, m);
+    AntennaSpec a = p.scenario.antennas[t.antenna];
     a.reader.name = m.name;
     a.motion = MotionSpec{};
     a.motion.pose = m.pose;
-    a.start_s = 0.0;
+    if (m.on_robot) {
+      // Over the robot's whole pass, reading from when the template antenna starts to.
+      a.motion.kind = MotionSpec::Kind::kRobot;
+      a.motion.robot = t.robot;
+      any_on_robot = true;
+    } else {
+      a.start_s = 0.0;
+    }
+    template_of.push_back(t.antenna);
+    robot_of.push_back(t.robot);
     indices.push_back(p.scenario.antennas.size());
     p.scenario.antennas.push_back(std::move(a));
   }
+  if (by_bound && !any_on_robot)
+    throw InputError("option --objective worst-bound: " + o.candidates +
+                     " has no robot_mounts; a fixed antenna fixes no position from its phase (one offset per carrier), "
+                     "so only antennas that move over a pass have a localization bound");
   p.motion = build_motion(p.scenario);
+  const size_t n_c = cand.mounts.size(), n_t = p.cells.size();
+  // The passes' informations: for the objective, and for the joint bound of the choice whenever some candidate
+  // moves. Per candidate and cell in flight: 4 values (+ 6 of information), three copies (local, gathered,
+  // unpacked).
+  const bool with_info = by_bound || any_on_robot;
+  check_memory_estimate(double(n_c) * double(n_t) * (with_info ? 10.0 : 4.0) * 8.0 * 3.0,
+                        "place: " + std::to_string(n_c) + " candidates x " + std::to_string(n_t) + " cells",
+                        with_info ? "240 bytes per candidate and cell" : "96 bytes per candidate and cell");
   const fs::path dir(o.plan.output_dir);
   if (ranks.root()) make_output_dir(o.plan.output_dir);
-  const std::vector<io::CoverageValues> values = sharded_coverage(p, indices, o.plan, "place");
+  const std::vector<io::CoverageValues> values = sharded_coverage(p, indices, o.plan, "place", with_info);
   if (!ranks.root()) return 0;
 
-  const size_t n_c = cand.mounts.size(), n_t = p.cells.size();
+  const size_t k = static_cast<size_t>(o.k);
   io::CoverSets sets(n_c, n_t);
   for (size_t c = 0; c < n_c; ++c)
     for (size_t t = 0; t < n_t; ++t)
       if (values[c].read_probability[t] >= o.min_probability) sets.set(c, t);
-  const size_t k = static_cast<size_t>(o.k);
-  const io::Placement best = io::place_antennas(sets, k, o.exact_limit);
-  // The curve: greedy alone and greedy + swaps for every K' ≤ K.
-  io::Series greedy{"greedy", {}, {}, "linespoints"}, refined{"chosen (greedy + swaps, exact when few subsets)", {}, {}, "linespoints"};
-  for (size_t kk = 1; kk <= k; ++kk) {
-    const io::Placement pk = kk == k ? best : io::place_antennas(sets, kk, o.exact_limit);
-    greedy.x.push_back(double(kk)), greedy.y.push_back(100.0 * double(best.greedy_curve[kk - 1]) / double(n_t));
-    refined.x.push_back(double(kk)), refined.y.push_back(100.0 * double(pk.covered) / double(n_t));
+  std::optional<io::InformationSets> info;
+  if (with_info) {
+    info.emplace(n_c, n_t, !o.plan.three_d);
+    for (size_t c = 0; c < n_c; ++c) std::copy(values[c].information.begin(), values[c].information.end(), info->at(c, 0));
   }
 
-  std::vector<io::CandidateMount> chosen;
-  for (size_t c : best.chosen) chosen.push_back(cand.mounts[c]);
+  // The choice, and the curve: greedy alone and the final choice for every K' ≤ K.
+  std::vector<size_t> chosen;
+  io::Placement best_cover;
+  io::BoundPlacement best_bound;
+  std::vector<io::BoundScore> refined_bound;
+  std::vector<size_t> refined_cover;
+  if (by_bound) {
+    best_bound = io::place_min_worst_bound(*info, k, o.exact_limit);
+    for (size_t kk = 1; kk <= k; ++kk)
+      refined_bound.push_back(kk == k ? best_bound.score : io::place_min_worst_bound(*info, kk, o.exact_limit).score);
+    chosen = best_bound.chosen;
+  } else {
+    best_cover = io::place_antennas(sets, k, o.exact_limit);
+    for (size_t kk = 1; kk <= k; ++kk)
+      refined_cover.push_back(kk == k ? best_cover.covered : io::place_antennas(sets, kk, o.exact_limit).covered);
+    chosen = best_cover.chosen;
+  }
+  const bool exact = by_bound ? best_bound.exact : best_cover.exact;
+
+  // The chosen placement per cell: the best read probability of its antennas, their joint bound.
+  std::vector<double> best_p(n_t, 0.0);
+  for (size_t c : chosen)
+    for (size_t t = 0; t < n_t; ++t)
+      if (std::isfinite(values[c].read_probability[t])) best_p[t] = std::max(best_p[t], values[c].read_probability[t]);
+  std::vector<double> joint_bound(n_t, std::numeric_limits<double>::quiet_NaN());
+  if (info) joint_bound = info->bounds_m(chosen);
+  const bool has_bound = std::any_of(joint_bound.begin(), joint_bound.end(), [](double b) { return std::isfinite(b); });
+
+  std::vector<io::CandidateMount> mounts;
+  std::vector<size_t> chosen_templates;
+  std::vector<std::string> chosen_robots;
+  for (size_t c : chosen) mounts.push_back(cand.mounts[c]), chosen_templates.push_back(template_of[c]),
+                          chosen_robots.push_back(robot_of[c]);
   io::write_file_atomic(dir / "placement.csv", [&](std::ostream& s) {
-    s << "rank,candidate,name,x,y,z,roll_deg,pitch_deg,yaw_deg,tags_read\n";
-    for (size_t i = 0; i < best.chosen.size(); ++i) {
-      const io::CandidateMount& m = cand.mounts[best.chosen[i]];
+    s << "rank,candidate,name,x,y,z,roll_deg,pitch_deg,yaw_deg,tags_read,tags_localized,worst_bound_m,mounted_on\n";
+    for (size_t i = 0; i < chosen.size(); ++i) {
+      const size_t c = chosen[i];
+      const io::CandidateMount& m = cand.mounts[c];
       const Vec3 r = rpy_deg(m.pose.orientation);
-      size_t alone = 0;
-      for (size_t t = 0; t < n_t; ++t) alone += sets.covers(best.chosen[i], t);
-      s << i + 1 << ',' << best.chosen[i] << ',' << m.name << ',' << fmt("%.4f", m.pose.position.x()) << ','
+      size_t alone = 0, localized = 0;
+      double worst = -1.0;
+      for (size_t t = 0; t < n_t; ++t) {
+        alone += sets.covers(c, t);
+        const double b = values[c].localization_bound_m[t];
+        if (std::isfinite(b)) ++localized, worst = std::max(worst, b);
+      }
+      s << i + 1 << ',' << c << ',' << m.name << ',' << fmt("%.4f", m.pose.position.x()) << ','
         << fmt("%.4f", m.pose.position.y()) << ',' << fmt("%.4f", m.pose.position.z()) << ',' << fmt("%.3f", r.x())
-        << ',' << fmt("%.3f", r.y()) << ',' << fmt("%.3f", r.z()) << ',' << alone << '\n';
+        << ',' << fmt("%.3f", r.y()) << ',' << fmt("%.3f", r.z()) << ',' << alone << ',' << localized << ','
+        << (localized ? bound_text(worst) : "") << ',' << (m.on_robot ? robot_of[c] : "world") << '\n';
     }
   }, "placement CSV");
   io::write_file_atomic(dir / "coverage_vs_k.csv", [&](std::ostream& s) {
-    s << "k,greedy_covered,refined_covered,tags\n";
-    for (size_t i = 0; i < k; ++i)
-      s << i + 1 << ',' << best.greedy_curve[i] << ',' << fmt("%.0f", refined.y[i] * double(n_t) / 100.0) << ',' << n_t
-        << '\n';
+    if (by_bound) {
+      s << "k,greedy_localized,greedy_worst_bound_m,localized,worst_bound_m,cells\n";
+      for (size_t i = 0; i < k; ++i)
+        s << i + 1 << ',' << best_bound.greedy_curve[i].localized << ',' << bound_text(best_bound.greedy_curve[i].worst_m)
+          << ',' << refined_bound[i].localized << ',' << bound_text(refined_bound[i].worst_m) << ',' << n_t << '\n';
+    } else {
+      s << "k,greedy_covered,refined_covered,tags\n";
+      for (size_t i = 0; i < k; ++i)
+        s << i + 1 << ',' << best_cover.greedy_curve[i] << ',' << refined_cover[i] << ',' << n_t << '\n';
+    }
   }, "coverage-vs-K CSV");
+  io::write_file_atomic(dir / "placement_cells.csv", [&](std::ostream& s) {
+    s << "x,y,z,read_probability,localization_bound_m\n";
+    for (size_t t = 0; t < n_t; ++t) {
+      const Vec3& q = p.cells.poses[t].position;
+      s << fmt("%.4f", q.x()) << ',' << fmt("%.4f", q.y()) << ',' << fmt("%.4f", q.z()) << ',' << fmt("%.6f", best_p[t])
+        << ',' << bound_text(joint_bound[t]) << '\n';
+    }
+  }, "placement cells CSV");
+
   std::vector<std::string> pngs;
   if (!o.plan.no_png) {
-    io::Panel panel{"tags read with p >= " + fmt("%.2f", o.min_probability) + " by K antennas (" +
-                        std::to_string(n_c) + " candidates, " + std::to_string(n_t) + " cells)",
-                    "K (antennas)", "cells covered (%)", {greedy, refined}};
+    const std::string chosen_label = exact ? "chosen (optimal: every K-subset tried)" : "chosen (greedy + swaps)";
+    io::Panel panel;
+    if (by_bound) {
+      // Worst bound vs K, each point labelled with the cells it localizes (the first criterion).
+      io::Series g{"greedy", {}, {}, "linespoints"}, r{chosen_label, {}, {}, "linespoints"};
+      for (size_t i = 0; i < k; ++i) {
+        const auto add = [&](io::Series& s, const io::BoundScore& b) {
+          if (!std::isfinite(b.worst_m)) return;
+          s.x.push_back(double(i + 1)), s.y.push_back(b.worst_m);
+          s.labels.push_back(std::to_string(b.localized) + "/" + std::to_string(n_t));
+        };
+        add(g, best_bound.greedy_curve[i]);
+        add(r, refined_bound[i]);
+      }
+      panel = io::Panel{"worst localization bound by K antennas (" + std::to_string(n_c) +
+                            " candidates; labels: cells localized)",
+                        "K (antennas)", "worst bound (m, Cramer-Rao RMS)", {g, r}};
+      panel.log_y = true;
+    } else {
+      io::Series g{"greedy", {}, {}, "linespoints"}, r{chosen_label, {}, {}, "linespoints"};
+      for (size_t i = 0; i < k; ++i) {
+        g.x.push_back(double(i + 1)), g.y.push_back(100.0 * double(best_cover.greedy_curve[i]) / double(n_t));
+        r.x.push_back(double(i + 1)), r.y.push_back(100.0 * double(refined_cover[i]) / double(n_t));
+      }
+      panel = io::Panel{"tags read with p >= " + fmt("%.2f", o.min_probability) + " by K antennas (" +
+                            std::to_string(n_c) + " candidates, " + std::to_string(n_t) + " cells)",
+                        "K (antennas)", "cells covered (%)", {g, r}};
+    }
     io::write_png(dir / "coverage_vs_k.png", {panel}, 900, 420);
     pngs.push_back((dir / "coverage_vs_k.png").string());
     if (p.grid || o.plan.box.empty()) {
-      // Best read probability over the chosen antennas.
-      std::vector<double> best_p(n_t, 0.0);
-      for (size_t c : best.chosen)
-        for (size_t t = 0; t < n_t; ++t)
-          if (std::isfinite(values[c].read_probability[t])) best_p[t] = std::max(best_p[t], values[c].read_probability[t]);
       std::vector<size_t> chosen_idx;
-      for (size_t c : best.chosen) chosen_idx.push_back(indices[c]);
-      io::FloorMap m = floor_map(p, chosen_idx, best_p,
-                                 std::to_string(k) + " antennas placed: best read probability (" +
-                                     std::to_string(best.covered) + " of " + std::to_string(n_t) + " cells >= " +
-                                     fmt("%.2f", o.min_probability) + ")",
-                                 "read probability (best antenna)", o.plan.view);
-      m.range = std::make_pair(0.0, 1.0);
+      for (size_t c : chosen) chosen_idx.push_back(indices[c]);
+      io::FloorMap m;
+      if (by_bound) {
+        m = floor_map(p, chosen_idx, joint_bound,
+                      std::to_string(k) + " antennas placed: joint localization bound (" +
+                          std::to_string(best_bound.score.localized) + " of " + std::to_string(n_t) +
+                          " cells localized, worst " + bound_text(best_bound.score.worst_m, "none") + " m)",
+                      "localization bound (m, Cramer-Rao RMS)", o.plan.view);
+        m.reversed_palette = true;
+        m.log_scale = true;
+      } else {
+        m = floor_map(p, chosen_idx, best_p,
+                      std::to_string(k) + " antennas placed: best read probability (" +
+                          std::to_string(best_cover.covered) + " of " + std::to_string(n_t) + " cells >= " +
+                          fmt("%.2f", o.min_probability) + ")",
+                      "read probability (best antenna)", o.plan.view);
+        m.range = std::make_pair(0.0, 1.0);
+      }
       io::write_map_png(dir / "placement.png", m);
       pngs.push_back((dir / "placement.png").string());
     }
   }
   if (o.plan.world.file.empty())
-    write_placed_scenario(dir / "placed.yaml", o.plan.scenario, tmpl, chosen);
-  (void)first;
+    write_placed_scenario(dir / "placed.yaml", o.plan.scenario, chosen_templates, mounts, chosen_robots);
   if (o.plan.quiet) return 0;
-  std::printf("rfidray place %s: %zu candidates, %zu cells, K = %zu, p >= %.2f; channel %s; %d rank%s\n",
-              p.source.c_str(), n_c, n_t, k, o.min_probability, p.channel->name().c_str(), ranks.size(),
-              ranks.size() == 1 ? "" : "s");
-  std::printf("  greedy: %zu cells; after %zu swap%s: %zu cells", best.greedy_curve.back(), best.swaps,
-              best.swaps == 1 ? "" : "s", best.heuristic_covered);
-  if (best.exact)
-    std::printf("; exhaustive over all %.0f subsets: %zu cells (optimal)", io::subset_count(n_c, k), best.covered);
-  std::printf(" = %.1f %%\n", 100.0 * double(best.covered) / double(n_t));
-  for (size_t c : best.chosen) {
-    const Vec3 r = rpy_deg(cand.mounts[c].pose.orientation);
-    std::printf("  %s at (%.2f, %.2f, %.2f), rpy (%.0f, %.0f, %.0f) deg\n", cand.mounts[c].name.c_str(),
-                cand.mounts[c].pose.position.x(), cand.mounts[c].pose.position.y(), cand.mounts[c].pose.position.z(),
-                r.x(), r.y(), r.z());
+  std::printf("rfidray place %s: %zu candidates, %zu cells, K = %zu, objective %s; channel %s; %d rank%s\n",
+              p.source.c_str(), n_c, n_t, k,
+              by_bound ? "worst-bound (min-max: not submodular, no 1-1/e guarantee)"
+                       : ("coverage (p >= " + fmt("%.2f", o.min_probability) + ")").c_str(),
+              p.channel->name().c_str(), ranks.size(), ranks.size() == 1 ? "" : "s");
+  if (by_bound) {
+    auto score = [&](const io::BoundScore& b) {
+      return std::to_string(b.localized) + " of " + std::to_string(n_t) + " cells localized, worst bound " +
+             bound_text(b.worst_m, "none") + (std::isfinite(b.worst_m) ? " m" : "");
+    };
+    std::printf("  greedy: %s; after %zu swap%s: %s", score(best_bound.greedy_curve.back()).c_str(), best_bound.swaps,
+                best_bound.swaps == 1 ? "" : "s", score(best_bound.heuristic).c_str());
+    if (exact)
+      std::printf("; exhaustive over all %.0f subsets: %s (optimal)", io::subset_count(n_c, k),
+                  score(best_bound.score).c_str());
+    std::printf("\n");
+  } else {
+    std::printf("  greedy: %zu cells; after %zu swap%s: %zu cells", best_cover.greedy_curve.back(), best_cover.swaps,
+                best_cover.swaps == 1 ? "" : "s", best_cover.heuristic_covered);
+    if (exact)
+      std::printf("; exhaustive over all %.0f subsets: %zu cells (optimal)", io::subset_count(n_c, k), best_cover.covered);
+    std::printf(" = %.1f %%\n", 100.0 * double(best_cover.covered) / double(n_t));
   }
-  std::printf("  -> %s, %s%s\n", (dir / "placement.csv").string().c_str(), (dir / "coverage_vs_k.csv").string().c_str(),
+  for (size_t c : chosen) {
+    const io::CandidateMount& m = cand.mounts[c];
+    const Vec3 r = rpy_deg(m.pose.orientation);
+    if (m.on_robot)
+      std::printf("  %s on robot %s at (%.2f, %.2f, %.2f) in its frame, rpy (%.0f, %.0f, %.0f) deg\n", m.name.c_str(),
+                  robot_of[c].c_str(), m.pose.position.x(), m.pose.position.y(), m.pose.position.z(), r.x(), r.y(), r.z());
+    else
+      std::printf("  %s at (%.2f, %.2f, %.2f), rpy (%.0f, %.0f, %.0f) deg\n", m.name.c_str(), m.pose.position.x(),
+                  m.pose.position.y(), m.pose.position.z(), r.x(), r.y(), r.z());
+  }
+  if (has_bound && !by_bound) std::printf("  (the chosen antennas' joint localization bound per cell in placement_cells.csv)\n");
+  std::printf("  -> %s, %s, %s%s\n", (dir / "placement.csv").string().c_str(), (dir / "coverage_vs_k.csv").string().c_str(),
+              (dir / "placement_cells.csv").string().c_str(),
               o.plan.world.file.empty() ? (", " + (dir / "placed.yaml").string()).c_str() : "");
   for (const std::string& png : pngs) std::printf("  -> %s\n", png.c_str());
   return 0;
@@ -226,16 +401,24 @@ std::function<int()> setup_place(CLI::App& app) {
   auto o = std::make_shared<PlaceOptions>();
   CLI::App* cmd = app.add_subcommand("place", "Choose K antenna poses among candidates to read the most tags");
   cmd->footer(
-      "Every candidate (a copy of the template antenna at a mount of --candidates, io/candidates_yaml.h) is\n"
-      "mapped over the cells as `rfidray coverage` does; a cell counts as covered when some chosen antenna reads\n"
-      "it with probability >= --min-probability. Greedy selection (within 1 - 1/e of optimal), then swaps while\n"
-      "they cover more; when C(candidates, K) <= --exact-limit, every K-subset (optimal). Output in DIR: placement.csv, coverage_vs_k.csv/.png, placement.png (best read\n"
-      "probability of the chosen antennas), placed.yaml (the scenario with the chosen antennas: `rfidray\n"
-      "simulate DIR/placed.yaml`). Scale out: mpirun -n N rfidray place ...");
+      "Every candidate (a copy of a template antenna at a mount of --candidates, io/candidates_yaml.h: fixed\n"
+      "mounts, grids, or robot_mounts evaluated over the robot's whole pass) is mapped over the cells as\n"
+      "`rfidray coverage` does. --objective coverage (default): a cell counts as covered when some chosen antenna\n"
+      "reads it with probability >= --min-probability; greedy (within 1 - 1/e of optimal), then swaps while they\n"
+      "cover more. --objective worst-bound: the chosen antennas' Cramer-Rao informations add; first the most cells\n"
+      "with a finite bound, then the smallest worst bound (min-max, not submodular: greedy + swaps carry no\n"
+      "guarantee). Either way, when C(candidates, K) <= --exact-limit, every K-subset is tried (optimal).\n"
+      "Output in DIR: placement.csv, coverage_vs_k.csv/.png, placement_cells.csv (the choice per cell),\n"
+      "placement.png, placed.yaml (the scenario with the chosen antennas: `rfidray simulate DIR/placed.yaml`).\n"
+      "Scale out: mpirun -n N rfidray place ...");
   add_planning_options(*cmd, o->plan);
-  cmd->add_option("--candidates", o->candidates, "candidate mounts (YAML: template, mounts, grids)")->required();
+  cmd->add_option("--candidates", o->candidates, "candidate mounts (YAML: template, mounts, grids, robot_mounts)")->required();
   cmd->add_option("-k,--count", o->k, "number of antennas to place");
-  cmd->add_option("--min-probability", o->min_probability, "a cell is covered when read with at least this probability");
+  cmd->add_option("--objective", o->objective,
+                  "coverage: the most cells read with p >= --min-probability; worst-bound: the most cells localized, "
+                  "then the smallest worst localization bound (robot_mounts)");
+  cmd->add_option("--min-probability", o->min_probability,
+                  "objective coverage: a cell is covered when read with at least this probability");
   cmd->add_option("--exact-limit", o->exact_limit,
                   "try every K-subset when there are at most this many (then the choice is optimal; 0: never)");
   cmd->add_option("-o,--output", o->plan.output_dir, "output directory (default out/place)");

@@ -191,7 +191,8 @@ Planning prepare_planning(const PlanningOptions& o) {
 }
 
 std::vector<io::CoverageValues> sharded_coverage(const Planning& p, const std::vector<size_t>& antennas,
-                                                 const PlanningOptions& o, const std::string& label) {
+                                                 const PlanningOptions& o, const std::string& label,
+                                                 bool information) {
   const parallel::Ranks& ranks = parallel::Ranks::world();
   const auto [first, count] = ranks.share(p.cells.size());
   const io::CoverageCells mine = p.cells.slice(first, count);
@@ -199,13 +200,15 @@ std::vector<io::CoverageValues> sharded_coverage(const Planning& p, const std::v
   opt.pass_step_s = o.pass_step_s;
   opt.height_known = !o.three_d;
   opt.threads = o.threads;
+  opt.information = information;
   size_t work = 0;
   for (size_t a : antennas) work += io::coverage_work(p.scenario, p.motion, a, mine.size(), opt);
   ProgressLine progress(label, work, "links", ranks.root() && ProgressLine::enabled_for(o.quiet, o.progress));
   opt.progress = [&](size_t n) { progress.advance(n); };
   const bool same = p.scenario.channel == ChannelLevel::kIdeal;
-  // Per cell, per antenna: 4 values (the gather's item is a cell, so shares concatenate in cell order).
-  constexpr size_t kValues = 4;
+  // Per cell, per antenna: 4 values [+ 6 of information] (the gather's item is a cell, so shares concatenate in
+  // cell order).
+  const size_t kValues = information ? 10 : 4;
   std::vector<double> local;
   try {
     std::vector<io::CoverageValues> v;
@@ -217,6 +220,7 @@ std::vector<io::CoverageValues> sharded_coverage(const Planning& p, const std::v
         double* d = &local[(i * antennas.size() + k) * kValues];
         d[0] = v[k].read_probability[i], d[1] = v[k].rssi_dbm[i], d[2] = v[k].phase_error_rad[i],
         d[3] = v[k].localization_bound_m[i];
+        if (information) std::copy_n(&v[k].information[6 * i], 6, d + 4);
       }
   } catch (...) {
     (void)ranks.all_ok(false);  // the other ranks learn of it and stop too
@@ -228,12 +232,13 @@ std::vector<io::CoverageValues> sharded_coverage(const Planning& p, const std::v
   std::vector<io::CoverageValues> out;
   if (!ranks.root()) return out;
   out.resize(antennas.size());
-  for (auto& v : out) v.resize(p.cells.size());
+  for (auto& v : out) v.resize(p.cells.size(), information);
   for (size_t i = 0; i < p.cells.size(); ++i)
     for (size_t k = 0; k < antennas.size(); ++k) {
       const double* d = &all[(i * antennas.size() + k) * kValues];
       out[k].read_probability[i] = d[0], out[k].rssi_dbm[i] = d[1], out[k].phase_error_rad[i] = d[2],
       out[k].localization_bound_m[i] = d[3];
+      if (information) std::copy_n(d + 4, 6, &out[k].information[6 * i]);
     }
   return out;
 }

@@ -75,8 +75,52 @@ CandidateFile load_candidates(const std::string& path) {
         }
     }
   }
+  if (auto robots = top.get("robot_mounts")) {
+    if (!robots->IsSequence()) throw src.error(*robots, "robot_mounts", "must be a list");
+    for (size_t i = 0; i < robots->size(); ++i) {
+      const std::string field = "robot_mounts[" + std::to_string(i) + "]";
+      YamlMap m(src, (*robots)[i], field);
+      const std::string name = m.string("name", "r" + std::to_string(i));
+      const std::string robot = m.string("robot", "");
+      const std::string tmpl = m.string("template", "");
+      auto list = [&](const char* key, std::vector<double> fallback) {
+        const auto n = m.get(key);
+        if (!n) return fallback;
+        std::vector<double> v = n->IsSequence() ? src.numbers(*n, m.field(key))
+                                                : std::vector<double>{src.number(*n, m.field(key))};
+        if (v.empty()) throw src.error(*n, m.field(key), "must not be empty");
+        return v;
+      };
+      const auto height_node = m.required("height_m");
+      const std::vector<double> heights = list("height_m", {});
+      for (double h : heights)
+        if (!(h >= 0.0 && h <= 1e3)) throw src.error(height_node, m.field("height_m"), "heights must be in [0, 1000] m");
+      const std::vector<double> yaws = list("yaw_deg", {0.0}), pitches = list("pitch_deg", {0.0});
+      double offset[2] = {0.0, 0.0};
+      if (auto o = m.get("offset_m")) {
+        const std::vector<double> v = src.numbers(*o, m.field("offset_m"));
+        if (v.size() != 2) throw src.error(*o, m.field("offset_m"), "expected [x, y] (m)");
+        offset[0] = v[0], offset[1] = v[1];
+      }
+      m.finish();
+      const double combos = double(heights.size()) * double(yaws.size()) * double(pitches.size());
+      if (double(out.mounts.size()) + combos > double(kMaxCandidates))
+        throw src.error((*robots)[i], field, "more than " + std::to_string(kMaxCandidates) + " candidates");
+      for (size_t h = 0; h < heights.size(); ++h)
+        for (size_t y = 0; y < yaws.size(); ++y)
+          for (size_t p = 0; p < pitches.size(); ++p) {
+            CandidateMount c;
+            c.name = name + "_" + std::to_string(h) + "_" + std::to_string(y) + "_" + std::to_string(p);
+            c.pose = Pose{Vec3(offset[0], offset[1], heights[h]), rpy(0, pitches[p], yaws[y])};
+            c.on_robot = true;
+            c.robot = robot;
+            c.template_antenna = tmpl;
+            out.mounts.push_back(std::move(c));
+          }
+    }
+  }
   top.finish();
-  if (out.mounts.empty()) throw InputError(path + ": no candidates (give mounts and/or grids)");
+  if (out.mounts.empty()) throw InputError(path + ": no candidates (give mounts, grids and/or robot_mounts)");
   return out;
 }
 

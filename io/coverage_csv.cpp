@@ -1,27 +1,30 @@
 #include "io/coverage_csv.h"
 
+#include <charconv>
 #include <cmath>
-#include <cstdio>
 
 namespace rfidray::io {
 namespace {
 
-void field(std::string& line, const char* format, double v) {
+// Fixed notation with `precision` decimals: std::to_chars rounds as printf's %.Nf does (the C++17 contract), a
+// few times faster than snprintf, which matters for maps of 10⁶ cells.
+void field(std::string& line, int precision, double v) {
   line += ',';
   if (!std::isfinite(v)) return;
-  char buf[48];
-  std::snprintf(buf, sizeof buf, format, v);
+  char buf[352];  // the longest fixed double (309 digits) with its decimals
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, precision);
+  if (ec != std::errc()) return;
   // "-0.000…" would differ from "0.000…" for the same cell on another path: print zeros unsigned.
   if (buf[0] == '-') {
     bool zero = true;
-    for (const char* c = buf + 1; *c; ++c)
+    for (const char* c = buf + 1; c != end; ++c)
       if (*c != '0' && *c != '.') zero = false;
     if (zero) {
-      line += buf + 1;
+      line.append(buf + 1, end);
       return;
     }
   }
-  line += buf;
+  line.append(buf, end);
 }
 
 }  // namespace
@@ -35,13 +38,13 @@ void write_coverage_csv(std::ostream& out, const std::vector<std::string>& anten
     for (size_t i = 0; i < cells.size(); ++i) {
       line = antenna_names[a];
       const Vec3& p = cells.poses[i].position;
-      field(line, "%.4f", p.x());
-      field(line, "%.4f", p.y());
-      field(line, "%.4f", p.z());
-      field(line, "%.6f", v.read_probability[i]);
-      field(line, "%.3f", v.rssi_dbm[i]);
-      field(line, "%.5f", v.phase_error_rad[i]);
-      field(line, "%.6f", v.localization_bound_m[i]);
+      field(line, 4, p.x());
+      field(line, 4, p.y());
+      field(line, 4, p.z());
+      field(line, 6, v.read_probability[i]);
+      field(line, 3, v.rssi_dbm[i]);
+      field(line, 5, v.phase_error_rad[i]);
+      field(line, 6, v.localization_bound_m[i]);
       line += '\n';
       out << line;
     }

@@ -13,12 +13,25 @@
 #include "core/read_probability.h"
 #include "core/units.h"
 #include "localization/cramer_rao.h"
+#include "raytrace/morton.h"
 
 namespace rfidray::io {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr size_t kChunk = 256;  // cells per work item
+
+// The cells in spatial (Morton) order, index order on ties: a work item's cells are then a compact patch rather
+// than a strip of a grid row, so its rays run through the same part of the BVH (warm caches). Every cell is
+// computed on its own, so the order changes nothing but speed.
+std::vector<uint32_t> spatial_order(const CoverageCells& cells) {
+  std::vector<std::pair<uint64_t, uint32_t>> keyed(cells.size());
+  for (size_t i = 0; i < cells.size(); ++i) keyed[i] = {morton_key(cells.poses[i].position), static_cast<uint32_t>(i)};
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<uint32_t> order(cells.size());
+  for (size_t i = 0; i < cells.size(); ++i) order[i] = keyed[i].second;
+  return order;
+}
 
 // One antenna pose the coverage is evaluated at.
 struct PassPose {
@@ -92,11 +105,12 @@ CoverageCells CoverageCells::slice(size_t first, size_t count) const {
   return out;
 }
 
-void CoverageValues::resize(size_t n) {
+void CoverageValues::resize(size_t n, bool with_information) {
   read_probability.assign(n, kNaN);
   rssi_dbm.assign(n, kNaN);
   phase_error_rad.assign(n, kNaN);
   localization_bound_m.assign(n, kNaN);
+  information.assign(with_information ? 6 * n : 0, 0.0);
 }
 
 size_t coverage_work(const Scenario& scenario, const SceneMotion& motion, size_t antenna, size_t cells,
@@ -116,92 +130,107 @@ CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, siz
 
   const size_t n = cells.size();
   CoverageValues out;
-  out.resize(n);
+  out.resize(n, options.information);
   const size_t n_chunks = (n + kChunk - 1) / kChunk;
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   std::exception_ptr error;
   std::mutex error_mutex;
 
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (size_t chunk = 0; chunk < n_chunks; ++chunk) {
-    try {
-      const size_t c0 = chunk * kChunk, c1 = std::min(n, c0 + kChunk), m = c1 - c0;
-      std::vector<Endpoint> tags(m);
-      for (size_t i = 0; i < m; ++i) {
-        const TagParams& t = cells.tag(c0 + i);
-        tags[i] = Endpoint{cells.poses[c0 + i], t.pattern, t.polarization};
-      }
-      std::vector<std::complex<double>> h(m), h_ideal(m);
-      std::vector<double> miss_log(m, 0.0), sum_p(m, 0.0), sum_rssi(m, 0.0), w_rssi(m, 0.0), sum_e2(m, 0.0),
-          w_e(m, 0.0);
-      std::vector<char> valid(m, 1), certain(m, 0);
-      std::vector<localization::PhaseFisher> fisher;
-      if (pass.moving)
-        for (size_t i = 0; i < m; ++i) fisher.emplace_back(cells.poses[c0 + i].position);
-      for (const PassPose& pp : pass.poses) {
-        const double f = reader.frequencies_hz[pp.carrier];
-        const double lambda = wavelength_m(f);
-        Endpoint ant = antenna_shape;
-        ant.pose = pp.centre;
-        channel.one_way(ant, tags, f, h);
-        if (!same_channel) ideal.one_way(ant, tags, f, h_ideal);
+  const std::vector<uint32_t> order = spatial_order(cells);
+
+#pragma omp parallel num_threads(threads)
+  {
+    // The cells are the parallel work: the channel's own loops over a batch stay serial in each thread (else
+    // with one thread per process, e.g. MPI ranks × 1 thread, they would start threads of their own).
+    omp_set_num_threads(1);
+#pragma omp for schedule(dynamic, 1)
+    for (size_t chunk = 0; chunk < n_chunks; ++chunk) {
+      try {
+        const size_t c0 = chunk * kChunk, c1 = std::min(n, c0 + kChunk), m = c1 - c0;
+        const uint32_t* cell_of = &order[c0];  // the chunk's i-th cell
+        std::vector<Endpoint> tags(m);
+        for (size_t i = 0; i < m; ++i) {
+          const TagParams& t = cells.tag(cell_of[i]);
+          tags[i] = Endpoint{cells.poses[cell_of[i]], t.pattern, t.polarization};
+        }
+        std::vector<std::complex<double>> h(m), h_ideal(m);
+        std::vector<double> miss_log(m, 0.0), sum_p(m, 0.0), sum_rssi(m, 0.0), w_rssi(m, 0.0), sum_e2(m, 0.0),
+            w_e(m, 0.0);
+        std::vector<char> valid(m, 1), certain(m, 0);
+        std::vector<localization::PhaseFisher> fisher;
+        if (pass.moving)
+          for (size_t i = 0; i < m; ++i) fisher.emplace_back(cells.poses[cell_of[i]].position);
+        for (const PassPose& pp : pass.poses) {
+          const double f = reader.frequencies_hz[pp.carrier];
+          const double lambda = wavelength_m(f);
+          Endpoint ant = antenna_shape;
+          ant.pose = pp.centre;
+          channel.one_way(ant, tags, f, h);
+          if (!same_channel) ideal.one_way(ant, tags, f, h_ideal);
+          for (size_t i = 0; i < m; ++i) {
+            if (!valid[i]) continue;
+            const double d = (tags[i].pose.position - pp.centre.position).norm();
+            if (!(d >= kMinLinkDistance_m)) {
+              valid[i] = 0;
+              continue;
+            }
+            LinkState link;
+            link.distance_m = d;
+            link.frequency_hz = f;
+            link.hop_index = pp.carrier;
+            link.h_one_way = h[i];
+            const double p = read_probability(reader, cells.tag(cell_of[i]), link);
+            const double gain2 = std::norm(h[i]);
+            double rssi = kNaN, p_rx_w = 0.0;
+            if (physical) {
+              if (gain2 > 0.0) {
+                p_rx_w = p_tx_w * reader.modulation_factor * gain2 * gain2;
+                rssi = reader.tx_power_dbm + linear_to_db(reader.modulation_factor) + 2.0 * linear_to_db(gain2);
+              }
+            } else {
+              rssi = 40.0 * std::log10(reader.communication_gain * lambda / (4.0 * kPi * d));
+            }
+            double err = kNaN;
+            if (gain2 > 0.0) {
+              const std::complex<double> hi = same_channel ? h[i] : h_ideal[i];
+              err = std::abs(wrap_to_pi(std::arg(hi * hi) - std::arg(h[i] * h[i])));
+            }
+            // Averages: a fixed antenna over its carriers (weight 1 each); a pass weighted by the expected reads.
+            const double w = pass.moving ? pp.weight * p : 1.0;
+            sum_p[i] += p;
+            if (pass.moving) {
+              if (p >= 1.0)
+                certain[i] = 1;
+              else
+                miss_log[i] += pp.weight * std::log1p(-p);
+            }
+            if (std::isfinite(rssi) && w > 0.0) sum_rssi[i] += w * rssi, w_rssi[i] += w;
+            if (std::isfinite(err) && w > 0.0) sum_e2[i] += w * err * err, w_e[i] += w;
+            if (pass.moving && p > 0.0 && gain2 >= 0.0)
+              fisher[i].add({pp.centre.position, lambda, pp.carrier, pp.weight * p, phase_sigma(reader, p_rx_w)});
+          }
+          if (options.progress) options.progress(m);
+        }
         for (size_t i = 0; i < m; ++i) {
           if (!valid[i]) continue;
-          const double d = (tags[i].pose.position - pp.centre.position).norm();
-          if (!(d >= kMinLinkDistance_m)) {
-            valid[i] = 0;
-            continue;
-          }
-          LinkState link;
-          link.distance_m = d;
-          link.frequency_hz = f;
-          link.hop_index = pp.carrier;
-          link.h_one_way = h[i];
-          const double p = read_probability(reader, cells.tag(c0 + i), link);
-          const double gain2 = std::norm(h[i]);
-          double rssi = kNaN, p_rx_w = 0.0;
-          if (physical) {
-            if (gain2 > 0.0) {
-              p_rx_w = p_tx_w * reader.modulation_factor * gain2 * gain2;
-              rssi = reader.tx_power_dbm + linear_to_db(reader.modulation_factor) + 2.0 * linear_to_db(gain2);
-            }
-          } else {
-            rssi = 40.0 * std::log10(reader.communication_gain * lambda / (4.0 * kPi * d));
-          }
-          double err = kNaN;
-          if (gain2 > 0.0) {
-            const std::complex<double> hi = same_channel ? h[i] : h_ideal[i];
-            err = std::abs(wrap_to_pi(std::arg(hi * hi) - std::arg(h[i] * h[i])));
-          }
-          // Averages: a fixed antenna over its carriers (weight 1 each); a pass weighted by the expected reads.
-          const double w = pass.moving ? pp.weight * p : 1.0;
-          sum_p[i] += p;
+          const size_t k = cell_of[i];
+          out.read_probability[k] =
+              pass.moving ? (certain[i] ? 1.0 : -std::expm1(miss_log[i])) : sum_p[i] / total_carrier_weight;
+          if (w_rssi[i] > 0.0) out.rssi_dbm[k] = sum_rssi[i] / w_rssi[i];
+          if (w_e[i] > 0.0) out.phase_error_rad[k] = std::sqrt(sum_e2[i] / w_e[i]);
           if (pass.moving) {
-            if (p >= 1.0)
-              certain[i] = 1;
-            else
-              miss_log[i] += pp.weight * std::log1p(-p);
+            const Eigen::Matrix3d info = fisher[i].information();
+            if (auto b = localization::position_bound_m(info, options.height_known)) out.localization_bound_m[k] = *b;
+            if (options.information) {
+              const std::array<double, 6> packed = localization::pack_information(info);
+              std::copy(packed.begin(), packed.end(), out.information.begin() + static_cast<std::ptrdiff_t>(6 * k));
+            }
           }
-          if (std::isfinite(rssi) && w > 0.0) sum_rssi[i] += w * rssi, w_rssi[i] += w;
-          if (std::isfinite(err) && w > 0.0) sum_e2[i] += w * err * err, w_e[i] += w;
-          if (pass.moving && p > 0.0 && gain2 >= 0.0)
-            fisher[i].add({pp.centre.position, lambda, pp.carrier, pp.weight * p, phase_sigma(reader, p_rx_w)});
         }
-        if (options.progress) options.progress(m);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
       }
-      for (size_t i = 0; i < m; ++i) {
-        if (!valid[i]) continue;
-        const size_t k = c0 + i;
-        out.read_probability[k] =
-            pass.moving ? (certain[i] ? 1.0 : -std::expm1(miss_log[i])) : sum_p[i] / total_carrier_weight;
-        if (w_rssi[i] > 0.0) out.rssi_dbm[k] = sum_rssi[i] / w_rssi[i];
-        if (w_e[i] > 0.0) out.phase_error_rad[k] = std::sqrt(sum_e2[i] / w_e[i]);
-        if (pass.moving)
-          if (auto b = fisher[i].bound_m(options.height_known)) out.localization_bound_m[k] = *b;
-      }
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(error_mutex);
-      if (!error) error = std::current_exception();
     }
   }
   if (error) std::rethrow_exception(error);

@@ -20,7 +20,8 @@
 // adds against free space (the RMS over carriers / ticks), whatever the reader model. NaN marks "no value"
 // (no channel: h = 0; no bound: fixed antenna or a non-identifiable position; a cell within 1 µm of the antenna).
 // Deterministic (no random draws): the same numbers at any thread count and for any split of the cells.
-// Thread-safe for distinct outputs; uses OpenMP inside. Throws InputError on bad options.
+// Thread-safe for distinct outputs; uses OpenMP inside: work items of 256 cells taken in spatial (Morton) order,
+// the channel's own batch loops serial within each thread. Throws InputError on bad options.
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -48,6 +49,7 @@ struct CoverageOptions {
   double pass_step_s = 0.0;  // moving antennas: evaluate every this many seconds (0: every tick)
   bool height_known = true;  // localization bound in 2-D (x, y), the tag height known; else 3-D
   int threads = 0;           // OpenMP threads (0: default)
+  bool information = false;  // also fill CoverageValues::information (for `place --objective worst-bound`)
   // Called with the number of (cell × pose) link evaluations just finished; from any thread, may be empty.
   std::function<void(size_t)> progress;
 };
@@ -55,7 +57,12 @@ struct CoverageOptions {
 // Values of one antenna, index-aligned with the cells.
 struct CoverageValues {
   std::vector<double> read_probability, rssi_dbm, phase_error_rad, localization_bound_m;
-  void resize(size_t n);
+  // With CoverageOptions::information: 6 numbers per cell, the position information S of the pass packed as
+  // localization::pack_information (m⁻²; zero for a fixed antenna, which fixes no position in this model).
+  // Informations of several antennas add (localization/cramer_rao.h); position_bound_m(S) is
+  // localization_bound_m. Empty otherwise.
+  std::vector<double> information;
+  void resize(size_t n, bool with_information = false);
 };
 
 // Link evaluations (cell × pose × carrier) coverage() makes for antenna `a` — the unit of `progress`.

@@ -23,22 +23,47 @@ void PhaseFisher::add(const PhaseObservation& o) {
   it->scatter += w * delta * (g - it->mean).transpose();
 }
 
-std::optional<double> PhaseFisher::bound_m(bool height_known) const {
-  const int n = height_known ? 2 : 3;
+Eigen::Matrix3d PhaseFisher::information() const {
   Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
   for (const Group& g : groups_) s += g.scatter;
-  s = 0.5 * (s + s.transpose());  // symmetric up to rounding
-  const Eigen::MatrixXd block = s.topLeftCorner(n, n);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(block);
+  return 0.5 * (s + s.transpose());  // symmetric up to rounding
+}
+
+std::optional<double> PhaseFisher::bound_m(bool height_known) const {
+  return position_bound_m(information(), height_known);
+}
+
+namespace {
+
+template <int N>
+std::optional<double> block_bound(const Eigen::Matrix<double, N, N>& block) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eig(block, Eigen::EigenvaluesOnly);
   if (eig.info() != Eigen::Success) return std::nullopt;
-  const Eigen::VectorXd ev = eig.eigenvalues();  // ascending
+  const auto ev = eig.eigenvalues();  // ascending
   // Identifiable only when every direction is constrained well above round-off, relative to the strongest.
-  if (!(ev(n - 1) > 0.0) || !(ev(0) > 1e-9 * ev(n - 1))) return std::nullopt;
+  if (!(ev(N - 1) > 0.0) || !(ev(0) > 1e-9 * ev(N - 1))) return std::nullopt;
   double trace = 0.0;
-  for (int k = 0; k < n; ++k) trace += 1.0 / ev(k);
+  for (int k = 0; k < N; ++k) trace += 1.0 / ev(k);
   const double bound = std::sqrt(trace);
   if (!std::isfinite(bound)) return std::nullopt;
   return bound;
+}
+
+}  // namespace
+
+std::optional<double> position_bound_m(const Eigen::Matrix3d& s, bool height_known) {
+  if (!s.allFinite()) return std::nullopt;
+  return height_known ? block_bound<2>(s.topLeftCorner<2, 2>()) : block_bound<3>(s);
+}
+
+std::array<double, 6> pack_information(const Eigen::Matrix3d& s) {
+  return {s(0, 0), s(0, 1), s(0, 2), s(1, 1), s(1, 2), s(2, 2)};
+}
+
+Eigen::Matrix3d unpack_information(const double* p) {
+  Eigen::Matrix3d s;
+  s << p[0], p[1], p[2], p[1], p[3], p[4], p[2], p[4], p[5];
+  return s;
 }
 
 std::optional<double> phase_position_crb_m(const Vec3& tag, std::span<const PhaseObservation> observations,

@@ -14,10 +14,16 @@
 // straight pass or of unwrapping errors, and the multipath bias is not in it.
 // Thread-safe (pure). Returns nullopt when the position is not identifiable (S singular: too few reads, or an
 // aperture that constrains only some directions, e.g. a 3-D fit from a straight pass).
+//
+// S is the position information of a pass once its offsets are eliminated. Passes with offsets of their own
+// (other antennas, each with its own cable and carrier offsets) are independent given θ, so their
+// informations add: the joint bound of several antennas is position_bound_m(S_1 + S_2 + …) (what
+// `rfidray place --objective worst-bound` minimises).
 #include <optional>
 #include <span>
 
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "core/geometry.h"
@@ -41,6 +47,8 @@ class PhaseFisher {
   void add(const PhaseObservation& o);
   // height_known: θ = (x, y) with z fixed at the tag's (as `localize --height-known`); else θ = (x, y, z).
   std::optional<double> bound_m(bool height_known) const;
+  // The position information S (3 × 3, symmetric, m⁻²): Σ over groups of the weighted gradient scatter.
+  Eigen::Matrix3d information() const;
 
  private:
   // Per group, the weighted scatter of the gradients about their weighted mean, updated one observation at a
@@ -55,6 +63,14 @@ class PhaseFisher {
   Vec3 tag_;
   std::vector<Group> groups_;
 };
+
+// √trace(S⁻¹) of the position block of an information matrix S (m⁻²): (x, y) when height_known, else
+// (x, y, z); nullopt when not identifiable (the smallest eigenvalue of the block ≤ 1e-9 × the largest).
+std::optional<double> position_bound_m(const Eigen::Matrix3d& information, bool height_known);
+
+// S packed as its upper triangle (xx, xy, xz, yy, yz, zz), and back — how coverage maps pass it on.
+std::array<double, 6> pack_information(const Eigen::Matrix3d& s);
+Eigen::Matrix3d unpack_information(const double* packed);
 
 // The same from a list of observations.
 std::optional<double> phase_position_crb_m(const Vec3& tag, std::span<const PhaseObservation> observations,

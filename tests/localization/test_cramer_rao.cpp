@@ -55,5 +55,35 @@ TEST(CramerRao, StraightPassIdentifiability) {
   EXPECT_LT(*phase_position_crb_m(tag, two, true), *b2);
 }
 
+// Two antennas with offsets of their own (groups 0 and 1) on different passes: the joint bound is that of the
+// summed informations (what `place --objective worst-bound` uses), and it is below either antenna's alone. Two
+// perpendicular straight passes, each weak across its own line, together constrain both directions.
+TEST(CramerRao, InformationsOfAntennasAdd) {
+  const double lambda = 0.3463;
+  const Vec3 tag(0.3, 0.2, 0.0);
+  PhaseFisher a(tag), b(tag), joint(tag);
+  for (int i = 0; i <= 30; ++i) {
+    const PhaseObservation oa{Vec3(-1.5 + 0.1 * i, -1.0, 0.5), lambda, 0, 0.8, 0.1};
+    const PhaseObservation ob{Vec3(2.0, -1.5 + 0.1 * i, 0.5), lambda, 1, 0.6, 0.15};
+    a.add(oa), b.add(ob), joint.add(oa), joint.add(ob);
+  }
+  const Eigen::Matrix3d sum = a.information() + b.information();
+  EXPECT_TRUE(sum.isApprox(joint.information(), 1e-12));
+  for (bool height_known : {true, false}) {
+    const auto j = joint.bound_m(height_known), s = position_bound_m(sum, height_known);
+    ASSERT_TRUE(j.has_value() && s.has_value());
+    EXPECT_NEAR(*s, *j, 1e-12 * *j);
+    for (const PhaseFisher* one : {&a, &b})
+      if (auto alone = one->bound_m(height_known)) { EXPECT_LT(*j, *alone); }
+  }
+  // Packing keeps the matrix.
+  EXPECT_EQ(unpack_information(pack_information(sum).data()), sum);
+  // Not identifiable: no information, or a non-finite one.
+  EXPECT_FALSE(position_bound_m(Eigen::Matrix3d::Zero(), true).has_value());
+  Eigen::Matrix3d bad = sum;
+  bad(0, 0) = std::nan("");
+  EXPECT_FALSE(position_bound_m(bad, true).has_value());
+}
+
 }  // namespace
 }  // namespace rfidray::localization
