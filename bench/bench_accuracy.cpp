@@ -220,6 +220,9 @@ LocalizationError localization_error(const Scenario& base, const Channel& channe
   return e;
 }
 
+// A CSV field in double quotes (setting names contain commas).
+std::string quoted(const std::string& s) { return "\"" + s + "\""; }
+
 // Indices of the points not dominated in (time, error), sorted by time.
 std::vector<size_t> pareto_front(const std::vector<double>& time, const std::vector<double>& error) {
   std::vector<size_t> idx(time.size());
@@ -308,11 +311,11 @@ int main(int argc, char** argv) {
       return o.str();
     };
     const ChannelErrorStats ref_vs_full = channel_errors(full.h, reference_sub, min_h2_sub);
-    csv << sc.name << "," << ref.name << ",reference," << w.links() << "," << reference.us_per_link
+    csv << sc.name << "," << quoted(ref.name) << ",reference," << w.links() << "," << reference.us_per_link
         << ",1,0,0,0,0,0,0,0,0,0,0," << channel_errors(reference.h, reference.h, min_h2s).links << ","
         << (sc.localize ? ref_loc.mean_mm : NAN) << ","
         << (sc.localize ? ref_loc.max_mm : NAN) << "," << ref_loc.failed << "," << vs_full_columns(ref_vs_full) << "\n";
-    csv << sc.name << "," << full_ref.name << ",reference-full," << ws.links() << "," << full.us_per_link << ","
+    csv << sc.name << "," << quoted(full_ref.name) << ",reference-full," << ws.links() << "," << full.us_per_link << ","
         << reference.us_per_link / full.us_per_link << ",,,,,,,,,,,,,,," << vs_full_columns(full_self) << "\n";
 
     // Two charts per scene: the settings of the single-bounce search against its exhaustive reference, and
@@ -342,7 +345,8 @@ int main(int argc, char** argv) {
           for (size_t i = 0; i < ws.tags.size(); ++i) ref_power_here += reference.path_power[a * w.tags.size() + i];
       const double missed = std::max(0.0, (ref_power_here - power) / ref_power_here);
       LocalizationError le{NAN, NAN, 0, 0};
-      if (sc.localize) {
+      // (Not for the levels above single-bounce: the paper scenario's ~20 k links per seed at ~1 ms each.)
+      if (sc.localize && !sub) {
         const std::unique_ptr<Channel> ch = s.ideal ? std::unique_ptr<Channel>(std::make_unique<IdealChannel>())
                                                     : std::make_unique<RaytracedChannel>(scene, s.options);
         le = localization_error(paper, *ch, seeds);
@@ -351,7 +355,7 @@ int main(int argc, char** argv) {
                   v.us_per_link, reference.us_per_link / v.us_per_link, e.phase_p50_rad, e.phase_p95_rad,
                   e.rssi_p95_db, missed, e.status_mismatches, le.mean_mm, ef.phase_p95_rad, ef.phase_p95_both_rad,
                   ef.rssi_p95_db, ef.status_mismatches);
-      csv << sc.name << "," << s.name << "," << s.group << "," << wl.links() << "," << v.us_per_link << ","
+      csv << sc.name << "," << quoted(s.name) << "," << s.group << "," << wl.links() << "," << v.us_per_link << ","
           << reference.us_per_link / v.us_per_link << "," << e.phase_p50_rad << "," << e.phase_p95_rad << ","
           << e.phase_max_rad << "," << e.rssi_p50_db << "," << e.rssi_p95_db << "," << e.magnitude_p95 << ","
           << e.phase_p95_both_rad << "," << e.rssi_p95_both_db << "," << missed << "," << e.status_mismatches << ","
