@@ -9,9 +9,11 @@
 // ≥ π·N² (core/utd.h, utd_min_transition_argument). Justification (KP's transition function): near a boundary
 // the diffracted field is what makes the total continuous (half the jumping GO field at X = 0); outside the
 // transition region F(X) → 1 and each term is at most 1/(2√(πX)) of the free-space field over the diffracted
-// ray's length, which is no longer than the direct path, so a skipped edge adds at most 2/√(πX) ≈ 0.21 (X = 9π,
-// all four terms at their bound; typically one or two terms, far less) of the direct field. The test is a
-// few multiplications and cosines per edge before any transition function is evaluated or any ray shot.
+// ray's length, which is weaker than the direct path's (the diffracted ray is the longer), so a skipped edge
+// adds at most 2/√(πX) ≈ 0.21 (X = 9π, all four terms at their bound; typically one or two terms, far less) of
+// the direct field, for equal antenna gains along both. The test is a few multiplications and cosines per
+// edge before any transition function is evaluated or any ray shot. The rule errs towards full: should the
+// direct path ever not come first in `out`, every link is taken as shadowed.
 #include <cmath>
 
 #include "core/fresnel.h"
