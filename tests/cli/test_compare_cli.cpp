@@ -71,8 +71,8 @@ TEST(CompareCli, EmptySceneLosEqualsIdealAndTheWarehouseDoesNot) {
   EXPECT_NE(text.find("single-bounce"), std::string::npos);
 
   // The levels above single-bounce: double reflections and diffraction move the phase further (30 ticks × 2
-  // tags, ~1 ms per link at full).
-  for (const char* level : {"double-bounce", "full-selective", "full"}) {
+  // tags, ~1 ms per link at full; full-selective is tested against full in tests/raytrace).
+  for (const char* level : {"double-bounce", "full"}) {
     ASSERT_EQ(run("compare " + scenario("wh.yaml", "[{file: " + obj + "}]").string() + " --tags b --channel " + level +
                       " -o " + (out / level).string(),
                   &text),
