@@ -3,8 +3,11 @@
 // rays per link, and the errors of what a reader reports against `full` with the exhaustive candidate search
 // (core/channel_error.h: p95 round-trip phase and RSSI errors over links readable in either, read flips).
 //
-//   bench_levels [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes paper,w10k] [--reference LEVEL]
-// (--reference double-bounce: what double reflections alone add, without diffraction.)
+//   bench_levels [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes paper,w10k,w1m] [--reference LEVEL]
+//                [--reference-candidates exhaustive|fast] [--zones 1,3,5]
+// (--reference double-bounce: what double reflections alone add, without diffraction. --reference-candidates
+// fast: the same paths, for scenes where the exhaustive search is too slow (w1m: ~1 s per link at full).
+// --zones: full-selective once per Fresnel-zone count N, TraceOptions::diffraction_fresnel_zones.)
 // Writes DIR/levels.csv and DIR/levels_pareto.png (error against µs per link).
 #include <omp.h>
 
@@ -54,6 +57,7 @@ std::vector<std::complex<double>> values(const Channel& ch, const bench::Workloa
 int main(int argc, char** argv) {
   CLI::App app{"Links/s and accuracy (against full, exhaustive) of every traced channel level"};
   std::string out_dir = "bench/results", scene_list = "paper", reference_level = "full";
+  std::string reference_candidates = "exhaustive", zones_list = "3";
   int runs = 5, tags = 1000, poses = 8;
   app.add_option("--out", out_dir, "output directory")->capture_default_str();
   app.add_option("--runs", runs, "runs per measurement (median reported)")->capture_default_str()->check(CLI::PositiveNumber);
@@ -61,7 +65,19 @@ int main(int argc, char** argv) {
   app.add_option("--poses", poses, "antenna poses")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--scenes", scene_list, "comma-separated subset of paper,w10k,w100k")->capture_default_str();
   app.add_option("--reference", reference_level, "reference level (exhaustive candidates)")->capture_default_str();
+  app.add_option("--reference-candidates", reference_candidates, "candidate search of the reference: exhaustive | fast")
+      ->capture_default_str();
+  app.add_option("--zones", zones_list, "full-selective: Fresnel-zone counts N, comma-separated")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  std::vector<double> zones;
+  CandidateMode ref_candidates = CandidateMode::kExhaustive;
+  try {
+    ref_candidates = parse_candidate_mode(reference_candidates, "--reference-candidates");
+    for (const std::string& z : bench::split_commas(zones_list)) zones.push_back(std::stod(z));
+  } catch (const std::exception& e) {
+    std::cerr << "bench_levels: " << e.what() << "\n";
+    return 2;
+  }
   std::filesystem::create_directories(out_dir);
   const auto reference_parsed = parse_channel_level(std::string_view(reference_level));
   if (!reference_parsed || !is_traced(*reference_parsed)) {
@@ -75,8 +91,24 @@ int main(int argc, char** argv) {
     std::cerr << "bench_levels: " << e.what() << "\n";
     return 2;
   }
-  const ChannelLevel levels[] = {ChannelLevel::kLos, ChannelLevel::kLosBlocked, ChannelLevel::kSingleBounce,
-                                 ChannelLevel::kDoubleBounce, ChannelLevel::kFull};
+  // The rows: every traced level, full-selective once per zone count.
+  std::vector<std::pair<std::string, TraceOptions>> rows;
+  for (ChannelLevel level : {ChannelLevel::kLos, ChannelLevel::kLosBlocked, ChannelLevel::kSingleBounce,
+                             ChannelLevel::kDoubleBounce, ChannelLevel::kFullSelective, ChannelLevel::kFull}) {
+    if (static_cast<int>(level) > static_cast<int>(*reference_parsed)) continue;
+    TraceOptions o;
+    o.level = level;
+    if (level != ChannelLevel::kFullSelective) {
+      rows.emplace_back(to_string(level), o);
+      continue;
+    }
+    for (double n : zones) {
+      o.diffraction_fresnel_zones = n;
+      char label[64];
+      std::snprintf(label, sizeof label, "full-selective N=%g", n);
+      rows.emplace_back(label, o);
+    }
+  }
   std::ofstream csv(std::filesystem::path(out_dir) / "levels.csv");
   csv << "scene,triangles,edges,level,threads,links,links_per_s_median,us_per_link,rays_per_link,"
          "readable,read_flips,phase_p95_rad,rssi_p95_db,phase_p95_both_rad,rssi_p95_both_db\n";
@@ -86,21 +118,18 @@ int main(int argc, char** argv) {
     const bench::Workload w = bench::scene_workload(bs, tags, poses);
     TraceOptions ref_options;
     ref_options.level = *reference_parsed;
-    ref_options.candidates = CandidateMode::kExhaustive;
+    ref_options.candidates = ref_candidates;
     const RaytracedChannel reference(scene, ref_options);
     omp_set_num_threads(2);
     const auto t_ref = std::chrono::steady_clock::now();
     const auto ref = values(reference, w);
-    std::printf("%s: %zu triangles, %zu edges; %zu tags x %zu poses; reference (%s exhaustive) %.1f µs/link\n",
+    std::printf("%s: %zu triangles, %zu edges; %zu tags x %zu poses; reference (%s %s) %.1f µs/link\n",
                 bs.name.c_str(), scene->triangle_count(), reference.finder().edges().size(), w.tags.size(),
-                w.antennas.size(), reference_level.c_str(), 1e6 * seconds_since(t_ref) / double(w.links()));
+                w.antennas.size(), reference_level.c_str(), to_string(ref_candidates), 1e6 * seconds_since(t_ref) / double(w.links()));
     const std::vector<double> min_h2(ref.size(), min_readable_h2(ReaderParams{}, TagParams{}));
     io::Series ph{bs.name + " phase p95 (rad)", {}, {}, "linespoints", {}};
     io::Series rs{bs.name + " RSSI p95 (dB)", {}, {}, "linespoints", {}};
-    for (ChannelLevel level : levels) {
-      if (static_cast<int>(level) > static_cast<int>(*reference_parsed)) continue;
-      TraceOptions o;
-      o.level = level;
+    for (const auto& [label, o] : rows) {
       const RaytracedChannel ch(scene, o);
       const ChannelErrorStats e = channel_errors(ref, values(ch, w), min_h2);
       for (int threads : {1, 2}) {
@@ -116,12 +145,12 @@ int main(int argc, char** argv) {
         const double rays = double(take_pool_rays()) / double(runs * w.links());
         std::sort(rates.begin(), rates.end());
         const double median = rates[rates.size() / 2];
-        std::printf("  %-14s %d thread%s %11.0f links/s %8.2f µs/link %8.1f rays/link | readable %zu, flips %zu, "
+        std::printf("  %-22s %d thread%s %11.0f links/s %8.2f µs/link %8.1f rays/link | readable %zu, flips %zu, "
                     "phase p95 %.4g rad, RSSI p95 %.4g dB (readable in both: %.4g rad, %.4g dB)\n",
-                    to_string(level), threads, threads == 1 ? " " : "s", median, 1e6 / median, rays, e.links,
+                    label.c_str(), threads, threads == 1 ? " " : "s", median, 1e6 / median, rays, e.links,
                     e.status_mismatches, e.phase_p95_rad, e.rssi_p95_db, e.phase_p95_both_rad, e.rssi_p95_both_db);
         csv << bs.name << "," << scene->triangle_count() << "," << reference.finder().edges().size() << ","
-            << to_string(level) << "," << threads << "," << w.links() << "," << median << "," << 1e6 / median << ","
+            << label << "," << threads << "," << w.links() << "," << median << "," << 1e6 / median << ","
             << rays << "," << e.links << "," << e.status_mismatches << "," << e.phase_p95_rad << "," << e.rssi_p95_db
             << "," << e.phase_p95_both_rad << "," << e.rssi_p95_both_db << "\n";
         if (threads == 1) {
@@ -129,8 +158,8 @@ int main(int argc, char** argv) {
           // readable in both (the table above has the flips).
           ph.x.push_back(1e6 / median), ph.y.push_back(std::max(e.phase_p95_both_rad, 1e-4));
           rs.x.push_back(1e6 / median), rs.y.push_back(std::max(e.rssi_p95_both_db, 1e-3));
-          ph.labels.push_back(to_string(level));
-          rs.labels.push_back(to_string(level));
+          ph.labels.push_back(label);
+          rs.labels.push_back(label);
         }
       }
     }

@@ -71,7 +71,8 @@ int run_compare(const CompareOptions& o) {
   if (o.seed) scenario.seed = *o.seed;
   const ChannelLevel level = parse_channel_level(o.channel, "--channel");
   if (level == ChannelLevel::kIdeal)
-    throw InputError("option --channel: compare needs a ray-traced level (los, los+blocked, single-bounce, double-bounce, full, auto)");
+    throw InputError("option --channel: compare needs a ray-traced level (los, los+blocked, single-bounce, double-bounce, "
+                     "full-selective, full, auto)");
   for (AntennaSpec& a : scenario.antennas)
     if (a.reader.model == ReaderModelKind::kPaper) {
       std::cerr << "rfidray: note: antenna '" << a.reader.name
@@ -199,7 +200,7 @@ std::function<int()> setup_compare(CLI::App& app) {
   cmd->add_option("--seed", o->seed, "Random seed (overrides the scenario's), >= 0")->check(CLI::NonNegativeNumber);
   cmd->add_option("--tags", o->tags, "Tags to plot, comma-separated names (default: the first two)");
   cmd->add_option("--antenna", o->antenna, "Antenna to plot (default: the first)");
-  cmd->add_option("--channel", o->channel, "Ray-traced level: los | los+blocked | single-bounce | double-bounce | full | auto");
+  cmd->add_option("--channel", o->channel, "Ray-traced level: los | los+blocked | single-bounce | double-bounce | full-selective | full | auto");
   cmd->add_option("--threads", o->threads, "OpenMP threads (default: all), 1…1024")->check(CLI::Range(1, 1024));
   cmd->add_option("-o,--output", o->output_dir, "Output directory (compare.csv, compare.png)");
   return [o] { return run_compare(*o); };

@@ -5,10 +5,10 @@
 namespace rfidray {
 namespace {
 
-constexpr std::array<ChannelLevel, 7> kAll{ChannelLevel::kIdeal,        ChannelLevel::kLos,
+constexpr std::array<ChannelLevel, 8> kAll{ChannelLevel::kIdeal,        ChannelLevel::kLos,
                                            ChannelLevel::kLosBlocked,   ChannelLevel::kSingleBounce,
-                                           ChannelLevel::kDoubleBounce, ChannelLevel::kFull,
-                                           ChannelLevel::kAuto};
+                                           ChannelLevel::kDoubleBounce, ChannelLevel::kFullSelective,
+                                           ChannelLevel::kFull,         ChannelLevel::kAuto};
 
 }  // namespace
 
@@ -19,6 +19,7 @@ const char* to_string(ChannelLevel level) {
     case ChannelLevel::kLosBlocked: return "los+blocked";
     case ChannelLevel::kSingleBounce: return "single-bounce";
     case ChannelLevel::kDoubleBounce: return "double-bounce";
+    case ChannelLevel::kFullSelective: return "full-selective";
     case ChannelLevel::kFull: return "full";
     case ChannelLevel::kAuto: return "auto";
   }

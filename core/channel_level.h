@@ -15,14 +15,18 @@ enum class ChannelLevel {
   kLosBlocked,    // "los+blocked": the direct path, through obstacles (transmission loss per crossed surface)
   kSingleBounce,  // "single-bounce": + every single specular reflection (image method), both legs unoccluded
   kDoubleBounce,  // "double-bounce": + every specular path with two reflections (image of the image), all legs
+  kFullSelective, // "full-selective": + edge diffraction only where it matters: links whose direct path is not
+                  //   clear, and edges whose shadow or reflection boundary lies within a few Fresnel zones of the
+                  //   link (raytrace/diffraction.cpp)
   kFull,          // "full": + first-order edge diffraction (UTD, core/utd.h) at wedges and free sheet edges
   kAuto,          // "auto": not a model — pick the cheapest level the scenario needs (raytrace/fidelity.h)
 };
 
 // The modelled levels, cheapest first (kAuto is not among them).
-inline constexpr std::array<ChannelLevel, 6> kModelledLevels{
+inline constexpr std::array<ChannelLevel, 7> kModelledLevels{
     ChannelLevel::kIdeal,        ChannelLevel::kLos,          ChannelLevel::kLosBlocked,
-    ChannelLevel::kSingleBounce, ChannelLevel::kDoubleBounce, ChannelLevel::kFull};
+    ChannelLevel::kSingleBounce, ChannelLevel::kDoubleBounce, ChannelLevel::kFullSelective,
+    ChannelLevel::kFull};
 
 // True when a modelled `level` includes what `feature` adds (levels are cumulative; kAuto includes nothing).
 constexpr bool includes(ChannelLevel level, ChannelLevel feature) {
@@ -34,7 +38,7 @@ constexpr bool is_traced(ChannelLevel level) {
   return level != ChannelLevel::kIdeal && level != ChannelLevel::kAuto;
 }
 
-// "ideal", "los", "los+blocked", "single-bounce", "double-bounce", "full", "auto".
+// "ideal", "los", "los+blocked", "single-bounce", "double-bounce", "full-selective", "full", "auto".
 const char* to_string(ChannelLevel level);
 // Every name, in the order above, comma-separated (for --help and messages).
 std::string channel_level_names();

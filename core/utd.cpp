@@ -102,4 +102,9 @@ UtdCoefficients wedge_diffraction(double n, double phi, double phi_prime, double
   return {front * (t1 + t2 + face0.te * t0 + facen.te * tn), front * (t1 + t2 + face0.tm * t0 + facen.tm * tn)};
 }
 
+double utd_min_transition_argument(double n, double phi, double phi_prime, double kl) {
+  const double bm = phi - phi_prime, bp = phi + phi_prime;
+  return kl * std::min(std::min(a_plus(bm, n), a_minus(bm, n)), std::min(a_minus(bp, n), a_plus(bp, n)));
+}
+
 }  // namespace rfidray

@@ -48,4 +48,13 @@ UtdCoefficients wedge_diffraction(double n, double phi_rad, double phi_prime_rad
                                   double distance_parameter_m, double wavenumber_rad_m,
                                   const FresnelCoefficients& face0, const FresnelCoefficients& facen);
 
+// The smallest argument X = kL·a of the four transition functions of wedge_diffraction (same n, φ, φ' and
+// kL = wavenumber × distance parameter): how far, in the transition function's own measure, the observer is
+// from the nearest incident or reflection shadow boundary. X = π·N² at N Fresnel-zone widths √(λ/L) (angle
+// δ from the boundary: a ≈ δ²/2, so X ≈ kLδ²/2 = π(δ/√(λ/L))²). Each term of D, relative to the free-space
+// field λ/(4π(s + s')) of the diffracted ray, is at most |F(X)|/(2√(πX)) (|cot x| ≤ 1/|x| on |x| ≤ π/2 and
+// 2|sin(δ/2)| ≤ |δ|), so an edge whose smallest X is large contributes little: 4 terms at X ≥ π·3² give at most
+// 0.21 of that free-space field, typically far less.
+double utd_min_transition_argument(double n, double phi_rad, double phi_prime_rad, double kl);
+
 }  // namespace rfidray

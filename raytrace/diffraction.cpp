@@ -1,5 +1,19 @@
 // Level full: first-order UTD edge diffraction at every edge of raytrace/edges.h (raytrace/path_finder.h has
 // the physics, core/utd.h the coefficients).
+//
+// Level full-selective: the same, only where diffraction matters. A link whose direct path is not clear (no
+// `los` path: blocked, or through obstacles) takes every edge, as full does: there the diffracted field may be
+// all there is. A link with a clear direct path skips an edge when the link lies more than N Fresnel-zone
+// widths (TraceOptions::diffraction_fresnel_zones, default 3) from every incident and reflection shadow
+// boundary of the edge, i.e. when the smallest transition-function argument X = kL·a of its four terms is
+// ≥ π·N² (core/utd.h, utd_min_transition_argument). Justification (KP's transition function): near a boundary
+// the diffracted field is what makes the total continuous (half the jumping GO field at X = 0); outside the
+// transition region F(X) → 1 and each term is at most 1/(2√(πX)) of the free-space field over the diffracted
+// ray's length, which is weaker than the direct path's (the diffracted ray is the longer), so a skipped edge
+// adds at most 2/√(πX) ≈ 0.21 (X = 9π, all four terms at their bound; typically one or two terms, far less) of
+// the direct field, for equal antenna gains along both. The test is a few multiplications and cosines per
+// edge before any transition function is evaluated or any ray shot. The rule errs towards full: should the
+// direct path ever not come first in `out`, every link is taken as shadowed.
 #include <cmath>
 
 #include "core/fresnel.h"
@@ -28,6 +42,11 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
   const auto& materials = scene_->materials();
   const EmbreeScene& bvh = scene_->bvh();
   constexpr double kOnEdge = 1e-6;  // metres: an end this close to the edge's line is on it (no wedge angle)
+  // full-selective: a link with a clear direct path (the direct path, when present, comes first in `out`)
+  // diffracts only near boundaries; NaN or ∞ zones skip nothing.
+  const bool selective = !includes(options_.level, ChannelLevel::kFull) && !out.empty() &&
+                         out.front().kind == PathKind::kLineOfSight;
+  const double min_x = kPi * options_.diffraction_fresnel_zones * options_.diffraction_fresnel_zones;
   for (uint32_t ei = 0; ei < edges_.size(); ++ei) {
     const Edge& e = edges_[ei];
     const Vec3& d = e.direction;
@@ -72,12 +91,13 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
     const double sin_beta = s_hat_in.cross(d).norm();
     if (sin_beta < 1e-9) continue;
     const double beta0 = std::atan2(sin_beta, s_hat_in.dot(d));
+    const double l_utd = s_in * s_out * sin_beta * sin_beta / length;
+    if (selective && utd_min_transition_argument(n, phi, phi_prime, k * l_utd) >= min_x) continue;
     // Face reflection coefficients for Luebbers' form (perfect conductors: {−1, +1}, KP exactly).
     const RadioMaterial& m0 = materials[facets[face0].material];
     const RadioMaterial& mn = materials[facets[facen].material];
     const FresnelCoefficients r0 = material_reflection(m0, f, std::abs(std::sin(phi_prime)));
     const FresnelCoefficients rn = material_reflection(mn, f, std::abs(std::sin(n * kPi - phi)));
-    const double l_utd = s_in * s_out * sin_beta * sin_beta / length;
     const UtdCoefficients dc = wedge_diffraction(n, phi, phi_prime, beta0, l_utd, k, r0, rn);
     // Edge-fixed polarization bases (KP): φ̂' = −ê × ŝ' / |·|, β̂0' = φ̂' × ŝ', φ̂ = ê × ŝ / |·|, β̂0 = φ̂ × ŝ.
     const Vec3 phi_in = -(d.cross(s_hat_in)).normalized();

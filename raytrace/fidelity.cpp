@@ -95,6 +95,7 @@ std::vector<FidelityRung> fidelity_ladder(const TraceOptions& base, double tags_
   if (rays > 0) rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, rays, " rays=" + std::to_string(rays));
   rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, 0, "");
   rung(ChannelLevel::kDoubleBounce, CandidateMode::kFast, 0, "");
+  rung(ChannelLevel::kFullSelective, CandidateMode::kFast, 0, "");
   rung(ChannelLevel::kFull, CandidateMode::kFast, 0, "");
   rung(ChannelLevel::kFull, CandidateMode::kExhaustive, 0, " exhaustive");
   return ladder;

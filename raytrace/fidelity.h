@@ -4,7 +4,10 @@
 // reference (full: double reflections and edge diffraction, exhaustive candidate search); the first rung whose
 // errors on what a reader reports stay within the tolerance is picked:
 //   ideal → los → los+blocked → [single-bounce with per-pose candidate rays] → single-bounce (fast, exact)
-//   → double-bounce → full → full exhaustive (the reference itself, always within).
+//   → double-bounce → full-selective → full → full exhaustive (the reference itself, always within).
+// full-selective is a rung of its own, judged like the others: it is full's physics with diffraction skipped
+// where UTD's transition function says it is small (raytrace/diffraction.cpp), so whether that is within the
+// tolerance depends on the scene, and only the comparison with full on the scene's own links can say.
 // The candidate-ray rung uses the user's candidate_rays when set, else 4096 rays when the scenario has at least
 // 1000 tags per antenna pose (below that the per-pose rays cost more than they save, bench/bench_sweep).
 // The ladder's order is its cost order as measured by bench/bench_sweep (README, "Speed and accuracy").
@@ -25,7 +28,7 @@
 namespace rfidray {
 
 struct FidelityRung {
-  std::string label;     // "ideal", "los", "los+blocked", "single-bounce rays=4096", "single-bounce", "full", ...
+  std::string label;     // "ideal", "los", "los+blocked", "single-bounce rays=4096", "single-bounce", ..., "full"
   ChannelLevel level;    // kIdeal: the free-space channel (options unused); else options.level
   TraceOptions options;
 };

@@ -103,7 +103,7 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     candidate_directions_.emplace_back(r * std::cos(golden * i), r * std::sin(golden * i), z);
   }
   if (n > 0) candidate_spacing_rad_ = std::sqrt(4.0 * kPi / n);
-  if (includes(options_.level, ChannelLevel::kFull)) edges_ = extract_edges(*scene_);
+  if (includes(options_.level, ChannelLevel::kFullSelective)) edges_ = extract_edges(*scene_);
 }
 
 size_t PathFinder::cell_bit(const PlaneGroup& g, const Vec3& p) const {
@@ -213,7 +213,7 @@ void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double freq
       return std::tie(x.length_m, x.facet, x.facet2) < std::tie(y.length_m, y.facet, y.facet2);
     });
   }
-  if (includes(options_.level, ChannelLevel::kFull)) {
+  if (includes(options_.level, ChannelLevel::kFullSelective)) {
     const size_t first = out.size();
     diffractions(antenna, tag, frequency_hz, floor_so_far(), out);
     std::sort(out.begin() + first, out.end(), [](const TracedPath& x, const TracedPath& y) {

@@ -36,6 +36,11 @@ struct TraceOptions {
   double surface_epsilon_m = 1e-4;
   // A direct path crossing more surfaces than this is dropped (its transmission is negligible anyway).
   int max_crossings = 16;
+  // Level full-selective (raytrace/diffraction.cpp): on a link whose direct path is clear, an edge is skipped
+  // when the link lies more than this many Fresnel-zone widths from every shadow and reflection boundary of
+  // the edge (UTD transition-function argument X = kL·a ≥ π·N²); its field is then at most 2/√(πX) of the
+  // free-space field over its length.
+  double diffraction_fresnel_zones = 3.0;
 };
 
 const char* to_string(CandidateMode mode);

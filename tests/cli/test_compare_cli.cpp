@@ -70,6 +70,20 @@ TEST(CompareCli, EmptySceneLosEqualsIdealAndTheWarehouseDoesNot) {
   EXPECT_GT(std::stod(rows[0][6]) + std::stod(rows[1][6]), 0.01);  // multipath moves the phase
   EXPECT_NE(text.find("single-bounce"), std::string::npos);
 
+  // The levels above single-bounce: double reflections and diffraction move the phase further (30 ticks × 2
+  // tags, ~1 ms per link at full; full-selective is tested against full in tests/raytrace).
+  for (const char* level : {"double-bounce", "full"}) {
+    ASSERT_EQ(run("compare " + scenario("wh.yaml", "[{file: " + obj + "}]").string() + " --tags b --channel " + level +
+                      " -o " + (out / level).string(),
+                  &text),
+              0)
+        << text;
+    EXPECT_NE(text.find(std::string("ideal vs ") + level), std::string::npos) << text;
+    const auto higher = read_csv(out / level / "compare.csv");
+    ASSERT_EQ(higher.size(), 2u);
+    EXPECT_NE(std::stod(higher[0][6]) + std::stod(higher[1][6]), std::stod(rows[0][6]) + std::stod(rows[1][6])) << level;
+  }
+
   EXPECT_EQ(run("compare " + scenario("e2.yaml", "[]").string() + " --tags nosuch -o " + (out / "x").string(), &text), 2);
   EXPECT_NE(text.find("nosuch"), std::string::npos);
   fs::remove_all(out);

@@ -145,5 +145,40 @@ TEST(Utd, LuebbersReducesToKpForMetal) {
   EXPECT_NE(kp.soft, kp.hard);
 }
 
+// The criterion of level full-selective (core/utd.h, utd_min_transition_argument): X = kL·2sin²(δ/2) at an
+// angle δ from the nearest boundary (π·N² at N Fresnel zones for small δ), and the bound it rests on: with
+// β0 = 90°, |D|/√L ≤ Σ over the four terms of |F(X_i)|/(2√(πX_i)) ≤ 2·1.001/√(πX_min) once X_min ≥ 9π
+// (|F(X)| − 1 < 1e-3 there), for metal faces (|R| = 1) over a grid of wedges, angles and distances.
+TEST(Utd, MinTransitionArgumentAndTheBoundOutsideTheTransitionRegion) {
+  const double k = wavenumber_rad_m(866e6);
+  // Half-plane, source at φ' = 60°: incident shadow boundary at 240°, reflection boundary at 120°.
+  const double phi_prime = kPi / 3.0, kl = k * 2.0;
+  for (double delta_deg : {0.5, 2.0, 10.0, 30.0}) {
+    const double delta = delta_deg * kPi / 180.0;
+    EXPECT_NEAR(utd_min_transition_argument(2.0, phi_prime + kPi - delta, phi_prime, kl),
+                kl * 2.0 * std::pow(std::sin(delta / 2.0), 2), 1e-9 * kl);
+    EXPECT_NEAR(utd_min_transition_argument(2.0, kPi - phi_prime + delta, phi_prime, kl),
+                kl * 2.0 * std::pow(std::sin(delta / 2.0), 2), 1e-9 * kl);
+  }
+  // N Fresnel zones √(λ/L) from the boundary: X → π·N² as the zone shrinks (large kL).
+  const double big_kl = 1e6, zone = std::sqrt(kTwoPi / big_kl);
+  EXPECT_NEAR(utd_min_transition_argument(2.0, phi_prime + kPi - 3.0 * zone, phi_prime, big_kl), 9.0 * kPi, 1e-3);
+  int checked = 0;
+  for (double n : {1.25, 1.5, 1.75, 2.0})
+    for (double l : {0.5, 2.0, 8.0, 30.0})
+      for (double pp = 2.0; pp < 180.0 * n; pp += 17.0)
+        for (double p = 1.0; p < 180.0 * n; p += 7.0) {
+          const double phi = p * kPi / 180.0, phip = pp * kPi / 180.0;
+          const double x = utd_min_transition_argument(n, phi, phip, k * l);
+          if (x < 9.0 * kPi) continue;
+          const UtdCoefficients d = wedge_diffraction(n, phi, phip, kPi / 2.0, l, k, {-1.0, 1.0}, {-1.0, 1.0});
+          const double bound = 2.0 * 1.001 / std::sqrt(kPi * x);
+          EXPECT_LE(std::abs(d.soft) / std::sqrt(l), bound) << n << " " << l << " " << pp << " " << p;
+          EXPECT_LE(std::abs(d.hard) / std::sqrt(l), bound) << n << " " << l << " " << pp << " " << p;
+          ++checked;
+        }
+  EXPECT_GT(checked, 500);
+}
+
 }  // namespace
 }  // namespace rfidray

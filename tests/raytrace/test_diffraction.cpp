@@ -171,5 +171,115 @@ TEST(Diffraction, FermatPointAndAHiddenTagInThePaperWarehouse) {
   (void)sb;
 }
 
+// Level full-selective (raytrace/diffraction.cpp): a link whose direct path is not clear takes every edge, as
+// full does; a clear link skips an edge whose transition-function arguments are all ≥ π·N² (N = 3 Fresnel
+// zones). Every path it keeps is full's path unchanged, and every path it skips is a diffraction whose four
+// terms are each at most |F(X)|/(2√(πX)) of the free-space field over its length (core/utd.h), so that is the
+// tolerance: |h_selective − h_full| ≤ Σ over the skipped paths of that bound (isotropic antennas, |p| ≤ 1).
+struct SelectiveCheck {
+  size_t kept_diffractions = 0, skipped = 0;
+  double difference = 0.0, bound = 0.0;
+};
+SelectiveCheck compare_selective(const std::shared_ptr<const Scene>& scene, const Endpoint& a, const Endpoint& t) {
+  TraceOptions o;
+  o.level = ChannelLevel::kFull;
+  o.drop_below_db = 400.0;
+  const auto full = RaytracedChannel(scene, o).paths(a, t, kF);
+  o.level = ChannelLevel::kFullSelective;
+  const auto selective = RaytracedChannel(scene, o).paths(a, t, kF);
+  SelectiveCheck c;
+  const double x_min = kPi * o.diffraction_fresnel_zones * o.diffraction_fresnel_zones;
+  // Above X = 9π, |F(X)| − 1 < 1e-3 (F ~ 1 + j/2X): the bound of one term is 1.001/(2√(πX)).
+  const double term = 1.001 / (2.0 * std::sqrt(kPi * x_min));
+  size_t j = 0;
+  for (const Path& p : full) {
+    const bool kept = j < selective.size() && selective[j].kind == p.kind && selective[j].length_m == p.length_m &&
+                      (selective[j].point - p.point).norm() == 0.0;
+    if (kept) {
+      EXPECT_EQ(selective[j].contribution, p.contribution);  // the same computation, bit for bit
+      c.kept_diffractions += p.kind == PathKind::kDiffraction;
+      ++j;
+      continue;
+    }
+    EXPECT_EQ(p.kind, PathKind::kDiffraction);  // only diffractions are ever skipped
+    ++c.skipped;
+    const double free_space = std::abs(path_contribution(p.length_m, 1.0, kF));
+    EXPECT_LE(std::abs(p.contribution), 4.0 * term * free_space);
+    c.bound += 4.0 * term * free_space;
+  }
+  EXPECT_EQ(j, selective.size());  // nothing that full does not have
+  c.difference = std::abs(sum_paths(selective) - sum_paths(full));
+  return c;
+}
+
+// A free-standing metal plate in the plane y = 0 (x −half…half, z 0…2·half): four half-plane edges.
+std::shared_ptr<const Scene> plate_scene(double half) {
+  TriangleMesh plate;
+  plate.name = "plate";
+  plate.material_names = {"metal"};
+  add_quad(plate, Vec3(-half, 0, 0), Vec3(2 * half, 0, 0), Vec3(0, 0, 2 * half), 0, 2, 2);
+  return std::make_shared<const Scene>(std::vector<TriangleMesh>{plate}, MaterialAssignment{});
+}
+
+TEST(SelectiveDiffraction, HiddenTagGetsEveryEdgeAsInFull) {
+  // A 6 m × 6 m plate, the antenna 3 m in front of its centre, the tag 1 m behind: every edge is ~115° from
+  // its shadow boundary (X ≈ 45 > 9π), so only the rule "a shadowed link takes every edge" keeps them.
+  const auto scene = plate_scene(3.0);
+  const Endpoint ant = linear(Vec3(0.3, 3.0, 3.2), Vec3::UnitZ());
+  const Endpoint hidden = linear(Vec3(-0.2, -1.0, 2.9), Vec3::UnitZ());  // behind the plate: no direct path
+  const SelectiveCheck c = compare_selective(scene, ant, hidden);
+  EXPECT_EQ(c.skipped, 0u);
+  EXPECT_EQ(c.kept_diffractions, 4u);  // over the top, under the bottom (no floor) and round both sides
+  EXPECT_EQ(c.difference, 0.0);
+}
+
+TEST(SelectiveDiffraction, LinkGrazingAnEdgeKeepsThatEdgeAndStaysWithinTheBound) {
+  const auto scene = plate_scene(1.0);  // 2 m × 2 m
+  // The direct path passes 5 cm above the plate's top edge (z = 2 at y = 0): clear, but inside the edge's
+  // incident-shadow transition region (X ≈ 0.06), where the diffracted field is half the direct one.
+  const Endpoint ant = linear(Vec3(0.0, 3.0, 1.0), Vec3::UnitZ());
+  const Endpoint tag = linear(Vec3(0.0, -1.0, 2.4), Vec3::UnitZ());
+  const SelectiveCheck c = compare_selective(scene, ant, tag);
+  EXPECT_GE(c.kept_diffractions, 1u);
+  EXPECT_LE(c.difference, c.bound + 1e-15);
+  TraceOptions o;
+  o.level = ChannelLevel::kFullSelective;
+  const auto paths = RaytracedChannel(scene, o).paths(ant, tag, kF);
+  ASSERT_FALSE(paths.empty());
+  EXPECT_EQ(paths.front().kind, PathKind::kLineOfSight);
+  bool top = false;
+  for (const Path& p : paths) top = top || (p.kind == PathKind::kDiffraction && std::abs(p.point.z() - 2.0) < 1e-9);
+  EXPECT_TRUE(top);
+}
+
+TEST(SelectiveDiffraction, ClearLinkFarFromEveryBoundarySkipsDiffraction) {
+  // A large half-plane y = 0, x ≥ 0 (edge along z); antenna and tag 10 m from the edge at φ' = 90° and
+  // φ = 170° (L = 5 m, kL ≈ 91): 80° from the reflection boundary and 100° from the shadow boundary, X ≥ 75.
+  TriangleMesh sheet;
+  sheet.name = "sheet";
+  sheet.material_names = {"metal"};
+  add_quad(sheet, Vec3(0, 0, -50), Vec3(50, 0, 0), Vec3(0, 0, 100), 0, 1, 1);
+  const auto scene = std::make_shared<const Scene>(std::vector<TriangleMesh>{sheet}, MaterialAssignment{});
+  const double phi = 170.0 * kPi / 180.0;
+  const Endpoint ant = linear(Vec3(0.0, 10.0, 0.0), Vec3::UnitZ());
+  const Endpoint tag = linear(10.0 * Vec3(std::cos(phi), std::sin(phi), 0.0), Vec3::UnitZ());
+  EXPECT_GT(utd_min_transition_argument(2.0, phi, kPi / 2.0, wavenumber_rad_m(kF) * 5.0), 70.0);
+  TraceOptions o;
+  o.level = ChannelLevel::kFull;
+  o.drop_below_db = 400.0;
+  size_t full_diffractions = 0;
+  for (const Path& p : RaytracedChannel(scene, o).paths(ant, tag, kF))
+    full_diffractions += p.kind == PathKind::kDiffraction;
+  EXPECT_GE(full_diffractions, 1u);  // full diffracts at the near edge
+  o.level = ChannelLevel::kFullSelective;
+  const auto paths = RaytracedChannel(scene, o).paths(ant, tag, kF);
+  ASSERT_EQ(paths.size(), 1u);  // the direct path alone (the reflection point lies off the sheet)
+  EXPECT_EQ(paths.front().kind, PathKind::kLineOfSight);
+  const SelectiveCheck c = compare_selective(scene, ant, tag);
+  EXPECT_EQ(c.kept_diffractions, 0u);
+  EXPECT_EQ(c.skipped, full_diffractions);
+  EXPECT_LE(c.difference, c.bound);
+}
+
 }  // namespace
 }  // namespace rfidray

@@ -168,10 +168,11 @@ TEST(Fidelity, LadderAddsCandidateRaysOnlyWhereTheyPayOff) {
     return out;
   };
   const std::vector<std::string> few = labels(fidelity_ladder(TraceOptions{}, 10.0));
-  EXPECT_EQ(few, (std::vector<std::string>{"ideal", "los", "los+blocked", "single-bounce", "double-bounce", "full",
+  EXPECT_EQ(few, (std::vector<std::string>{"ideal", "los", "los+blocked", "single-bounce", "double-bounce",
+                                           "full-selective", "full",
                                            "full exhaustive"}));
   const auto many = fidelity_ladder(TraceOptions{}, 5000.0);
-  ASSERT_EQ(many.size(), 8u);
+  ASSERT_EQ(many.size(), 9u);
   EXPECT_EQ(many[3].label, "single-bounce rays=4096");
   EXPECT_EQ(many[3].options.candidate_rays, 4096);
   TraceOptions user;

@@ -1,5 +1,5 @@
 set terminal pngcairo size 1100,840 font 'sans,10'
-set output "levels_pareto.png"
+set output "levels_pareto.png.tmp-10222.png"
 set grid
 set key outside right top
 set multiplot layout 2,1
