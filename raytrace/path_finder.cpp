@@ -1,6 +1,7 @@
 #include "raytrace/path_finder.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -92,6 +93,55 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
           const size_t bit = g.bit_offset + static_cast<size_t>(iv) * g.nu + iu;
           occupancy_[bit / 64] |= uint64_t{1} << (bit % 64);
         }
+    }
+  }
+  // Facet grids of the exact mode: ~2 cells per facet, at most 2^16 per plane; facet bounds padded by more
+  // than inside_box's 1e-6 m so a point that passes it is always binned with its facet.
+  constexpr double kGridPad = 4e-6;
+  subplane_of_facet_.assign(facets.size(), 0);
+  facet_grids_.resize(planes_.size());
+  cell_start_.push_back(0);
+  for (size_t gi = 0; gi < planes_.size(); ++gi) {
+    const PlaneGroup& g = planes_[gi];
+    FacetGrid& fg = facet_grids_[gi];
+    fg.first_subplane = static_cast<uint32_t>(subplane_facet_.size());
+    std::map<std::array<double, 4>, uint32_t> subplane_of_plane;  // distinct exact (normal, offset)
+    for (uint32_t f : members[gi]) {
+      const Facet& fc = facets[f];
+      const auto [it, inserted] = subplane_of_plane.emplace(
+          std::array<double, 4>{fc.normal.x(), fc.normal.y(), fc.normal.z(), fc.offset_m},
+          static_cast<uint32_t>(subplane_facet_.size()));
+      if (inserted) subplane_facet_.push_back(f);
+      subplane_of_facet_[f] = it->second;
+    }
+    fg.subplane_count = static_cast<uint32_t>(subplane_facet_.size()) - fg.first_subplane;
+    const double eu = std::max(g.hi[g.axis_u] - g.lo[g.axis_u], 1e-6) + 2 * kGridPad;
+    const double ev = std::max(g.hi[g.axis_v] - g.lo[g.axis_v], 1e-6) + 2 * kGridPad;
+    const double target = std::clamp(2.0 * members[gi].size(), 1.0, 65536.0);
+    fg.nu = static_cast<int>(std::clamp(std::round(std::sqrt(target * eu / ev)), 1.0, 4096.0));
+    fg.nv = static_cast<int>(std::clamp(std::ceil(target / fg.nu), 1.0, 4096.0));
+    fg.u0 = g.lo[g.axis_u] - kGridPad;
+    fg.v0 = g.lo[g.axis_v] - kGridPad;
+    fg.inv_du = fg.nu / eu;
+    fg.inv_dv = fg.nv / ev;
+    fg.first_cell = static_cast<uint32_t>(cell_start_.size() - 1);
+    const size_t cells = static_cast<size_t>(fg.nu) * fg.nv;
+    auto cell = [](double x, double x0, double inv, int n) {
+      return std::clamp(static_cast<int>(std::floor((x - x0) * inv)), 0, n - 1);
+    };
+    std::vector<std::vector<uint32_t>> bins(cells);
+    for (uint32_t f : members[gi]) {  // members are in ascending facet order, so every bin is too
+      const Facet& fc = facets[f];
+      const int iu0 = cell(fc.lo[g.axis_u] - kGridPad, fg.u0, fg.inv_du, fg.nu);
+      const int iu1 = cell(fc.hi[g.axis_u] + kGridPad, fg.u0, fg.inv_du, fg.nu);
+      const int iv0 = cell(fc.lo[g.axis_v] - kGridPad, fg.v0, fg.inv_dv, fg.nv);
+      const int iv1 = cell(fc.hi[g.axis_v] + kGridPad, fg.v0, fg.inv_dv, fg.nv);
+      for (int iv = iv0; iv <= iv1; ++iv)
+        for (int iu = iu0; iu <= iu1; ++iu) bins[static_cast<size_t>(iv) * fg.nu + iu].push_back(f);
+    }
+    for (const auto& b : bins) {
+      cell_facets_.insert(cell_facets_.end(), b.begin(), b.end());
+      cell_start_.push_back(static_cast<uint32_t>(cell_facets_.size()));
     }
   }
   // Spherical Fibonacci directions for the optional per-pose candidate search.
@@ -304,10 +354,48 @@ void PathFinder::reflections_exhaustive(const Endpoint& ant, const Endpoint& tag
   }
 }
 
+void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, double f,
+                                   std::vector<TracedPath>& out) const {
+  struct Candidate {
+    uint32_t facet;
+    Vec3 image, p;
+  };
+  thread_local std::vector<Candidate> tl_found;  // per-thread scratch: no allocation once warm
+  std::vector<Candidate>& found = tl_found;
+  found.clear();
+  const auto& facets = scene_->facets();
+  const Vec3& a = ant.pose.position;
+  const Vec3& t = tag.pose.position;
+  Vec3 image, p;
+  for (size_t gi = 0; gi < planes_.size(); ++gi) {
+    const PlaneGroup& g = planes_[gi];
+    const FacetGrid& fg = facet_grids_[gi];
+    for (uint32_t s = fg.first_subplane; s < fg.first_subplane + fg.subplane_count; ++s) {
+      const Facet& plane = facets[subplane_facet_[s]];
+      // Exactly reflections_exhaustive's image (same plane, same arithmetic) for every facet of this plane.
+      if (!image_point(plane.normal, plane.offset_m, a, t, options_.surface_epsilon_m, image, p)) continue;
+      if ((image - a).squaredNorm() > max_length2_) continue;
+      const double fu = (p[g.axis_u] - fg.u0) * fg.inv_du, fv = (p[g.axis_v] - fg.v0) * fg.inv_dv;
+      if (!(fu >= 0.0 && fv >= 0.0 && fu < fg.nu && fv < fg.nv)) continue;  // off every padded facet
+      const size_t c = fg.first_cell + static_cast<size_t>(fv) * fg.nu + static_cast<size_t>(fu);
+      for (uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+        const uint32_t fi = cell_facets_[k];
+        if (subplane_of_facet_[fi] != s) continue;
+        const Facet& fc = facets[fi];
+        if (!inside_box(p, fc.lo, fc.hi, 1e-6) || !point_on_facet(fc, p)) continue;
+        found.push_back({fi, image, p});
+      }
+    }
+  }
+  // reflections_exhaustive's order (the de-duplication of coplanar facets keeps the first).
+  std::sort(found.begin(), found.end(), [](const Candidate& x, const Candidate& y) { return x.facet < y.facet; });
+  for (const Candidate& c : found) add_reflection(c.facet, c.image, c.p, ant, tag, f, /*check_leg1=*/true, out);
+}
+
 void PathFinder::reflections_fast(const Endpoint& ant, const Endpoint& tag, double f, const PoseCandidates& c,
                                   std::vector<TracedPath>& out) const {
   if (c.all) {
-    for (uint32_t g = 0; g < planes_.size(); ++g) try_plane(g, ant, tag, f, c, out);
+    reflections_exact(ant, tag, f, out);
   } else {
     for (uint32_t g : c.planes) try_plane(g, ant, tag, f, c, out);
   }
@@ -322,12 +410,9 @@ void PathFinder::try_plane(uint32_t group, const Endpoint& ant, const Endpoint& 
   if ((image - a).squaredNorm() > max_length2_) return;  // longer than max_path_length_m
   const size_t bit = cell_bit(g, p);
   if (bit == SIZE_MAX) return;
-  if (c.all) {
-    if (!((occupancy_[bit / 64] >> (bit % 64)) & 1u)) return;  // no facet near p
-  } else {
-    // A point no candidate ray saw is taken as hidden from the antenna (seen cells are occupied ones).
-    if (!((c.seen_cells[bit / 64] >> (bit % 64)) & 1u)) return;
-  }
+  // (Candidate rays only: the exact mode is reflections_exact.) A point no candidate ray saw is taken as
+  // hidden from the antenna (seen cells are occupied ones).
+  if (!((c.seen_cells[bit / 64] >> (bit % 64)) & 1u)) return;
   // One ray A→P answers both "is leg 1 clear" and "which facet of this plane is at P": the first thing hit
   // must be a facet of this plane.
   const Vec3 d1 = p - a;

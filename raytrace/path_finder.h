@@ -116,6 +116,21 @@ class PathFinder {
     int nu = 1, nv = 1;
     size_t bit_offset = 0;  // into occupancy_
   };
+  // Exact mode (no candidate rays): the facets of each plane group binned by cell of a grid over the group's
+  // extent (facet bounds padded past inside_box's tolerance), and the distinct exact planes of its facets
+  // (usually one). Each distinct plane's image point is tested against the facets binned in its cell only,
+  // with the same image, bounds, point-in-facet and leg tests as reflections_exhaustive, and the survivors
+  // are taken in facet order: the same paths as the exhaustive search, with no ray for a point that is on no
+  // facet.
+  struct FacetGrid {
+    int nu = 1, nv = 1;
+    double u0 = 0, v0 = 0, inv_du = 0, inv_dv = 0;
+    uint32_t first_cell = 0;       // into cell_start_
+    uint32_t first_subplane = 0;   // into subplane_facet_; the group's distinct planes are
+    uint32_t subplane_count = 0;   // subplane_facet_[first_subplane, first_subplane + subplane_count)
+  };
+  void reflections_exact(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
+
   // Bit index of p's cell in g's grid, or SIZE_MAX when p is outside the grid.
   size_t cell_bit(const PlaneGroup& g, const Vec3& p) const;
   // Marks the occupied cells of g under the footprint of a candidate ray (direction dir, footprint radius
@@ -149,6 +164,11 @@ class PathFinder {
   std::vector<std::vector<uint32_t>> plane_members_;  // facets of each plane group
   std::vector<Edge> edges_;
   std::vector<uint64_t> occupancy_;
+  std::vector<FacetGrid> facet_grids_;        // per plane group
+  std::vector<uint32_t> cell_start_;          // CSR over every group's cells into cell_facets_
+  std::vector<uint32_t> cell_facets_;         // facets (ascending) whose padded bounds overlap the cell
+  std::vector<uint32_t> subplane_facet_;      // one facet per distinct exact plane of a group
+  std::vector<uint32_t> subplane_of_facet_;   // index into subplane_facet_
   std::vector<Vec3> candidate_directions_;
   double candidate_spacing_rad_ = 0.0;  // angular spacing of the candidate rays, √(4π/N)
 };
