@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -43,6 +44,8 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     throw field_error("epsilon", "ray epsilons must be > 0");
   if (options_.candidate_rays < 0) throw field_error("candidate_rays", "must be ≥ 0");
   if (!(options_.candidate_spread > 0.0)) throw field_error("candidate_spread", "must be > 0");
+  static std::atomic<uint64_t> instances{0};
+  instance_ = ++instances;
   drop_power_ratio_ = db_to_linear(-options_.drop_below_db);
   max_length2_ = options_.max_path_length_m * options_.max_path_length_m;
   // Plane groups of the fast mode.
@@ -304,7 +307,7 @@ void PathFinder::reflections_exhaustive(const Endpoint& ant, const Endpoint& tag
       continue;
     if ((image - ant.pose.position).squaredNorm() > max_length2_) continue;
     if (!inside_box(p, fc.lo, fc.hi, 1e-6) || !point_on_facet(fc, p)) continue;
-    add_reflection(static_cast<uint32_t>(i), image, p, ant, tag, f, /*check_leg1=*/true, out);
+    add_reflection(static_cast<uint32_t>(i), image, p, ant, tag, f, /*check_leg1=*/true, /*reuse_blockers=*/false, out);
   }
 }
 
@@ -343,6 +346,7 @@ void PathFinder::build_exact_groups() {
     g.normal.cwiseAbs().maxCoeff(&k);
     g.axis_u = (k + 1) % 3;
     g.axis_v = (k + 2) % 3;
+    if (g.normal == Vec3::Unit(k) || g.normal == -Vec3::Unit(k)) g.axis_k = k, g.axis_sign = g.normal[k] > 0 ? 1 : -1;
     std::sort(members.begin(), members.end());  // facet order within every cell
     Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (uint32_t f : members) {
@@ -459,21 +463,42 @@ void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, dou
     // span, the most the plane's own offset moves P along an axis). Unknown if either extreme rejects the
     // link (some member may not): then every cell of the group.
     Window w{gi, 0, g.nu - 1, 0, g.nv - 1, -INFINITY, INFINITY, -INFINITY, INFINITY, SIZE_MAX};
-    if (image_point(g.normal, g.offset_lo_m, a, t, eps, image, p) &&
+    bool bounded = false;
+    if (g.axis_sign != 0 && g.span_m <= 1e-6) {
+      // Axis-aligned plane (the common case): P in (u, v) is a + s·(t − a), s = da/(da + dt), in a few
+      // flops. The window only has to contain every member's P: pad it by the first-order motion of P over
+      // the span, |ds/dc|·|t − a| per axis with |ds/dc| = |da − dt|/(da + dt)², doubled, plus 1e-7 m for
+      // rounding (facets are binned and entries bounded with 2e-6 m more than inside_box accepts).
+      const double da = g.axis_sign * a[g.axis_k] - g.offset_lo_m, dt = g.axis_sign * t[g.axis_k] - g.offset_lo_m;
+      const double sum = da + dt;
+      if (da * dt > 0.0 && std::abs(sum) > 1e3 * g.span_m) {
+        const double sf = da / sum, motion = 2.0 * g.span_m * std::abs(da - dt) / (sum * sum);
+        const double du = t[g.axis_u] - a[g.axis_u], dv = t[g.axis_v] - a[g.axis_v];
+        const double pu = a[g.axis_u] + sf * du, pv = a[g.axis_v] + sf * dv;
+        const double padu = motion * std::abs(du) + 1e-7, padv = motion * std::abs(dv) + 1e-7;
+        w.pu0 = pu - padu, w.pu1 = pu + padu, w.pv0 = pv - padv, w.pv1 = pv + padv;
+        bounded = true;
+      }
+    }
+    if (!bounded && image_point(g.normal, g.offset_lo_m, a, t, eps, image, p) &&
         (g.span_m == 0.0 ? (p2 = p, true) : image_point(g.normal, g.offset_hi_m, a, t, eps, image2, p2))) {
       const double pad = g.span_m + 1e-9;
       w.pu0 = std::min(p[g.axis_u], p2[g.axis_u]) - pad, w.pu1 = std::max(p[g.axis_u], p2[g.axis_u]) + pad;
       w.pv0 = std::min(p[g.axis_v], p2[g.axis_v]) - pad, w.pv1 = std::max(p[g.axis_v], p2[g.axis_v]) + pad;
+      bounded = true;
+    }
+    if (bounded) {
       const double ulo = (w.pu0 - g.u0) * g.inv_du, uhi = (w.pu1 - g.u0) * g.inv_du;
       const double vlo = (w.pv0 - g.v0) * g.inv_dv, vhi = (w.pv1 - g.v0) * g.inv_dv;
       if (!(uhi >= 0.0 && vhi >= 0.0 && ulo < g.nu && vlo < g.nv)) continue;  // off every facet
       w.iu0 = static_cast<int>(std::max(ulo, 0.0)), w.iu1 = static_cast<int>(std::min(uhi, g.nu - 1.0));
       w.iv0 = static_cast<int>(std::max(vlo, 0.0)), w.iv1 = static_cast<int>(std::min(vhi, g.nv - 1.0));
       // The occupancy bit under the window, when the window is within one bit (almost always).
-      const int bu0 = std::max(static_cast<int>(std::floor((w.pu0 - g.u0) * g.binv_du)), 0);
-      const int bu1 = std::min(static_cast<int>(std::floor((w.pu1 - g.u0) * g.binv_du)), g.bnu - 1);
-      const int bv0 = std::max(static_cast<int>(std::floor((w.pv0 - g.v0) * g.binv_dv)), 0);
-      const int bv1 = std::min(static_cast<int>(std::floor((w.pv1 - g.v0) * g.binv_dv)), g.bnv - 1);
+      // (the window meets the grid, so clamping at 0 before truncating is the floor, clamped)
+      const int bu0 = static_cast<int>(std::max((w.pu0 - g.u0) * g.binv_du, 0.0));
+      const int bu1 = static_cast<int>(std::min((w.pu1 - g.u0) * g.binv_du, g.bnu - 1.0));
+      const int bv0 = static_cast<int>(std::max((w.pv0 - g.v0) * g.binv_dv, 0.0));
+      const int bv1 = static_cast<int>(std::min((w.pv1 - g.v0) * g.binv_dv, g.bnv - 1.0));
       if (bu0 == bu1 && bv0 == bv1) {
         w.bit = g.first_bit + static_cast<size_t>(bv0) * g.bnu + bu0;
         __builtin_prefetch(&exact_bits_[w.bit / 64]);
@@ -514,7 +539,8 @@ void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, dou
   found.erase(std::unique(found.begin(), found.end(),
                           [](const Candidate& x, const Candidate& y) { return x.facet == y.facet; }),
               found.end());
-  for (const Candidate& c : found) add_reflection(c.facet, c.image, c.p, ant, tag, f, /*check_leg1=*/true, out);
+  for (const Candidate& c : found)
+    add_reflection(c.facet, c.image, c.p, ant, tag, f, /*check_leg1=*/true, /*reuse_blockers=*/true, out);
 }
 
 void PathFinder::reflections_fast(const Endpoint& ant, const Endpoint& tag, double f, const PoseCandidates& c,
@@ -551,11 +577,12 @@ void PathFinder::try_plane(uint32_t group, const Endpoint& ant, const Endpoint& 
   // Redo the image in the facet's own plane (identical to the group's within the grouping tolerance).
   const Facet& fc = scene_->facets()[facet];
   if (!image_point(fc.normal, fc.offset_m, a, tag.pose.position, options_.surface_epsilon_m, image, p)) return;
-  add_reflection(facet, image, p, ant, tag, f, /*check_leg1=*/false, out);
+  add_reflection(facet, image, p, ant, tag, f, /*check_leg1=*/false, /*reuse_blockers=*/false, out);
 }
 
 void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p, const Endpoint& ant,
-                                const Endpoint& tag, double f, bool check_leg1, std::vector<TracedPath>& out) const {
+                                const Endpoint& tag, double f, bool check_leg1, bool reuse_blockers,
+                                std::vector<TracedPath>& out) const {
   const Facet& fc = scene_->facets()[facet];
   const Vec3& a = ant.pose.position;
   const Vec3& t = tag.pose.position;
@@ -575,12 +602,13 @@ void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p
   const double end_eps2 = std::min(options_.endpoint_epsilon_m, 0.25 * l2);
   // Both legs must be clear, so the order changes only the number of rays: the longer leg first (it crosses
   // more of the scene, so it is the more often blocked one, and a blocked leg ends the test).
+  const auto blocked = [&](const Vec3& o, const Vec3& d, double s0, double s1, int side) {
+    return reuse_blockers ? segment_blocked(o, d, s0, s1, side) : bvh.occluded(o, d, s0, s1);
+  };
   const auto leg1_blocked = [&] {
-    return check_leg1 && bvh.occluded(a, dir1, end_eps1, l1 - plane_margin(clearance, cos_theta, l1));
+    return check_leg1 && blocked(a, dir1, end_eps1, l1 - plane_margin(clearance, cos_theta, l1), 0);
   };
-  const auto leg2_blocked = [&] {
-    return bvh.occluded(p, dir2, plane_margin(clearance, cos_theta, l2), l2 - end_eps2);
-  };
+  const auto leg2_blocked = [&] { return blocked(p, dir2, plane_margin(clearance, cos_theta, l2), l2 - end_eps2, 1); };
   if (l2 > l1 ? leg2_blocked() || leg1_blocked() : leg1_blocked() || leg2_blocked()) return;
 
   const RadioMaterial& m = scene_->materials()[fc.material];
@@ -597,6 +625,57 @@ void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p
   path.coefficient = gain * polarization_match(reflected, tag.polarization, tag.pose.orientation, dir2);
   path.contribution = path_contribution(path.length_m, path.coefficient, f);
   out.push_back(path);
+}
+
+namespace {
+
+// The triangles that blocked this thread's latest legs (round robin), for the scene they belong to.
+struct BlockerCache {
+  uint64_t owner = 0;  // PathFinder::instance_ (addresses are reused; instance numbers are not)
+  std::array<uint32_t, 2> triangles{};
+  unsigned size = 0, next = 0;
+};
+thread_local BlockerCache tl_blockers[2];  // legs from the antenna, legs to the tag
+
+}  // namespace
+
+bool PathFinder::crosses_clearly(uint32_t tri, const Vec3& o, const Vec3& d, double s0, double s1) const {
+  // Möller–Trumbore in double, then margins far above Embree's float error: the crossing lies ≥ δ inside
+  // every edge and ≥ δ inside [s0, s1], the leg not within ~0.6° of the triangle's plane, where δ is ~80 float
+  // ulps of the coordinates Embree sees (origin − bvh origin, plus the leg's length). Such a crossing Embree
+  // finds too, so the leg is blocked with no ray.
+  const auto c = scene_->corners(tri);
+  const Vec3 e1 = c[1] - c[0], e2 = c[2] - c[0];
+  const Vec3 n = e1.cross(e2);
+  const double n_norm = n.norm();
+  if (!(n_norm > 0.0)) return false;
+  const double cos_inc = d.dot(n) / n_norm;
+  if (std::abs(cos_inc) < 1e-2) return false;
+  const double s = n.dot(c[0] - o) / d.dot(n);
+  const double delta = 1e-5 + 1e-5 * ((o - scene_->bvh().origin()).cwiseAbs().maxCoeff() + s1);
+  if (!(s >= s0 + delta && s <= s1 - delta)) return false;
+  const Vec3 x = o + s * d;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 e = c[(k + 1) % 3] - c[k];
+    // Distance of x from edge k, positive inside (the corners turn counter-clockwise about n).
+    if (n.dot(e.cross(x - c[k])) / (n_norm * e.norm()) < delta) return false;
+  }
+  return true;
+}
+
+bool PathFinder::segment_blocked(const Vec3& o, const Vec3& d, double s0, double s1, int side) const {
+  if (!(s1 > s0)) return false;  // as EmbreeScene::occluded
+  BlockerCache& cache = tl_blockers[side];
+  if (cache.owner != instance_) cache = BlockerCache{instance_};
+  for (unsigned i = 0; i < cache.size; ++i)
+    if (crosses_clearly(cache.triangles[i], o, d, s0, s1)) return true;
+  // The closest hit answers the same question as an occlusion ray, and names the triangle to remember.
+  const RayHit h = scene_->bvh().intersect(o, d, s0, s1);
+  if (!h.hit) return false;
+  cache.triangles[cache.next] = scene_->triangle_id(h.geom, h.prim);
+  cache.next = (cache.next + 1) % cache.triangles.size();
+  if (cache.size < cache.triangles.size()) ++cache.size;
+  return true;
 }
 
 Path PathFinder::to_path(const TracedPath& p) const {

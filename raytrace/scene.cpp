@@ -60,12 +60,6 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
   bvh_ = std::make_unique<EmbreeScene>(meshes_, options.embree_config, origin_);
 }
 
-std::array<Vec3, 3> Scene::corners(uint32_t triangle) const {
-  const TriangleMesh& m = meshes_[triangle_mesh_[triangle]];
-  const auto& tri = m.triangles[triangle - triangle_offset_[triangle_mesh_[triangle]]];
-  return {m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]};
-}
-
 std::vector<std::string> extrapolation_warnings(const Scene& scene, double frequency_hz) {
   std::vector<std::string> out;
   for (const RadioMaterial& m : scene.materials())

@@ -57,7 +57,12 @@ class Scene {
   // Unit normal of a triangle (zero for degenerate ones).
   const Vec3& normal_of(uint32_t triangle) const { return triangle_normal_[triangle]; }
   // The three corners of a triangle.
-  std::array<Vec3, 3> corners(uint32_t triangle) const;
+  std::array<Vec3, 3> corners(uint32_t triangle) const {  // inline: the exact reflection search's inner loop
+    const uint32_t mesh = triangle_mesh_[triangle];
+    const TriangleMesh& m = meshes_[mesh];
+    const auto& tri = m.triangles[triangle - triangle_offset_[mesh]];
+    return {m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]};
+  }
 
  private:
   std::vector<TriangleMesh> meshes_;
