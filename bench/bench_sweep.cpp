@@ -6,7 +6,10 @@
 //   single-bounce with 4096 candidate rays) and thread count (1, 2): median links/s over runs, rays per link;
 //   on the 1 M-triangle warehouse also links/s vs number of tags (100 … 100 k).
 //
-//   bench_sweep [--quick] [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes a,b,...]
+//   bench_sweep [--quick] [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes a,b,...] [--settings a,b,...]
+//               [--threads 1 2 ...] [--no-tags-sweep]
+// rays_per_link counts every Embree query (rtcIntersect1 / rtcOccluded1) issued, per link: a figure that
+// does not depend on the machine.
 // Writes DIR/links_per_level.csv, DIR/links_vs_tags.csv, DIR/links_vs_triangles.png, DIR/links_vs_tags.png.
 #include <omp.h>
 

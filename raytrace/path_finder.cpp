@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -44,8 +43,6 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     throw field_error("epsilon", "ray epsilons must be > 0");
   if (options_.candidate_rays < 0) throw field_error("candidate_rays", "must be ≥ 0");
   if (!(options_.candidate_spread > 0.0)) throw field_error("candidate_spread", "must be > 0");
-  static std::atomic<uint64_t> instances{0};
-  instance_ = ++instances;
   drop_power_ratio_ = db_to_linear(-options_.drop_below_db);
   max_length2_ = options_.max_path_length_m * options_.max_path_length_m;
   // Plane groups of the fast mode.
@@ -307,7 +304,7 @@ void PathFinder::reflections_exhaustive(const Endpoint& ant, const Endpoint& tag
       continue;
     if ((image - ant.pose.position).squaredNorm() > max_length2_) continue;
     if (!inside_box(p, fc.lo, fc.hi, 1e-6) || !point_on_facet(fc, p)) continue;
-    add_reflection(static_cast<uint32_t>(i), image, p, ant, tag, f, /*check_leg1=*/true, /*reuse_blockers=*/false, out);
+    add_reflection(static_cast<uint32_t>(i), image, p, ant, tag, f, /*check_leg1=*/true, out);
   }
 }
 
@@ -540,7 +537,7 @@ void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, dou
                           [](const Candidate& x, const Candidate& y) { return x.facet == y.facet; }),
               found.end());
   for (const Candidate& c : found)
-    add_reflection(c.facet, c.image, c.p, ant, tag, f, /*check_leg1=*/true, /*reuse_blockers=*/true, out);
+    add_reflection(c.facet, c.image, c.p, ant, tag, f, /*check_leg1=*/true, out);
 }
 
 void PathFinder::reflections_fast(const Endpoint& ant, const Endpoint& tag, double f, const PoseCandidates& c,
@@ -577,12 +574,11 @@ void PathFinder::try_plane(uint32_t group, const Endpoint& ant, const Endpoint& 
   // Redo the image in the facet's own plane (identical to the group's within the grouping tolerance).
   const Facet& fc = scene_->facets()[facet];
   if (!image_point(fc.normal, fc.offset_m, a, tag.pose.position, options_.surface_epsilon_m, image, p)) return;
-  add_reflection(facet, image, p, ant, tag, f, /*check_leg1=*/false, /*reuse_blockers=*/false, out);
+  add_reflection(facet, image, p, ant, tag, f, /*check_leg1=*/false, out);
 }
 
 void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p, const Endpoint& ant,
-                                const Endpoint& tag, double f, bool check_leg1, bool reuse_blockers,
-                                std::vector<TracedPath>& out) const {
+                                const Endpoint& tag, double f, bool check_leg1, std::vector<TracedPath>& out) const {
   const Facet& fc = scene_->facets()[facet];
   const Vec3& a = ant.pose.position;
   const Vec3& t = tag.pose.position;
@@ -602,13 +598,12 @@ void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p
   const double end_eps2 = std::min(options_.endpoint_epsilon_m, 0.25 * l2);
   // Both legs must be clear, so the order changes only the number of rays: the longer leg first (it crosses
   // more of the scene, so it is the more often blocked one, and a blocked leg ends the test).
-  const auto blocked = [&](const Vec3& o, const Vec3& d, double s0, double s1, int side) {
-    return reuse_blockers ? segment_blocked(o, d, s0, s1, side) : bvh.occluded(o, d, s0, s1);
-  };
   const auto leg1_blocked = [&] {
-    return check_leg1 && blocked(a, dir1, end_eps1, l1 - plane_margin(clearance, cos_theta, l1), 0);
+    return check_leg1 && bvh.occluded(a, dir1, end_eps1, l1 - plane_margin(clearance, cos_theta, l1));
   };
-  const auto leg2_blocked = [&] { return blocked(p, dir2, plane_margin(clearance, cos_theta, l2), l2 - end_eps2, 1); };
+  const auto leg2_blocked = [&] {
+    return bvh.occluded(p, dir2, plane_margin(clearance, cos_theta, l2), l2 - end_eps2);
+  };
   if (l2 > l1 ? leg2_blocked() || leg1_blocked() : leg1_blocked() || leg2_blocked()) return;
 
   const RadioMaterial& m = scene_->materials()[fc.material];
@@ -625,57 +620,6 @@ void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p
   path.coefficient = gain * polarization_match(reflected, tag.polarization, tag.pose.orientation, dir2);
   path.contribution = path_contribution(path.length_m, path.coefficient, f);
   out.push_back(path);
-}
-
-namespace {
-
-// The triangles that blocked this thread's latest legs (round robin), for the scene they belong to.
-struct BlockerCache {
-  uint64_t owner = 0;  // PathFinder::instance_ (addresses are reused; instance numbers are not)
-  std::array<uint32_t, 2> triangles{};
-  unsigned size = 0, next = 0;
-};
-thread_local BlockerCache tl_blockers[2];  // legs from the antenna, legs to the tag
-
-}  // namespace
-
-bool PathFinder::crosses_clearly(uint32_t tri, const Vec3& o, const Vec3& d, double s0, double s1) const {
-  // Möller–Trumbore in double, then margins far above Embree's float error: the crossing lies ≥ δ inside
-  // every edge and ≥ δ inside [s0, s1], the leg not within ~0.6° of the triangle's plane, where δ is ~80 float
-  // ulps of the coordinates Embree sees (origin − bvh origin, plus the leg's length). Such a crossing Embree
-  // finds too, so the leg is blocked with no ray.
-  const auto c = scene_->corners(tri);
-  const Vec3 e1 = c[1] - c[0], e2 = c[2] - c[0];
-  const Vec3 n = e1.cross(e2);
-  const double n_norm = n.norm();
-  if (!(n_norm > 0.0)) return false;
-  const double cos_inc = d.dot(n) / n_norm;
-  if (std::abs(cos_inc) < 1e-2) return false;
-  const double s = n.dot(c[0] - o) / d.dot(n);
-  const double delta = 1e-5 + 1e-5 * ((o - scene_->bvh().origin()).cwiseAbs().maxCoeff() + s1);
-  if (!(s >= s0 + delta && s <= s1 - delta)) return false;
-  const Vec3 x = o + s * d;
-  for (int k = 0; k < 3; ++k) {
-    const Vec3 e = c[(k + 1) % 3] - c[k];
-    // Distance of x from edge k, positive inside (the corners turn counter-clockwise about n).
-    if (n.dot(e.cross(x - c[k])) / (n_norm * e.norm()) < delta) return false;
-  }
-  return true;
-}
-
-bool PathFinder::segment_blocked(const Vec3& o, const Vec3& d, double s0, double s1, int side) const {
-  if (!(s1 > s0)) return false;  // as EmbreeScene::occluded
-  BlockerCache& cache = tl_blockers[side];
-  if (cache.owner != instance_) cache = BlockerCache{instance_};
-  for (unsigned i = 0; i < cache.size; ++i)
-    if (crosses_clearly(cache.triangles[i], o, d, s0, s1)) return true;
-  // The closest hit answers the same question as an occlusion ray, and names the triangle to remember.
-  const RayHit h = scene_->bvh().intersect(o, d, s0, s1);
-  if (!h.hit) return false;
-  cache.triangles[cache.next] = scene_->triangle_id(h.geom, h.prim);
-  cache.next = (cache.next + 1) % cache.triangles.size();
-  if (cache.size < cache.triangles.size()) ++cache.size;
-  return true;
 }
 
 Path PathFinder::to_path(const TracedPath& p) const {

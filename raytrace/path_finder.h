@@ -156,12 +156,7 @@ class PathFinder {
                  std::vector<TracedPath>& out) const;
   // Shared tail of both modes: P on facet f is valid; checks leg 2 (and leg 1 if asked) and appends.
   void add_reflection(uint32_t facet, const Vec3& image, const Vec3& p, const Endpoint& a, const Endpoint& t,
-                      double f, bool check_leg1, bool reuse_blockers, std::vector<TracedPath>& out) const;
-  // Is o + s·d, s in [s0, s1], blocked? As EmbreeScene::occluded, but first against the triangles that
-  // blocked this thread's latest legs (crosses_clearly), and a traced leg remembers its blocker.
-  // `side`: 0 for legs from the antenna, 1 for legs to the tag (each remembers its own blockers).
-  bool segment_blocked(const Vec3& o, const Vec3& d, double s0, double s1, int side) const;
-  bool crosses_clearly(uint32_t triangle, const Vec3& o, const Vec3& d, double s0, double s1) const;
+                      double f, bool check_leg1, std::vector<TracedPath>& out) const;
   bool point_on_facet(const Facet& facet, const Vec3& p) const;
   bool point_on_triangle(const Vec3& facet_normal, uint32_t triangle, const Vec3& p) const;
   // Level double-bounce (double_bounce.cpp): every plane pair; `floor` is the drop floor so far (power).
@@ -174,7 +169,6 @@ class PathFinder {
 
   std::shared_ptr<const Scene> scene_;
   TraceOptions options_;
-  uint64_t instance_ = 0;  // unique per PathFinder of this process (keys the per-thread blocker cache)
   double drop_power_ratio_ = 0.0;  // db_to_linear(-drop_below_db)
   double max_length2_ = 0.0;       // max_path_length_m²
   std::vector<PlaneGroup> planes_;
