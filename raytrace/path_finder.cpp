@@ -260,7 +260,7 @@ void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f,
     const uint32_t tri = scene_->triangle_id(hit.geom, hit.prim);
     const RadioMaterial& m = scene_->materials()[scene_->material_of(tri)];
     if (m.perfect_conductor || ++p.crossings > options_.max_crossings) return;  // opaque
-    const Vec3& n = scene_->normal_of(tri);
+    const Vec3 n = scene_->normal_of(tri);
     const double cos_theta = std::abs(dir.dot(n));
     field = transmit_field(field, dir, n, material_transmission(m, f, cos_theta));
     if (p.crossings == 1) {
