@@ -6,7 +6,10 @@
 //   single-bounce with 4096 candidate rays) and thread count (1, 2): median links/s over runs, rays per link;
 //   on the 1 M-triangle warehouse also links/s vs number of tags (100 … 100 k).
 //
-//   bench_sweep [--quick] [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes a,b,...]
+//   bench_sweep [--quick] [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes a,b,...] [--settings a,b,...]
+//               [--threads 1 2 ...] [--no-tags-sweep]
+// rays_per_link counts every Embree query (rtcIntersect1 / rtcOccluded1) issued, per link: a figure that
+// does not depend on the machine.
 // Writes DIR/links_per_level.csv, DIR/links_vs_tags.csv, DIR/links_vs_triangles.png, DIR/links_vs_tags.png.
 #include <omp.h>
 
@@ -102,7 +105,22 @@ int main(int argc, char** argv) {
   app.add_option("--tags", tags, "tags per antenna pose")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--poses", poses, "antenna poses per run")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--scenes", scene_list, "comma-separated subset of paper,w10k,w100k,w1m,w5m");
+  std::string setting_list;
+  app.add_option("--settings", setting_list, "comma-separated subset of the settings (los, los+blocked, "
+                                             "single-bounce, 'single-bounce rays=4096')");
+  bool no_tags_sweep = false;
+  app.add_flag("--no-tags-sweep", no_tags_sweep, "skip the links/s vs tags sweep on w1m");
+  std::vector<int> thread_counts{1, 2};
+  app.add_option("--threads", thread_counts, "thread counts")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  std::vector<Setting> chosen;
+  for (const Setting& st : settings())
+    if (setting_list.empty() || ("," + setting_list + ",").find("," + st.name + ",") != std::string::npos)
+      chosen.push_back(st);
+  if (chosen.empty()) {
+    std::cerr << "bench_sweep: --settings: no known setting in '" << setting_list << "'\n";
+    return 2;
+  }
   if (quick) runs = std::min(runs, 3), tags = std::min(tags, 2000);
   std::filesystem::create_directories(out_dir);
 
@@ -141,9 +159,9 @@ int main(int argc, char** argv) {
                 bs.name.c_str(), scene->triangle_count(), scene->facets().size(), planes, build_s,
                 scene->bvh().embree_bytes() / n_tri, double(rss1 - std::min(rss0, rss1)) / n_tri, w.tags.size(),
                 w.antennas.size());
-    for (const Setting& st : settings()) {
+    for (const Setting& st : chosen) {
       const RaytracedChannel ch(scene, st.options);
-      for (int threads : {1, 2}) {
+      for (int threads : thread_counts) {
         omp_set_num_threads(threads);
         const Rate r = measure(ch, w, runs);
         std::printf("  %-24s %d thread%s  %12.0f links/s median (min %.0f, max %.0f)  %6.2f rays/link\n",
@@ -160,12 +178,12 @@ int main(int argc, char** argv) {
         }
       }
     }
-    if (bs.name == "w1m") {
+    if (bs.name == "w1m" && !no_tags_sweep) {
       // Cost vs tags: linear in tags, the per-pose candidate search amortised over more of them.
       omp_set_num_threads(2);
       std::vector<int> counts{100, 1000, 10000, 100000};
       if (quick) counts = {100, 1000, 10000};
-      for (const Setting& st : settings()) {
+      for (const Setting& st : chosen) {
         const RaytracedChannel ch(scene, st.options);
         for (int n : counts) {
           const bench::Workload wt = bench::scene_workload(bs, n, poses);

@@ -35,7 +35,17 @@ struct BenchOptions {
   bool quick = false;
   std::string output_dir;  // "": bench/results for a full run; a quick run goes to out/bench-quick
   std::string only;  // comma-separated subset of the programs
+  bool dry_run = false;  // print the output directory and the commands, run nothing, create nothing
 };
+
+// The output directory of a run: -o when given, else bench/results for a full run (the committed results) and
+// out/bench-quick for a quick one, so a quick run never lands on the committed full-run results (which a user
+// would then see as changes to the repository). Relative to the current directory.
+fs::path output_directory(const BenchOptions& o) {
+  return fs::absolute(!o.output_dir.empty() ? fs::path(o.output_dir)
+                      : o.quick             ? fs::path("out") / "bench-quick"
+                                            : fs::path("bench") / "results");
+}
 
 std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
@@ -45,7 +55,11 @@ fs::path bench_dir() {
   return (ec ? fs::current_path() : exe.parent_path()) / "bench";
 }
 
-void run_program(const fs::path& program, const std::string& args, const fs::path& log) {
+void run_program(const fs::path& program, const std::string& args, const fs::path& log, bool dry_run) {
+  if (dry_run) {  // the plan only: nothing is checked, run or written
+    std::printf("rfidray bench (dry run): %s %s > %s\n", program.string().c_str(), args.c_str(), log.c_str());
+    return;
+  }
   if (!fs::exists(program))
     throw InputError(program.string() + ": benchmark program not found (configure with -DRFIDRAY_BUILD_BENCH=ON and "
                                         "build; `rfidray bench` runs the programs built beside it)");
@@ -130,9 +144,7 @@ std::vector<std::string> ray_ratios(const fs::path& dir) {
 }
 
 int run_bench(const BenchOptions& o) {
-  // A quick run never lands on the committed full-run results (bench/results/), which a user would then see as
-  // changes to the repository.
-  const fs::path dir = fs::absolute(!o.output_dir.empty() ? o.output_dir : o.quick ? "out/bench-quick" : "bench/results");
+  const fs::path dir = output_directory(o);
   const fs::path progs = bench_dir();
   const std::vector<std::string> programs{"bench_rays", "bench_sweep", "bench_accuracy", "localize_paper",
                                           "localize_sweeps", "localize_speed"};
@@ -144,7 +156,8 @@ int run_bench(const BenchOptions& o) {
   const auto wanted = [&](const std::string& name) {
     return o.only.empty() || ("," + o.only + ",").find("," + name + ",") != std::string::npos;
   };
-  fs::create_directories(dir);
+  if (o.dry_run) std::printf("rfidray bench (dry run): results would go to %s\n", dir.c_str());
+  else fs::create_directories(dir);
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::string> ratio_lines;
   if (wanted("bench_rays")) {
@@ -152,29 +165,30 @@ int run_bench(const BenchOptions& o) {
                                                  : "--benchmark_min_time=0.5 --benchmark_repetitions=3 "
                                                    "--benchmark_report_aggregates_only=true ") +
                              "--benchmark_out_format=json --benchmark_out=" + quoted((dir / "rays.json").string());
-    run_program(progs / "bench_rays", args, dir / "bench_rays.log");
-    ratio_lines = ray_ratios(dir);
+    run_program(progs / "bench_rays", args, dir / "bench_rays.log", o.dry_run);
+    if (!o.dry_run) ratio_lines = ray_ratios(dir);
   }
   const std::string quick = o.quick ? " --quick" : "";
-  if (wanted("bench_sweep")) run_program(progs / "bench_sweep", "--out " + quoted(dir.string()) + quick, dir / "bench_sweep.log");
+  if (wanted("bench_sweep")) run_program(progs / "bench_sweep", "--out " + quoted(dir.string()) + quick, dir / "bench_sweep.log", o.dry_run);
   if (wanted("bench_accuracy"))
-    run_program(progs / "bench_accuracy", "--out " + quoted(dir.string()) + quick, dir / "bench_accuracy.log");
+    run_program(progs / "bench_accuracy", "--out " + quoted(dir.string()) + quick, dir / "bench_accuracy.log", o.dry_run);
   if (wanted("localize_paper")) {
     const std::string seeds = o.quick ? " --seeds 1" : " --seeds 5";
     run_program(progs / "localize_paper", "--out " + quoted((dir / "localize_paper_ideal").string()) + seeds,
-                dir / "localize_paper_ideal.log");
+                dir / "localize_paper_ideal.log", o.dry_run);
     run_program(progs / "localize_paper",
                 "--channel single-bounce --model physical --out " +
                     quoted((dir / "localize_paper_multipath").string()) + seeds,
-                dir / "localize_paper_multipath.log");
+                dir / "localize_paper_multipath.log", o.dry_run);
   }
   if (wanted("localize_sweeps"))
     run_program(progs / "localize_sweeps", "--out " + quoted(dir.string()) + (o.quick ? " --trials 3" : ""),
-                dir / "localize_sweeps.log");
+                dir / "localize_sweeps.log", o.dry_run);
   if (wanted("localize_speed"))
     run_program(progs / "localize_speed", "--out " + quoted(dir.string()) + (o.quick ? " --repeats 3" : ""),
-                dir / "localize_speed.log");
+                dir / "localize_speed.log", o.dry_run);
 
+  if (o.dry_run) return 0;
   std::ostringstream md;  // summary.md, written atomically below
   const std::time_t now = std::time(nullptr);
   char date[64];
@@ -214,6 +228,7 @@ std::function<int()> setup_bench(CLI::App& app) {
   cmd->add_flag("--quick", opts->quick, "Smaller scenes, fewer runs and settings");
   cmd->add_option("-o,--output", opts->output_dir,
                   "Output directory (default: bench/results for a full run, out/bench-quick with --quick)");
+  cmd->add_flag("--dry-run", opts->dry_run, "Print the output directory and the commands; run and write nothing");
   cmd->add_option("--only", opts->only,
                   "Comma-separated subset: bench_rays,bench_sweep,bench_accuracy,localize_paper,localize_sweeps");
   return [opts] { return run_bench(*opts); };

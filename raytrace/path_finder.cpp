@@ -1,6 +1,7 @@
 #include "raytrace/path_finder.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -94,6 +95,7 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
         }
     }
   }
+  build_exact_groups();
   // Spherical Fibonacci directions for the optional per-pose candidate search.
   const int n = options_.candidate_rays;
   const double golden = kPi * (3.0 - std::sqrt(5.0));
@@ -258,7 +260,7 @@ void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f,
     const uint32_t tri = scene_->triangle_id(hit.geom, hit.prim);
     const RadioMaterial& m = scene_->materials()[scene_->material_of(tri)];
     if (m.perfect_conductor || ++p.crossings > options_.max_crossings) return;  // opaque
-    const Vec3& n = scene_->normal_of(tri);
+    const Vec3 n = scene_->normal_of(tri);
     const double cos_theta = std::abs(dir.dot(n));
     field = transmit_field(field, dir, n, material_transmission(m, f, cos_theta));
     if (p.crossings == 1) {
@@ -272,21 +274,23 @@ void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f,
   out.push_back(p);
 }
 
-bool PathFinder::point_on_facet(const Facet& facet, const Vec3& p) const {
+bool PathFinder::point_on_triangle(const Vec3& facet_normal, uint32_t tri, const Vec3& p) const {
   constexpr double kTol = 1e-9;  // metres; points on shared edges belong to both triangles
-  for (uint32_t tri : facet.triangles) {
-    const auto c = scene_->corners(tri);
-    double s[3];
-    bool pos = true, neg = true;
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 e = c[(k + 1) % 3] - c[k];
-      s[k] = facet.normal.dot(e.cross(p - c[k]));
-      const double tol = kTol * e.norm();
-      pos = pos && s[k] >= -tol;
-      neg = neg && s[k] <= tol;
-    }
-    if (pos || neg) return true;
+  const auto c = scene_->corners(tri);
+  bool pos = true, neg = true;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 e = c[(k + 1) % 3] - c[k];
+    const double s = facet_normal.dot(e.cross(p - c[k]));
+    const double tol = kTol * e.norm();
+    pos = pos && s >= -tol;
+    neg = neg && s <= tol;
   }
+  return pos || neg;
+}
+
+bool PathFinder::point_on_facet(const Facet& facet, const Vec3& p) const {
+  for (uint32_t tri : facet.triangles)
+    if (point_on_triangle(facet.normal, tri, p)) return true;
   return false;
 }
 
@@ -304,10 +308,242 @@ void PathFinder::reflections_exhaustive(const Endpoint& ant, const Endpoint& tag
   }
 }
 
+void PathFinder::build_exact_groups() {
+  const auto& facets = scene_->facets();
+  // Members by exact normal, then offset.
+  std::vector<uint32_t> order(facets.size());
+  for (uint32_t f = 0; f < order.size(); ++f) order[f] = f;
+  const auto key = [&](uint32_t f) {
+    const Facet& fc = facets[f];
+    return std::tuple(fc.normal.x(), fc.normal.y(), fc.normal.z(), fc.offset_m, f);
+  };
+  std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) { return key(x) < key(y); });
+  constexpr double kGroupGapM = 1e-7;  // offsets closer than this share a group
+  constexpr double kGridPad = 4e-6;    // metres, > inside_box's 1e-6 m and point_on_triangle's tolerance
+  cell_start_.assign(1, 0);
+  std::vector<uint32_t> members;
+  for (size_t i = 0; i < order.size();) {
+    const Facet& first = facets[order[i]];
+    members.assign(1, order[i]);
+    size_t j = i + 1;
+    for (; j < order.size(); ++j) {
+      const Facet& fc = facets[order[j]];
+      if (fc.normal != first.normal || fc.offset_m - facets[order[j - 1]].offset_m > kGroupGapM) break;
+      members.push_back(order[j]);
+    }
+    i = j;
+    ExactGroup g;
+    g.normal = first.normal;
+    g.lo_facet = members.front();
+    g.hi_facet = members.back();
+    g.offset_lo_m = facets[g.lo_facet].offset_m;
+    g.offset_hi_m = facets[g.hi_facet].offset_m;
+    g.span_m = g.offset_hi_m - g.offset_lo_m;
+    int k = 0;
+    g.normal.cwiseAbs().maxCoeff(&k);
+    g.axis_u = (k + 1) % 3;
+    g.axis_v = (k + 2) % 3;
+    if (g.normal == Vec3::Unit(k) || g.normal == -Vec3::Unit(k)) g.axis_k = k, g.axis_sign = g.normal[k] > 0 ? 1 : -1;
+    std::sort(members.begin(), members.end());  // facet order within every cell
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (uint32_t f : members) {
+      const Facet& fc = facets[f];
+      const double pad = kGridPad + fc.flatness_m;
+      lo = lo.cwiseMin(Eigen::Vector2d(fc.lo[g.axis_u], fc.lo[g.axis_v]) - Eigen::Vector2d::Constant(pad));
+      hi = hi.cwiseMax(Eigen::Vector2d(fc.hi[g.axis_u], fc.hi[g.axis_v]) + Eigen::Vector2d::Constant(pad));
+    }
+    const double eu = std::max(hi.x() - lo.x(), 1e-6), ev = std::max(hi.y() - lo.y(), 1e-6);
+    const double target = std::clamp(2.0 * static_cast<double>(members.size()), 1.0, 1048576.0);  // cells
+    g.nu = static_cast<int>(std::clamp(std::round(std::sqrt(target * eu / ev)), 1.0, 8192.0));
+    g.nv = static_cast<int>(std::clamp(std::ceil(target / g.nu), 1.0, 8192.0));
+    g.u0 = lo.x();
+    g.v0 = lo.y();
+    g.inv_du = g.nu / eu;
+    g.inv_dv = g.nv / ev;
+    g.first_cell = static_cast<uint32_t>(cell_start_.size() - 1);
+    // Counting sort of (cell, facet) pairs, facets ascending within each cell. A facet's bounds contain its
+    // triangles' (which point_on_facet tests), padded by its flatness: the projection of a triangle along the
+    // normal onto the facet's plane moves its corners by at most that.
+    const size_t cells = static_cast<size_t>(g.nu) * g.nv;
+    std::vector<uint32_t> count(cells + 1, 0);
+    auto for_each_cell = [&](uint32_t f, auto&& fn) {
+      const Facet& fc = facets[f];
+      const double pad = kGridPad + fc.flatness_m;
+      const auto cell = [](double x, double x0, double inv, int n) {
+        return std::clamp(static_cast<int>(std::floor((x - x0) * inv)), 0, n - 1);
+      };
+      const int iu0 = cell(fc.lo[g.axis_u] - pad, g.u0, g.inv_du, g.nu), iu1 = cell(fc.hi[g.axis_u] + pad, g.u0, g.inv_du, g.nu);
+      const int iv0 = cell(fc.lo[g.axis_v] - pad, g.v0, g.inv_dv, g.nv), iv1 = cell(fc.hi[g.axis_v] + pad, g.v0, g.inv_dv, g.nv);
+      for (int iv = iv0; iv <= iv1; ++iv)
+        for (int iu = iu0; iu <= iu1; ++iu) fn(static_cast<size_t>(iv) * g.nu + iu);
+    };
+    for (uint32_t f : members) for_each_cell(f, [&](size_t c) { ++count[c + 1]; });
+    for (size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
+    const size_t base = cell_facets_.size();
+    cell_facets_.resize(base + count[cells]);
+    for (size_t c = 0; c < cells; ++c) cell_start_.push_back(static_cast<uint32_t>(base + count[c + 1]));
+    std::vector<uint32_t> fill(count.begin(), count.end() - 1);
+    // The occupancy bitmap: the same extent at ~64 cells per member (at most 2^22 per group), a bit set where
+    // a member's padded bounds reach. One bit answers "no facet near P" for most groups of a link.
+    const double bits = std::clamp(64.0 * static_cast<double>(members.size()), 1.0, 4194304.0);
+    g.bnu = static_cast<int>(std::clamp(std::round(std::sqrt(bits * eu / ev)), 1.0, 16384.0));
+    g.bnv = static_cast<int>(std::clamp(std::ceil(bits / g.bnu), 1.0, 16384.0));
+    g.binv_du = g.bnu / eu;
+    g.binv_dv = g.bnv / ev;
+    g.first_bit = exact_bits_.size() * 64;
+    exact_bits_.resize(exact_bits_.size() + (static_cast<size_t>(g.bnu) * g.bnv + 63) / 64, 0);
+    for (uint32_t f : members) {
+      const Facet& fc = facets[f];
+      const double pad = kGridPad + fc.flatness_m;
+      const auto cell = [](double x, double x0, double inv, int n) {
+        return std::clamp(static_cast<int>(std::floor((x - x0) * inv)), 0, n - 1);
+      };
+      const int iu0 = cell(fc.lo[g.axis_u] - pad, g.u0, g.binv_du, g.bnu), iu1 = cell(fc.hi[g.axis_u] + pad, g.u0, g.binv_du, g.bnu);
+      const int iv0 = cell(fc.lo[g.axis_v] - pad, g.v0, g.binv_dv, g.bnv), iv1 = cell(fc.hi[g.axis_v] + pad, g.v0, g.binv_dv, g.bnv);
+      for (int iv = iv0; iv <= iv1; ++iv)
+        for (int iu = iu0; iu <= iu1; ++iu) {
+          const size_t bit = g.first_bit + static_cast<size_t>(iv) * g.bnu + iu;
+          exact_bits_[bit / 64] |= uint64_t{1} << (bit % 64);
+        }
+    }
+    for (uint32_t f : members) {
+      // The facet's bounds in (u, v) as floats rounded outwards past inside_box's tolerance, so the scan
+      // rejects most facets of a cell without touching their planes.
+      const Facet& fc = facets[f];
+      const auto down = [](double x) { return std::nextafter(static_cast<float>(x - 2e-6), -INFINITY); };
+      const auto up = [](double x) { return std::nextafter(static_cast<float>(x + 2e-6), INFINITY); };
+      const CellEntry e{down(fc.lo[g.axis_u]), up(fc.hi[g.axis_u]), down(fc.lo[g.axis_v]), up(fc.hi[g.axis_v]), f};
+      for_each_cell(f, [&](size_t c) { cell_facets_[base + fill[c]++] = e; });
+    }
+    exact_groups_.push_back(g);
+  }
+  plane_box_.resize(facets.size());
+  for (size_t f = 0; f < facets.size(); ++f)
+    plane_box_[f] = {facets[f].normal, facets[f].offset_m, facets[f].lo, facets[f].hi};
+  if (cell_facets_.size() > std::numeric_limits<uint32_t>::max())
+    throw InputError("scene: too many triangles for the exact reflection search's grid");
+}
+
+void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, double f,
+                                   std::vector<TracedPath>& out) const {
+  struct Candidate {
+    uint32_t facet;
+    Vec3 image, p;
+  };
+  thread_local std::vector<Candidate> tl_found;  // per-thread scratch: no allocation once warm
+  std::vector<Candidate>& found = tl_found;
+  found.clear();
+  const auto& facets = scene_->facets();
+  const Vec3& a = ant.pose.position;
+  const Vec3& t = tag.pose.position;
+  const double eps = options_.surface_epsilon_m;
+  // Three passes over the groups, so the memory reads of one (occupancy bit, cell range, cell entries) are
+  // issued for every group before any is waited for: the search is bound by those reads, not by arithmetic.
+  struct Window {
+    uint32_t group;
+    int iu0, iu1, iv0, iv1;     // cells of the facet grid
+    double pu0, pu1, pv0, pv1;  // where P can be, in (u, v)
+    size_t bit;                 // the occupancy bit under the window's low corner (SIZE_MAX: test none)
+  };
+  thread_local std::vector<Window> tl_windows;
+  std::vector<Window>& windows = tl_windows;
+  windows.clear();
+  Vec3 image, p, image2, p2;
+  for (uint32_t gi = 0; gi < exact_groups_.size(); ++gi) {
+    const ExactGroup& g = exact_groups_[gi];
+    // A plane n·x = c rejects the link (image_point) iff c is within eps of the band between n·a and n·t.
+    // Every member inside the band (with a margin for rounding): nothing here.
+    const double na = g.normal.dot(a), nt = g.normal.dot(t);
+    constexpr double kRound = 1e-9;
+    if (g.offset_lo_m > std::min(na, nt) - eps + kRound && g.offset_hi_m < std::max(na, nt) + eps - kRound) continue;
+    // Otherwise, where any member's image point can be: between those of the extreme planes (padded by the
+    // span, the most the plane's own offset moves P along an axis). Unknown if either extreme rejects the
+    // link (some member may not): then every cell of the group.
+    Window w{gi, 0, g.nu - 1, 0, g.nv - 1, -INFINITY, INFINITY, -INFINITY, INFINITY, SIZE_MAX};
+    bool bounded = false;
+    if (g.axis_sign != 0 && g.span_m <= 1e-6) {
+      // Axis-aligned plane (the common case): P in (u, v) is a + s·(t − a), s = da/(da + dt), in a few
+      // flops. The window only has to contain every member's P: pad it by the first-order motion of P over
+      // the span, |ds/dc|·|t − a| per axis with |ds/dc| = |da − dt|/(da + dt)², doubled, plus 1e-7 m for
+      // rounding (facets are binned and entries bounded with 2e-6 m more than inside_box accepts).
+      const double da = g.axis_sign * a[g.axis_k] - g.offset_lo_m, dt = g.axis_sign * t[g.axis_k] - g.offset_lo_m;
+      const double sum = da + dt;
+      if (da * dt > 0.0 && std::abs(sum) > 1e3 * g.span_m) {
+        const double sf = da / sum, motion = 2.0 * g.span_m * std::abs(da - dt) / (sum * sum);
+        const double du = t[g.axis_u] - a[g.axis_u], dv = t[g.axis_v] - a[g.axis_v];
+        const double pu = a[g.axis_u] + sf * du, pv = a[g.axis_v] + sf * dv;
+        const double padu = motion * std::abs(du) + 1e-7, padv = motion * std::abs(dv) + 1e-7;
+        w.pu0 = pu - padu, w.pu1 = pu + padu, w.pv0 = pv - padv, w.pv1 = pv + padv;
+        bounded = true;
+      }
+    }
+    if (!bounded && image_point(g.normal, g.offset_lo_m, a, t, eps, image, p) &&
+        (g.span_m == 0.0 ? (p2 = p, true) : image_point(g.normal, g.offset_hi_m, a, t, eps, image2, p2))) {
+      const double pad = g.span_m + 1e-9;
+      w.pu0 = std::min(p[g.axis_u], p2[g.axis_u]) - pad, w.pu1 = std::max(p[g.axis_u], p2[g.axis_u]) + pad;
+      w.pv0 = std::min(p[g.axis_v], p2[g.axis_v]) - pad, w.pv1 = std::max(p[g.axis_v], p2[g.axis_v]) + pad;
+      bounded = true;
+    }
+    if (bounded) {
+      const double ulo = (w.pu0 - g.u0) * g.inv_du, uhi = (w.pu1 - g.u0) * g.inv_du;
+      const double vlo = (w.pv0 - g.v0) * g.inv_dv, vhi = (w.pv1 - g.v0) * g.inv_dv;
+      if (!(uhi >= 0.0 && vhi >= 0.0 && ulo < g.nu && vlo < g.nv)) continue;  // off every facet
+      w.iu0 = static_cast<int>(std::max(ulo, 0.0)), w.iu1 = static_cast<int>(std::min(uhi, g.nu - 1.0));
+      w.iv0 = static_cast<int>(std::max(vlo, 0.0)), w.iv1 = static_cast<int>(std::min(vhi, g.nv - 1.0));
+      // The occupancy bit under the window, when the window is within one bit (almost always).
+      // (the window meets the grid, so clamping at 0 before truncating is the floor, clamped)
+      const int bu0 = static_cast<int>(std::max((w.pu0 - g.u0) * g.binv_du, 0.0));
+      const int bu1 = static_cast<int>(std::min((w.pu1 - g.u0) * g.binv_du, g.bnu - 1.0));
+      const int bv0 = static_cast<int>(std::max((w.pv0 - g.v0) * g.binv_dv, 0.0));
+      const int bv1 = static_cast<int>(std::min((w.pv1 - g.v0) * g.binv_dv, g.bnv - 1.0));
+      if (bu0 == bu1 && bv0 == bv1) {
+        w.bit = g.first_bit + static_cast<size_t>(bv0) * g.bnu + bu0;
+        __builtin_prefetch(&exact_bits_[w.bit / 64]);
+      }
+    }
+    windows.push_back(w);
+  }
+  // Pass 2: drop windows on an empty bit; ask for the cell ranges of the others.
+  size_t kept = 0;
+  for (const Window& w : windows) {
+    if (w.bit != SIZE_MAX && !((exact_bits_[w.bit / 64] >> (w.bit % 64)) & 1u)) continue;
+    const ExactGroup& g = exact_groups_[w.group];
+    __builtin_prefetch(&cell_start_[g.first_cell + static_cast<size_t>(w.iv0) * g.nu + w.iu0]);
+    windows[kept++] = w;
+  }
+  windows.resize(kept);
+  // Pass 3: the cells' facets, each with reflections_exhaustive's tests, in its order, on the facet's own plane
+  // (bitwise copies of it).
+  for (const Window& w : windows) {
+    const ExactGroup& g = exact_groups_[w.group];
+    for (int iv = w.iv0; iv <= w.iv1; ++iv)
+      for (int iu = w.iu0; iu <= w.iu1; ++iu) {
+        const size_t c = g.first_cell + static_cast<size_t>(iv) * g.nu + iu;
+        for (uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+          const CellEntry& e = cell_facets_[k];
+          if (w.pu1 < e.u_lo || w.pu0 > e.u_hi || w.pv1 < e.v_lo || w.pv0 > e.v_hi) continue;  // fails inside_box
+          const PlaneBox& b = plane_box_[e.facet];
+          if (!image_point(b.normal, b.offset_m, a, t, eps, image, p) || (image - a).squaredNorm() > max_length2_ ||
+              !inside_box(p, b.lo, b.hi, 1e-6) || !point_on_facet(facets[e.facet], p))
+            continue;
+          found.push_back({e.facet, image, p});
+        }
+      }
+  }
+  // reflections_exhaustive's order (the de-duplication of coplanar facets keeps the first); a facet binned in
+  // several cells of the window is taken once.
+  std::sort(found.begin(), found.end(), [](const Candidate& x, const Candidate& y) { return x.facet < y.facet; });
+  found.erase(std::unique(found.begin(), found.end(),
+                          [](const Candidate& x, const Candidate& y) { return x.facet == y.facet; }),
+              found.end());
+  for (const Candidate& c : found)
+    add_reflection(c.facet, c.image, c.p, ant, tag, f, /*check_leg1=*/true, out);
+}
+
 void PathFinder::reflections_fast(const Endpoint& ant, const Endpoint& tag, double f, const PoseCandidates& c,
                                   std::vector<TracedPath>& out) const {
   if (c.all) {
-    for (uint32_t g = 0; g < planes_.size(); ++g) try_plane(g, ant, tag, f, c, out);
+    reflections_exact(ant, tag, f, out);
   } else {
     for (uint32_t g : c.planes) try_plane(g, ant, tag, f, c, out);
   }
@@ -322,12 +558,9 @@ void PathFinder::try_plane(uint32_t group, const Endpoint& ant, const Endpoint& 
   if ((image - a).squaredNorm() > max_length2_) return;  // longer than max_path_length_m
   const size_t bit = cell_bit(g, p);
   if (bit == SIZE_MAX) return;
-  if (c.all) {
-    if (!((occupancy_[bit / 64] >> (bit % 64)) & 1u)) return;  // no facet near p
-  } else {
-    // A point no candidate ray saw is taken as hidden from the antenna (seen cells are occupied ones).
-    if (!((c.seen_cells[bit / 64] >> (bit % 64)) & 1u)) return;
-  }
+  // (Candidate rays only: the exact mode is reflections_exact.) A point no candidate ray saw is taken as
+  // hidden from the antenna (seen cells are occupied ones).
+  if (!((c.seen_cells[bit / 64] >> (bit % 64)) & 1u)) return;
   // One ray A→P answers both "is leg 1 clear" and "which facet of this plane is at P": the first thing hit
   // must be a facet of this plane.
   const Vec3 d1 = p - a;
@@ -363,10 +596,15 @@ void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p
   const EmbreeScene& bvh = scene_->bvh();
   const double end_eps1 = std::min(options_.endpoint_epsilon_m, 0.25 * l1);
   const double end_eps2 = std::min(options_.endpoint_epsilon_m, 0.25 * l2);
-  if (check_leg1 &&
-      bvh.occluded(a, dir1, end_eps1, l1 - plane_margin(clearance, cos_theta, l1)))
-    return;
-  if (bvh.occluded(p, dir2, plane_margin(clearance, cos_theta, l2), l2 - end_eps2)) return;
+  // Both legs must be clear, so the order changes only the number of rays: the longer leg first (it crosses
+  // more of the scene, so it is the more often blocked one, and a blocked leg ends the test).
+  const auto leg1_blocked = [&] {
+    return check_leg1 && bvh.occluded(a, dir1, end_eps1, l1 - plane_margin(clearance, cos_theta, l1));
+  };
+  const auto leg2_blocked = [&] {
+    return bvh.occluded(p, dir2, plane_margin(clearance, cos_theta, l2), l2 - end_eps2);
+  };
+  if (l2 > l1 ? leg2_blocked() || leg1_blocked() : leg1_blocked() || leg2_blocked()) return;
 
   const RadioMaterial& m = scene_->materials()[fc.material];
   const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, dir1) *

@@ -116,6 +116,32 @@ class PathFinder {
     int nu = 1, nv = 1;
     size_t bit_offset = 0;  // into occupancy_
   };
+  // Exact mode (no candidate rays). Facets with bitwise the same normal and offsets within 1e-7 m of their
+  // neighbours form an exact group; its facets are binned in a grid over the group's extent in the two world
+  // axes the plane projects onto, each facet's bounds padded by its flatness and by more than inside_box's
+  // 1e-6 m, so a point that inside_box and point_on_facet accept lies in a cell holding that facet. Per link
+  // and group, the image points in the lowest and highest member plane bound where any member's image point
+  // can be (it moves monotonically along A⊥–T⊥ with the offset); only facets binned in those cells are
+  // tested, each facet's image point computed from its own plane as reflections_exhaustive does, and the
+  // survivors are taken in facet order: the same paths as the exhaustive search, and no ray for a point on
+  // no facet.
+  struct ExactGroup {
+    Vec3 normal;
+    uint32_t lo_facet = 0, hi_facet = 0;  // the members of lowest and highest offset
+    double offset_lo_m = 0.0, offset_hi_m = 0.0;
+    double span_m = 0.0;                  // highest − lowest offset
+    int axis_u = 0, axis_v = 1;
+    int axis_k = 0, axis_sign = 0;  // normal = axis_sign · unit(axis_k) exactly, or axis_sign = 0
+    int nu = 1, nv = 1;
+    double u0 = 0, v0 = 0, inv_du = 0, inv_dv = 0;
+    uint32_t first_cell = 0;  // into cell_start_
+    int bnu = 1, bnv = 1;     // occupancy bitmap over the same extent, finer
+    double binv_du = 0, binv_dv = 0;
+    size_t first_bit = 0;     // into exact_bits_
+  };
+  void build_exact_groups();
+  void reflections_exact(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
+
   // Bit index of p's cell in g's grid, or SIZE_MAX when p is outside the grid.
   size_t cell_bit(const PlaneGroup& g, const Vec3& p) const;
   // Marks the occupied cells of g under the footprint of a candidate ray (direction dir, footprint radius
@@ -132,6 +158,7 @@ class PathFinder {
   void add_reflection(uint32_t facet, const Vec3& image, const Vec3& p, const Endpoint& a, const Endpoint& t,
                       double f, bool check_leg1, std::vector<TracedPath>& out) const;
   bool point_on_facet(const Facet& facet, const Vec3& p) const;
+  bool point_on_triangle(const Vec3& facet_normal, uint32_t triangle, const Vec3& p) const;
   // Level double-bounce (double_bounce.cpp): every plane pair; `floor` is the drop floor so far (power).
   void double_reflections(const Endpoint& a, const Endpoint& t, double f, const PoseCandidates& c, double floor,
                           std::vector<TracedPath>& out) const;
@@ -149,6 +176,20 @@ class PathFinder {
   std::vector<std::vector<uint32_t>> plane_members_;  // facets of each plane group
   std::vector<Edge> edges_;
   std::vector<uint64_t> occupancy_;
+  std::vector<ExactGroup> exact_groups_;
+  std::vector<uint32_t> cell_start_;   // CSR over every exact group's cells into cell_facets_
+  struct CellEntry {                   // a facet whose padded bounds overlap the cell, with those (u, v) bounds
+    float u_lo, u_hi, v_lo, v_hi;
+    uint32_t facet;
+  };
+  std::vector<CellEntry> cell_facets_;  // facets ascending within each cell
+  struct PlaneBox {                    // a facet's plane and bounds, packed for the exact search's scan
+    Vec3 normal;
+    double offset_m;
+    Vec3 lo, hi;
+  };
+  std::vector<PlaneBox> plane_box_;    // per facet
+  std::vector<uint64_t> exact_bits_;   // occupancy bitmaps of the exact groups
   std::vector<Vec3> candidate_directions_;
   double candidate_spacing_rad_ = 0.0;  // angular spacing of the candidate rays, √(4π/N)
 };

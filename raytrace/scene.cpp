@@ -47,23 +47,12 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
     for (size_t t = 0; t < meshes_[m].triangles.size(); ++t) {
       triangle_mesh_.push_back(static_cast<uint32_t>(m));
       material_of_triangle_.push_back(resolved.per_triangle[m][t]);
-      const auto& tri = meshes_[m].triangles[t];
-      const auto& v = meshes_[m].vertices;
-      const Vec3 c = (v[tri[1]] - v[tri[0]]).cross(v[tri[2]] - v[tri[0]]);
-      const double len = c.norm();
-      triangle_normal_.push_back(len > 0.0 ? Vec3(c / len) : Vec3::Zero());
     }
   }
   FacetSet fs = merge_facets(meshes_, resolved.per_triangle, triangle_offset_, options.facets, origin_);
   facets_ = std::move(fs.facets);
   facet_of_triangle_ = std::move(fs.facet_of_triangle);
   bvh_ = std::make_unique<EmbreeScene>(meshes_, options.embree_config, origin_);
-}
-
-std::array<Vec3, 3> Scene::corners(uint32_t triangle) const {
-  const TriangleMesh& m = meshes_[triangle_mesh_[triangle]];
-  const auto& tri = m.triangles[triangle - triangle_offset_[triangle_mesh_[triangle]]];
-  return {m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]};
 }
 
 std::vector<std::string> extrapolation_warnings(const Scene& scene, double frequency_hz) {

@@ -54,10 +54,21 @@ class Scene {
   uint32_t triangle_id(uint32_t geom, uint32_t prim) const { return triangle_offset_[geom] + prim; }
   uint32_t facet_of(uint32_t triangle) const { return facet_of_triangle_[triangle]; }
   uint32_t material_of(uint32_t triangle) const { return material_of_triangle_[triangle]; }
-  // Unit normal of a triangle (zero for degenerate ones).
-  const Vec3& normal_of(uint32_t triangle) const { return triangle_normal_[triangle]; }
+  // Unit normal of a triangle (zero for degenerate ones). Computed on demand (not stored: 24 bytes per
+  // triangle); only the walk of a blocked direct path asks for it.
+  Vec3 normal_of(uint32_t triangle) const {
+    const auto c = corners(triangle);
+    const Vec3 n = (c[1] - c[0]).cross(c[2] - c[0]);
+    const double len = n.norm();
+    return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
+  }
   // The three corners of a triangle.
-  std::array<Vec3, 3> corners(uint32_t triangle) const;
+  std::array<Vec3, 3> corners(uint32_t triangle) const {  // inline: the exact reflection search's inner loop
+    const uint32_t mesh = triangle_mesh_[triangle];
+    const TriangleMesh& m = meshes_[mesh];
+    const auto& tri = m.triangles[triangle - triangle_offset_[mesh]];
+    return {m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]};
+  }
 
  private:
   std::vector<TriangleMesh> meshes_;
@@ -66,7 +77,6 @@ class Scene {
   std::vector<uint32_t> triangle_mesh_;         // global triangle → mesh
   std::vector<uint32_t> material_of_triangle_;  // global triangle → material
   std::vector<uint32_t> facet_of_triangle_;     // global triangle → facet
-  std::vector<Vec3> triangle_normal_;
   std::vector<Facet> facets_;
   std::vector<std::string> notes_;
   std::unique_ptr<EmbreeScene> bvh_;

@@ -10,7 +10,8 @@ namespace rfidray {
 
 enum class CandidateMode {
   kExhaustive,  // reference: every facet, point-in-triangle on its triangles, rtcOccluded1 on both legs
-  kFast,        // facets grouped by plane; one image per plane; Embree says which facet (if any) is there
+  kFast,        // without candidate rays: the same paths as kExhaustive, found through per-plane grids
+                // (path_finder.h); with candidate rays: planes grouped, Embree says which facet is there
 };
 
 struct TraceOptions {
