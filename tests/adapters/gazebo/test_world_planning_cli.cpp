@@ -14,6 +14,7 @@
 #include "io/channel_factory.h"
 #include "io/coverage_csv.h"
 #include "io/coverage_map.h"
+#include "tests/support/run_rfidray.h"
 
 namespace rfidray::gazebo {
 namespace {
@@ -23,20 +24,8 @@ const std::string kDir = std::string(RFIDRAY_SOURCE_DIR) + "/scenes/tests/gazebo
 const std::string kWorld = "--world " + kDir + "/rfid_test.world --resource-path " + kDir + "/models --materials " +
                            kDir + "/rfid_test_materials.yaml";
 
-struct CliRun {
-  int status = -1;
-  std::string output;
-};
-CliRun run(const std::string& args) {
-  CliRun r;
-  FILE* p = popen((std::string(RFIDRAY_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  char buf[4096];
-  size_t n;
-  while (p && (n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-  const int st = p ? pclose(p) : -1;
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+using CliRun = rfidray::testing::CliResult;
+CliRun run(const std::string& args) { return rfidray::testing::run_rfidray(args); }
 std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::ostringstream s;
