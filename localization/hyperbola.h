@@ -8,6 +8,7 @@
 // locus condition squared twice is a quadratic in ρ,
 //   4((e·δ)² − Δ²) ρ² − 4K(e·δ) ρ + K² − 4Δ²c1² = 0,  K = |δ|² + c2² − c1² − Δ²,
 // (δ = F2_xy − F1_xy, c_i = h − F_i.z), and a root belongs to the right sheet iff Δ·(K − 2ρ e·δ) ≥ 0.
+#include <Eigen/Core>
 #include <vector>
 
 #include "core/geometry.h"
@@ -35,11 +36,12 @@ struct PlaneSection {
   double height_m = 0.0;
   std::vector<Vec3> points;  // rays × 2, row-major [ray][slot]
   std::vector<char> valid;
+  Eigen::ArrayXd x_m, y_m;   // the points' x and y (0 where invalid), for vectorised residuals
 };
 PlaneSection sample_section(const Hyperbola& h, double height_m, int rays, double max_range_m);
 
 // All intersections of two plane sections (sign changes of h2's residual along h1's section, refined by
-// bisection on the ray angle and polished by Newton on both loci). Exact to ~1e-9 m.
+// regula falsi (Illinois) on the ray angle and polished by Newton on both loci). Exact to ~1e-9 m.
 std::vector<Vec3> intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyperbola& h2);
 
 // Intersection of three hyperboloids (3-D) by Gauss–Newton from `seed`; false if it does not converge.

@@ -54,9 +54,11 @@ bool in_region(const Vec3& x, const PreparedTag& prep) {
 
 }  // namespace
 
-Vec3 focus_near(const JointModel& m, Vec3 x, double step, bool planar) {
+double focus_min_step_m(const JointModel& model) { return model.min_wavelength_m() / 64.0; }
+
+Vec3 focus_near(const JointModel& m, Vec3 x, double step, bool planar, double min_step_m) {
   double best = m.coherence(x);
-  while (step >= 0.001) {
+  while (step >= min_step_m) {
     bool moved = false;
     Vec3 best_x = x;
     const int zr = planar ? 0 : 2;

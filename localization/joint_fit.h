@@ -55,8 +55,12 @@ struct JointFit {
 };
 
 // The coherence peak (joint_model.h) near `start`: 5×5(×5) local grids of spacing `step_m`, moved to their best
-// point until it is the centre, then halved down to 1 mm. Puts a wrapped-phase fit into the right fringe.
-Vec3 focus_near(const JointModel& model, Vec3 start, double step_m, bool planar);
+// point until it is the centre, then halved while the step is ≥ `min_step_m`. Puts a wrapped-phase fit into
+// the right fringe: Levenberg–Marquardt converges from anywhere well inside it (a 5 mm start error is
+// k·5 mm ≈ 0.2 rad of phase at 920 MHz), so a fit's start needs no finer step than about λ/64.
+Vec3 focus_near(const JointModel& model, Vec3 start, double step_m, bool planar, double min_step_m);
+// λ/64 of the model's shortest wavelength: the finest focus a start of `joint_lm` needs.
+double focus_min_step_m(const JointModel& model);
 
 JointModel make_joint_model(const TagReads& tag, const LocalizeOptions& options);
 JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOptions& options);

@@ -78,6 +78,60 @@ JointModel::JointModel(const TagReads& tag, const JointModelOptions& options, bo
   }
   if (!std::isfinite(lambda_min_)) lambda_min_ = 0.0;
   fold_ = fold;
+  const int n = point_count();
+  antenna_x_.resize(n), antenna_y_.resize(n), antenna_z_.resize(n);
+  k_rad_m_.resize(n), phase_rad_.resize(n), weight_.resize(n);
+  group_of_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const JointPoint& p = points_[i];
+    antenna_x_[i] = p.antenna_m.x(), antenna_y_[i] = p.antenna_m.y(), antenna_z_[i] = p.antenna_m.z();
+    k_rad_m_[i] = p.k_rad_m, phase_rad_[i] = p.phase_rad, weight_[i] = p.weight;
+    group_of_[i] = p.offset_group;
+    any_pattern_ = any_pattern_ || p.calibration != nullptr;
+  }
+}
+
+struct JointModel::Scratch {
+  Eigen::ArrayXd dx, dy, dz, range, raw, w;
+  Eigen::ArrayXf reduced, cos_a, sin_a;
+  std::vector<std::complex<double>> z;
+  std::vector<double> theta;
+  std::vector<Vec3> dtheta;
+};
+
+double JointModel::phasors(const Vec3& x, const std::vector<double>* mask, Scratch& s) const {
+  const int n = point_count();
+  s.dx = x.x() - antenna_x_;
+  s.dy = x.y() - antenna_y_;
+  s.dz = x.z() - antenna_z_;
+  s.range = (s.dx.square() + s.dy.square() + s.dz.square()).sqrt();
+  s.raw = phase_rad_ - k_rad_m_ * s.range;
+  if (any_pattern_)  // the pattern's gradient is left out of J: it is smooth and small next to k R
+    for (int i = 0; i < n; ++i) {
+      const JointPoint& p = points_[i];
+      if (!p.calibration) continue;
+      double az, el;
+      direction_in_frame(p.antenna_m, p.orientation, x, az, el);
+      s.raw[i] -= fold_ * p.calibration->pattern_phase_rad(az, el);
+    }
+  s.w = weight_;
+  if (mask) s.w *= Eigen::Map<const Eigen::ArrayXd>(mask->data(), n);
+  // Reduce to [−π, π] in double, then single-precision packet cos/sin (see the header). Rounding to the
+  // nearest integer by adding and subtracting 1.5·2^52 (exact for |a| < 2^51, round-half-even like
+  // nearbyint) keeps the reduction in packets; Eigen's round() is a libm call per element without SSE4.1.
+  constexpr double kRoundMagic = 6755399441055744.0;
+  s.reduced = (s.raw - kTwoPi * ((s.raw * (1.0 / kTwoPi) + kRoundMagic) - kRoundMagic)).cast<float>();
+  s.cos_a = s.reduced.cos();
+  s.sin_a = s.reduced.sin();
+  s.z.assign(groups_, 0.0);
+  double total_w = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double w = s.w[i];
+    if (w <= 0.0) continue;
+    s.z[group_of_[i]] += std::complex<double>(w * s.cos_a[i], w * s.sin_a[i]);
+    total_w += w;
+  }
+  return total_w;
 }
 
 Vec3 JointModel::to_position(const Eigen::VectorXd& u) const {
@@ -89,34 +143,12 @@ Eigen::VectorXd JointModel::to_unknowns(const Vec3& x) const {
   return x;
 }
 
-// k R + pattern (the pattern's gradient is neglected in `unit`: it is smooth and small next to k R).
-double JointModel::predicted_rad(const JointPoint& p, const Vec3& x, Vec3* unit) const {
-  const Vec3 d = x - p.antenna_m;
-  const double r = d.norm();
-  if (unit) *unit = r > 0.0 ? Vec3(d / r) : Vec3::Zero();
-  double phase = p.k_rad_m * r;
-  if (p.calibration) {
-    double az, el;
-    direction_in_frame(p.antenna_m, p.orientation, x, az, el);
-    phase += fold_ * p.calibration->pattern_phase_rad(az, el);
-  }
-  return phase;
-}
-
 double JointModel::coherence(const Vec3& x, const std::vector<double>* mask) const {
-  std::vector<std::complex<double>> z(groups_, 0.0);
-  double total_w = 0.0;
-  for (size_t i = 0; i < points_.size(); ++i) {
-    const double w = points_[i].weight * (mask ? (*mask)[i] : 1.0);
-    if (w <= 0.0) continue;
-    const JointPoint& p = points_[i];
-    const double a = p.phase_rad - predicted_rad(p, x, nullptr);
-    z[p.offset_group] += w * std::complex<double>(std::cos(a), std::sin(a));
-    total_w += w;
-  }
-  double s = 0.0;
-  for (const auto& v : z) s += std::abs(v);
-  return total_w > 0.0 ? s / total_w : 0.0;
+  thread_local Scratch scratch;
+  const double total_w = phasors(x, mask, scratch);
+  double sum = 0.0;
+  for (const auto& v : scratch.z) sum += std::abs(v);
+  return total_w > 0.0 ? sum / total_w : 0.0;
 }
 
 namespace {
@@ -126,49 +158,42 @@ inline double wrap_near_zero(double a) { return a - kTwoPi * std::nearbyint(a / 
 
 void JointModel::evaluate(const Vec3& x, Eigen::VectorXd& r, Eigen::MatrixXd* J, const std::vector<double>* mask) const {
   const int n = point_count(), m = dof();
+  thread_local Scratch s;
+  phasors(x, mask, s);
   r.setZero(n);
   if (J) J->setZero(n, m);
-  std::vector<std::complex<double>> z(groups_, 0.0);
-  std::vector<double> raw(n);
-  std::vector<std::complex<double>> phasor(n);
-  std::vector<Vec3> units(n);
-  for (int i = 0; i < n; ++i) {
-    const JointPoint& p = points_[i];
-    raw[i] = p.phase_rad - predicted_rad(p, x, &units[i]);
-    const double w = p.weight * (mask ? (*mask)[i] : 1.0);
-    if (w <= 0.0) continue;
-    phasor[i] = std::polar(1.0, raw[i]);
-    z[p.offset_group] += w * phasor[i];
-  }
   // θ_g = arg Z_g. Its exact gradient: dθ = Im(dZ / Z) with dZ = Σ w_j j e^{jρ_j} dρ_j, dρ_j = −k_j u_j dx, so
   // ∂θ_g/∂x = −Σ_j w_j Re(e^{jρ_j} Z̄_g) k_j u_j / |Z_g|² (the weighted mean of −k u when the phasors agree).
   // The exact gradient gives Gauss–Newton its quadratic convergence near the optimum.
-  std::vector<double> theta(groups_);
-  for (int g = 0; g < groups_; ++g) theta[g] = std::arg(z[g]);
-  std::vector<Vec3> dtheta(groups_, Vec3::Zero());
+  s.theta.resize(groups_);
+  for (int g = 0; g < groups_; ++g) s.theta[g] = std::arg(s.z[g]);
+  auto unit = [&](int i) {
+    const double d = s.range[i];
+    return d > 0.0 ? Vec3(s.dx[i] / d, s.dy[i] / d, s.dz[i] / d) : Vec3::Zero();
+  };
   if (J) {
+    s.dtheta.assign(groups_, Vec3::Zero());
     for (int i = 0; i < n; ++i) {
-      const JointPoint& p = points_[i];
-      const double w = p.weight * (mask ? (*mask)[i] : 1.0);
+      const double w = s.w[i];
       if (w <= 0.0) continue;
-      const std::complex<double>& zg = z[p.offset_group];
-      dtheta[p.offset_group] -= w * (phasor[i] * std::conj(zg)).real() * p.k_rad_m * units[i];
+      const std::complex<double>& zg = s.z[group_of_[i]];
+      const double re = s.cos_a[i] * zg.real() + s.sin_a[i] * zg.imag();  // Re(e^{jρ} Z̄_g)
+      s.dtheta[group_of_[i]] -= (w * re * k_rad_m_[i]) * unit(i);
     }
     for (int g = 0; g < groups_; ++g) {
-      const double z2 = std::norm(z[g]);
-      dtheta[g] = z2 > 0.0 ? Vec3(dtheta[g] / z2) : Vec3::Zero();
+      const double z2 = std::norm(s.z[g]);
+      s.dtheta[g] = z2 > 0.0 ? Vec3(s.dtheta[g] / z2) : Vec3::Zero();
     }
   }
   for (int i = 0; i < n; ++i) {
-    const JointPoint& p = points_[i];
-    const double w = p.weight * (mask ? (*mask)[i] : 1.0);
+    const double w = s.w[i];
     if (w <= 0.0) continue;
-    const int g = p.offset_group;
+    const int g = group_of_[i];
     const double sw = std::sqrt(w);
-    r[i] = sw * wrap_near_zero(raw[i] - theta[g]);
+    r[i] = sw * wrap_near_zero(s.raw[i] - s.theta[g]);
     if (J) {
       // ∂e/∂x = −k u − ∂θ_g/∂x.
-      const Vec3 gvec = -p.k_rad_m * units[i] - dtheta[g];
+      const Vec3 gvec = -k_rad_m_[i] * unit(i) - s.dtheta[g];
       for (int c = 0; c < m; ++c) (*J)(i, c) = sw * gvec[c];
     }
   }

@@ -12,7 +12,11 @@
 // predicted, and when the carrier offsets are calibrated they are removed and each antenna has ONE offset for
 // all its carriers, so that the carrier slope ∂φ/∂f = 4πR/c carries range.
 // fold_pi: readers with a π ambiguity — phases are doubled (φ → 2φ, k → 2k), which removes it.
-// Thread-safe for concurrent const use.
+// Evaluation: ranges, phases and wraps in double; each stop's phasor e^{j(φ − kR − pattern − 2πm)} from the
+// argument reduced to [−π, π] in double, then cos/sin in single precision, vectorised (Eigen's packet
+// sin/cos): |error| ≲ 1e-7 rad, six orders below any phase noise a reader has, and the phasors are summed in
+// double. The wrapped residuals themselves stay in double.
+// Thread-safe for concurrent const use (per-thread scratch buffers).
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
@@ -68,10 +72,17 @@ class JointModel {
 
  private:
   std::vector<JointPoint> points_;
+  // The same points as arrays for the vectorised evaluation.
+  Eigen::ArrayXd antenna_x_, antenna_y_, antenna_z_, k_rad_m_, phase_rad_, weight_;
+  std::vector<int> group_of_;
+  bool any_pattern_ = false;
   int groups_ = 0, reads_ = 0;
   bool fixed_z_ = false, carrier_calibrated_ = false;
   double z_m_ = 0.0, lambda_min_ = 0.0, fold_ = 1.0;
-  double predicted_rad(const JointPoint& p, const Vec3& x, Vec3* unit) const;
+  struct Scratch;
+  // Fills the scratch's ranges, offsets d = x − a, raw phases φ − kR − pattern, effective weights
+  // (weight · mask) and phasors; sums the phasors per group. Returns Σ effective weight.
+  double phasors(const Vec3& x, const std::vector<double>* mask, Scratch& s) const;
 };
 
 struct JointLm {

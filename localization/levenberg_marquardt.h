@@ -31,8 +31,8 @@ template <typename Evaluate>
 LmSolution levenberg_marquardt_core(Eigen::VectorXd u, Evaluate&& evaluate, int max_iterations,
                                     const LmTolerances& tol) {
   LmSolution out;
-  Eigen::VectorXd r;
-  Eigen::MatrixXd J;
+  Eigen::VectorXd r, r_new;
+  Eigen::MatrixXd J, J_new;
   evaluate(u, r, &J);
   double f = r.squaredNorm();
   double mu = -1.0, nu = 2.0;
@@ -53,8 +53,9 @@ LmSolution levenberg_marquardt_core(Eigen::VectorXd u, Evaluate&& evaluate, int 
     const Eigen::VectorXd step = Ad.ldlt().solve(-g);
     if (!step.allFinite()) break;
     const Eigen::VectorXd u_new = u + step;
-    Eigen::VectorXd r_new;
-    evaluate(u_new, r_new, nullptr);
+    // The trial point is evaluated with its Jacobian: most steps are accepted, and re-evaluating the accepted
+    // point for J would compute every residual twice (the residuals are the cost: one sincos per read).
+    evaluate(u_new, r_new, &J_new);
     const double f_new = r_new.squaredNorm();
     // Gain ratio of actual to predicted decrease (Nielsen 1999).
     const double predicted = step.dot(mu * A.diagonal().cwiseMax(1e-12).cwiseProduct(step) - g);
@@ -64,7 +65,8 @@ LmSolution levenberg_marquardt_core(Eigen::VectorXd u, Evaluate&& evaluate, int 
       const bool small = step.norm() < tol.step_abs + tol.step_rel * u.norm() ||
                          (f - f_new) <= tol.gain_rel * f + 1e-30;
       f = f_new;
-      evaluate(u, r, &J);
+      r.swap(r_new);
+      J.swap(J_new);
       mu *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
       nu = 2.0;
       if (small) {

@@ -64,7 +64,8 @@ LocalizeResult localize_nlls(const TagReads& tag, const LocalizeOptions& options
   finish_unwrapped(result, prep, cost, options, false);
   if (!result.ok) return result;
   const JointModel model = make_joint_model(tag, options);
-  const Vec3 focused = focus_near(model, result.position, model.min_wavelength_m() / 8.0, options.height_known);
+  const Vec3 focused = focus_near(model, result.position, model.min_wavelength_m() / 8.0, options.height_known,
+                                    focus_min_step_m(model));
   const JointFit fit = fit_joint(model, focused, options);
   if (auto fail = check_aperture_angle(prep, fit.position, options)) {
     fail->reads_used = result.reads_used;

@@ -4,9 +4,12 @@
 // Coarse grid (sar_coarse_step_fraction · λ), the best separated peaks zoomed by shrinking 5×5(×5) local grids
 // to 1 mm, then LM on the wrapped residuals from the best one (joint_fit.h); the other peaks are the rivals
 // of the uniqueness test (grating lobes, multipath peaks).
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <limits>
 #include <sstream>
+#include <string>
 
 #include "core/units.h"
 #include "localization/grid.h"
@@ -42,6 +45,31 @@ LocalizeResult localize_sar(const TagReads& tag, const LocalizeOptions& options)
       if (kept.empty() || (r.antenna_m - kept.back().antenna_m).norm() >= lambda_min / 8.0) kept.push_back(r);
     g.reads = std::move(kept);
   }
+  // Nor does it need every carrier: the carriers are within 0.5 % of each other, so each gives the same
+  // peaks and more of them only average the noise. Per antenna the thinned groups with the most reads are
+  // kept until they hold kCoarsePointsPerAntenna points (2 of the 8 carriers of a 1 m stage at λ/8); the
+  // zoom's second stage and the fit use every carrier.
+  constexpr size_t kCoarsePointsPerAntenna = 48;
+  {
+    std::map<std::string, std::vector<size_t>> by_antenna;
+    for (size_t g = 0; g < sparse.groups.size(); ++g) by_antenna[sparse.groups[g].antenna].push_back(g);
+    std::vector<bool> keep(sparse.groups.size(), false);
+    for (auto& [antenna, groups] : by_antenna) {
+      std::stable_sort(groups.begin(), groups.end(), [&](size_t a, size_t b) {
+        return sparse.groups[a].reads.size() > sparse.groups[b].reads.size();
+      });
+      size_t points = 0;
+      for (size_t g : groups) {
+        if (points >= kCoarsePointsPerAntenna) break;
+        keep[g] = true;
+        points += sparse.groups[g].reads.size();
+      }
+    }
+    std::vector<ReadGroup> kept;
+    for (size_t g = 0; g < sparse.groups.size(); ++g)
+      if (keep[g]) kept.push_back(std::move(sparse.groups[g]));
+    sparse.groups = std::move(kept);
+  }
   const JointModel coarse = make_joint_model(sparse, options);
   std::vector<double> value(grid.size());
 #pragma omp parallel for schedule(static)
@@ -54,11 +82,11 @@ LocalizeResult localize_sar(const TagReads& tag, const LocalizeOptions& options)
   std::vector<double> score;
   size_t best = 0;
   for (long i : peaks) {
-    refined.push_back(focus_near(coarse, grid.point(i), grid.step_m / 2.0, planar));
+    refined.push_back(focus_near(coarse, grid.point(i), grid.step_m / 2.0, planar, focus_min_step_m(model)));
     score.push_back(model.coherence(refined.back()));
     if (score.back() > score[best]) best = refined.size() - 1;
   }
-  refined[best] = focus_near(model, refined[best], lambda_min / 32.0, planar);
+  refined[best] = focus_near(model, refined[best], lambda_min / 32.0, planar, focus_min_step_m(model));
   const JointFit fit = fit_joint(model, refined[best], options);
   LocalizeResult result;
   result.reads_used = model.reads();
