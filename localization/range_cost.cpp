@@ -8,7 +8,23 @@
 namespace rfidray::loc {
 
 RangeCost::RangeCost(const PreparedTag& prep, bool fixed_z, double z_m) : prep_(prep), fixed_z_(fixed_z), z_m_(z_m) {
-  for (const auto& s : prep.segments) n_ += static_cast<int>(s.range_m.size());
+  for (const auto& s : prep.segments) {
+    n_ += static_cast<int>(s.range_m.size());
+    std::vector<Stop> stops;
+    size_t start = 0;
+    while (start < s.range_m.size()) {
+      size_t end = start + 1;
+      while (end < s.range_m.size() && s.antenna_m[end] == s.antenna_m[start]) ++end;
+      double mean = 0.0;
+      for (size_t k = start; k < end; ++k) mean += s.range_m[k];
+      mean /= static_cast<double>(end - start);
+      for (size_t k = start; k < end; ++k) within_stop_scatter_m2_ += (s.range_m[k] - mean) * (s.range_m[k] - mean);
+      stops.push_back({s.antenna_m[start], static_cast<double>(end - start), mean});
+      start = end;
+    }
+    stops_.push_back(std::move(stops));
+    reads_per_segment_.push_back(static_cast<double>(s.range_m.size()));
+  }
 }
 
 Vec3 RangeCost::to_position(const Eigen::VectorXd& u) const {
@@ -52,16 +68,16 @@ void RangeCost::evaluate(const Vec3& x, Eigen::VectorXd& r, Eigen::MatrixXd* J) 
 }
 
 double RangeCost::ssr(const Vec3& x) const {
-  double total = 0.0;
-  for (const RangeSegment& s : prep_.segments) {
-    const size_t m = s.range_m.size();
+  // Per segment Σ e² − (Σ e)² / m over its stops, e = m̄_s − D_s (see stops_).
+  double total = within_stop_scatter_m2_;
+  for (size_t g = 0; g < stops_.size(); ++g) {
     double sum = 0.0, sum2 = 0.0;
-    for (size_t k = 0; k < m; ++k) {
-      const double e = s.range_m[k] - (x - s.antenna_m[k]).norm();
-      sum += e;
-      sum2 += e * e;
+    for (const Stop& stop : stops_[g]) {
+      const double e = stop.mean_range_m - (x - stop.antenna_m).norm();
+      sum += stop.reads * e;
+      sum2 += stop.reads * e * e;
     }
-    total += sum2 - sum * sum / static_cast<double>(m);
+    total += sum2 - sum * sum / reads_per_segment_[g];
   }
   return std::max(total, 0.0);
 }

@@ -5,6 +5,7 @@
 // where m_k = Φ_k λ/(4π) is the unwrapped phase distance and bars are segment means. The optimal offset of
 // segment s is c_s = m̄_s − D̄_s, so minimising Σ e² over x equals minimising over (x, c_1..c_S).
 #include <Eigen/Dense>
+#include <vector>
 
 #include "localization/prepare.h"
 
@@ -31,6 +32,16 @@ class RangeCost {
   bool fixed_z_;
   double z_m_;
   int n_ = 0;
+  // Stop-and-go data: consecutive reads of a segment at the same antenna position are one stop. ssr() sums
+  // per stop: Σ_k (m_k − D − c)² = W_s + n_s (m̄_s − D − c)² (W_s the stop's own scatter), exact, and a stop
+  // of a real reader holds ~100 reads.
+  struct Stop {
+    Vec3 antenna_m;
+    double reads, mean_range_m;
+  };
+  std::vector<std::vector<Stop>> stops_;  // per segment
+  std::vector<double> reads_per_segment_;
+  double within_stop_scatter_m2_ = 0.0;
 };
 
 // 1-σ position uncertainty sqrt(trace(σ²(JᵀJ)⁻¹)) at x for a range noise σ (m); infinite if singular.
