@@ -5,6 +5,9 @@
 //   occluded1_ours   PathFinder::trace at level `los` on the same links: exactly one rtcOccluded1 per link,
 //                    plus everything the tracer does around it (checks, pattern gains, polarization, the path)
 //   occluded16_raw   the same segments as rtcOccluded16 packets (16 tags of one antenna pose per packet)
+//   los_ours         what RaytracedChannel::one_way does per thread at level los: PathFinder::trace_sum over
+//                    each pose's tags, the visibility rays in packets of the width the channel measures on
+//                    the first pose (printed; 1 = single rays)
 // Tags are in Morton order (as RaytracedChannel::one_way traces them), so a packet's rays are coherent.
 //   intersect1_raw   rtcIntersect1 on the candidate-search directions (spherical Fibonacci) of every pose
 //   intersect1_ours  PathFinder::prepare_pose with the same number of candidate rays
@@ -28,6 +31,7 @@
 #include "bench/workload.h"
 #include "raytrace/morton.h"
 #include "raytrace/path_finder.h"
+#include "raytrace/raytraced_channel.h"
 #include "raytrace/scene.h"
 
 using namespace rfidray;
@@ -44,6 +48,8 @@ struct Prepared {
   std::vector<Segment> segments;  // pose-major: tags of pose 0, then pose 1, ...
   std::vector<Vec3> directions;   // candidate-search directions
   std::unique_ptr<PathFinder> los_finder, candidate_finder;
+  std::vector<uint32_t> identity;  // 0 … tags − 1 (the tags are already in Morton order)
+  int los_width = 1;               // measured as one_way does
 };
 
 struct Config {
@@ -80,6 +86,10 @@ Prepared& prepare(const std::string& name, const Config& c) {
   TraceOptions los;
   los.level = ChannelLevel::kLos;
   p.los_finder = std::make_unique<PathFinder>(p.scene, los);
+  for (uint32_t i = 0; i < p.work.tags.size(); ++i) p.identity.push_back(i);
+  p.los_width = fastest_los_packet_width(*p.los_finder, p.work.antennas.front(), p.work.tags, p.identity);
+  std::fprintf(stderr, "bench_rays: %s: level-los packet width measured on the first pose: %d\n", name.c_str(),
+               p.los_width);
   TraceOptions cand;
   cand.candidate_rays = c.candidate_rays;
   p.candidate_finder = std::make_unique<PathFinder>(p.scene, cand);
@@ -168,6 +178,30 @@ void occluded1_ours(benchmark::State& state, Prepared* p) {
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (e - b)));
   state.counters["blocked_fraction"] = benchmark::Counter(
       double(blocked) / double(std::max<size_t>(1, state.iterations() * (e - b))), benchmark::Counter::kAvgThreads);
+}
+
+void los_ours(benchmark::State& state, Prepared* p) {
+  const size_t n_tags = p->work.tags.size();
+  const auto [b, e] = slice(state, p->segments.size());
+  PoseCandidates candidates;
+  std::vector<std::complex<double>> h(n_tags);
+  size_t blocked = 0;
+  for (auto _ : state) {
+    for (size_t i = b; i < e;) {
+      const size_t pose = i / n_tags, first = i % n_tags, count = std::min(e - i, n_tags - first);
+      p->los_finder->trace_sum(p->work.antennas[pose], p->work.tags,
+                               std::span<const uint32_t>(p->identity).subspan(first, count), 865.7e6, candidates,
+                               p->los_width, h);
+      for (size_t k = first; k < first + count; ++k) blocked += h[k] == 0.0;
+      i += count;
+    }
+  }
+  // (h is read above, so nothing is optimised away; no DoNotOptimize(blocked): with this GCC and Google
+  // Benchmark's "+m,r" constraint it handed back another register's value here.)
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (e - b)));
+  state.counters["blocked_fraction"] = benchmark::Counter(
+      double(blocked) / double(std::max<size_t>(1, state.iterations() * (e - b))), benchmark::Counter::kAvgThreads);
+  state.counters["packet_width"] = benchmark::Counter(double(p->los_width), benchmark::Counter::kAvgThreads);
 }
 
 void intersect1_raw(benchmark::State& state, Prepared* p) {
@@ -261,6 +295,7 @@ int main(int argc, char** argv) {
         reg("occluded1_raw", occluded1_raw);
         reg("occluded1_ours", occluded1_ours);
         reg("occluded16_raw", occluded16_raw);
+        reg("los_ours", los_ours);
         reg("intersect1_raw", intersect1_raw);
         reg("intersect1_ours", intersect1_ours);
       }

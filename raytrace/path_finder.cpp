@@ -224,13 +224,19 @@ void PathFinder::trace_sum(const Endpoint& antenna, std::span<const Endpoint> ta
       if (!direct_segment(antenna.pose.position, t.pose.position, seg[j])) seg[j].tnear = seg[j].tfar = 0.0;
     }
     scene_->bvh().occluded_many(packet_width, seg.data(), n, blocked.data());
-    for (size_t j = 0; j < n; ++j) sum(which[i + j], blocked[j] ? 1 : 0);
+    for (size_t j = 0; j < n; ++j) {
+      if (blocked[j])
+        h[which[i + j]] = {0.0, 0.0};  // trace() finds no path for a blocked link at level los
+      else
+        sum(which[i + j], 0);
+    }
   }
 }
 
-bool PathFinder::direct_segment(const Vec3& a, const Vec3& t, Segment& s) const {
+bool PathFinder::direct_segment(const Vec3& a, const Vec3& t, Segment& s, double* length_m) const {
   const Vec3 delta = t - a;
   const double length = delta.norm();
+  if (length_m) *length_m = length;
   if (length > options_.max_path_length_m) return false;
   const double eps = std::min(options_.endpoint_epsilon_m, 0.25 * length);
   s.origin = a;
@@ -243,7 +249,7 @@ bool PathFinder::direct_segment(const Vec3& a, const Vec3& t, Segment& s) const 
 void PathFinder::trace_impl(const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
                             const PoseCandidates& candidates, int los_hint, std::vector<TracedPath>& out) const {
   out.clear();
-  check_link(antenna, tag, frequency_hz);
+  if (los_hint < 0) check_link(antenna, tag, frequency_hz);  // (trace_sum checked before its packet)
   direct_path(antenna, tag, frequency_hz, los_hint, out);
   if (includes(options_.level, ChannelLevel::kSingleBounce)) {
     const size_t first = out.size();
@@ -287,8 +293,8 @@ void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f,
                              std::vector<TracedPath>& out) const {
   const Vec3& a = ant.pose.position;
   Segment s;
-  if (!direct_segment(a, tag.pose.position, s)) return;
-  const double length = (tag.pose.position - a).norm();
+  double length = 0.0;
+  if (!direct_segment(a, tag.pose.position, s, &length)) return;
   const Vec3& dir = s.dir;
   const double eps = s.tnear;
   const EmbreeScene& bvh = scene_->bvh();

@@ -106,8 +106,8 @@ class PathFinder {
                  double frequency_hz, const PoseCandidates& candidates, int packet_width,
                  std::span<std::complex<double>> h) const;
   // The level-los visibility segment of a link (direct_path's ray); false if the link is longer than
-  // max_path_length_m (no path, no ray).
-  bool direct_segment(const Vec3& antenna, const Vec3& tag, Segment& s) const;
+  // max_path_length_m (no path, no ray). *length_m (if given) = |tag − antenna|.
+  bool direct_segment(const Vec3& antenna, const Vec3& tag, Segment& s, double* length_m = nullptr) const;
 
   // Converts a traced path to the core Path (material names filled in).
   Path to_path(const TracedPath& p) const;
