@@ -1,9 +1,7 @@
 #include "raytrace/raytraced_channel.h"
 
-#include <oneapi/tbb/blocked_range.h>
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/partitioner.h>
 #include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_group.h>
 #include <omp.h>
 
 #include <algorithm>
@@ -49,7 +47,7 @@ int fastest_los_packet_width(const PathFinder& finder, const Endpoint& antenna, 
   const std::unique_ptr<bool[]> blocked(new bool[seg.size()]);
   constexpr int kWidths[] = {1, 4, 8, 16};
   double best[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
-  for (int round = 0; round < 3; ++round)
+  for (int round = 0; round < 5; ++round)
     for (int j = 0; j < 4; ++j) {
       const int w = round % 2 ? 3 - j : j;  // alternate the order, so no width always runs first
       const auto t0 = std::chrono::steady_clock::now();
@@ -96,7 +94,7 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
     width = los_packet_width_.load(std::memory_order_relaxed);
     if (width == 0 && n >= 64) {
       width = fastest_los_packet_width(finder_, antenna, tags, order);
-      int expected = 0;  // the first measurement wins; any width gives the same results
+      int expected = 0;  // the first measurement wins (concurrent first poses)
       if (!los_packet_width_.compare_exchange_strong(expected, width, std::memory_order_relaxed)) width = expected;
     }
     width = std::max(width, 1);
@@ -114,24 +112,34 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
   std::mutex error_mutex;
   std::exception_ptr error;
   const std::span<const uint32_t> all(order);
-  // Chunks of 16 tags starting at multiples of 16: the packets are the serial loop's at any thread count.
+  // Chunks of 16 tags starting at multiples of 16 (the packets are the serial loop's at any thread count),
+  // handed out one at a time from a shared counter to one lane per thread. A lane that starts late (a
+  // worker woken from sleep, or descheduled) finds fewer chunks or none, and the caller waits at most for
+  // the chunks already taken: a work-stealing split of the range itself would hand the first thief half of
+  // it, and the caller would wait for that half however late the thief started.
   constexpr size_t kChunk = 16;
+  const size_t chunks = (n + kChunk - 1) / kChunk;
+  std::atomic<size_t> next{0};
+  const auto lane = [&] {
+    const uint64_t before = tl_rays_traced;
+    for (size_t c; (c = next.fetch_add(1, std::memory_order_relaxed)) < chunks;) {
+      const size_t first = c * kChunk, last = std::min(n, first + kChunk);
+      try {
+        finder_.trace_sum(antenna, tags, all.subspan(first, last - first), frequency_hz, candidates, width, h);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next.store(chunks, std::memory_order_relaxed);  // stop handing out chunks
+      }
+    }
+    rays.fetch_add(tl_rays_traced - before, std::memory_order_relaxed);
+    tl_rays_traced = before;
+  };
   tl_arena->execute([&] {
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, (n + kChunk - 1) / kChunk, 1),
-        [&](const tbb::blocked_range<size_t>& r) {
-          const uint64_t before = tl_rays_traced;
-          const size_t first = r.begin() * kChunk, last = std::min(n, r.end() * kChunk);
-          try {
-            finder_.trace_sum(antenna, tags, all.subspan(first, last - first), frequency_hz, candidates, width, h);
-          } catch (...) {
-            std::lock_guard<std::mutex> lock(error_mutex);
-            if (!error) error = std::current_exception();
-          }
-          rays.fetch_add(tl_rays_traced - before, std::memory_order_relaxed);
-          tl_rays_traced = before;
-        },
-        tbb::simple_partitioner());
+    tbb::task_group lanes;
+    for (int k = 1; k < threads; ++k) lanes.run(lane);
+    lane();
+    lanes.wait();  // runs any lane no worker took (it finds no chunk left)
   });
   tl_rays_traced += rays.load();
   if (error) std::rethrow_exception(error);

@@ -55,7 +55,7 @@ class RaytracedChannel final : public Channel {
 };
 
 // The fastest of widths 1, 4, 8, 16 for `finder`'s level-los visibility rays from `antenna` to `tags`
-// (at most the first 512; best of 3 timings each, interleaved; a packet width only when ≥ 1.25× faster than
+// (at most the first 512; best of 5 timings each, interleaved; a packet width only when ≥ 1.25× faster than
 // single rays). Rays traced here are not counted in tl_rays_traced.
 int fastest_los_packet_width(const PathFinder& finder, const Endpoint& antenna, std::span<const Endpoint> tags,
                              std::span<const uint32_t> order);
