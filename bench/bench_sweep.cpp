@@ -8,8 +8,10 @@
 //
 //   bench_sweep [--quick] [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes a,b,...] [--settings a,b,...]
 //               [--threads 1 2 ...] [--no-tags-sweep]
-// rays_per_link counts every Embree query (rtcIntersect1 / rtcOccluded1) issued, per link: a figure that
-// does not depend on the machine.
+// rays_per_link counts every Embree query (rtcIntersect1 / rtcOccluded1, one per active lane of a packet)
+// issued, per link: a figure that does not depend on the machine. Each measurement first traces one untimed
+// pose (the channel's one-off packet-width timing at level los, cold caches); the level-los lines say which
+// packet width the channel chose.
 // Writes DIR/links_per_level.csv, DIR/links_vs_tags.csv, DIR/links_vs_triangles.png, DIR/links_vs_tags.png.
 #include <omp.h>
 
