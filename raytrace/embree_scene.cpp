@@ -98,8 +98,8 @@ void EmbreeScene::occluded_many(int width, const Segment* s, size_t n, bool* blo
   rtcInitIntersectContext(&context);
   // Incoherent mode (the default) although the caller's rays share an origin: with
   // RTC_INTERSECT_CONTEXT_FLAG_COHERENT Embree 3.13 answers differently from rtcOccluded1 for rays through a
-  // triangle's vertex or edge (tests/raytrace/test_packets.cpp), without it only for rays lying in a
-  // triangle's plane.
+  // triangle's vertex or edge (tests/raytrace/test_packets.cpp), without it only for near-degenerate rays
+  // (embree_scene.h).
   for (size_t i = 0; i < n; i += static_cast<size_t>(std::max(width, 1))) {
     const size_t m = std::min(n - i, static_cast<size_t>(std::max(width, 1)));
     switch (width) {

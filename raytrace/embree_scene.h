@@ -5,10 +5,12 @@
 // a committed scene; the intersect context lives on the caller's stack, nothing is allocated per ray).
 //
 // Packets (occluded_many with width 4, 8 or 16: rtcOccluded4/8/16) answer the same question for several segments
-// at once. With the default (incoherent) context they give rtcOccluded1's booleans for every ray except one
-// lying in a triangle's plane to float precision, which either kernel may call blocked (and the packet's
-// answer may depend on its other lanes): tests/raytrace/test_packets.cpp checks random rays and rays ending at,
-// passing through and starting on triangle edges and vertices. Which width is fastest depends on the scene
+// at once. With the default (incoherent) context they give rtcOccluded1's booleans except on near-degenerate
+// rays: one lying in a triangle's plane, or grazing a surface's edge, to float precision, which either
+// kernel may call blocked (and the packet's answer may depend on its other lanes); with
+// RTC_INTERSECT_CONTEXT_FLAG_COHERENT also rays through interior edges and vertices, so it is not used.
+// tests/raytrace/test_packets.cpp checks random rays and rays ending at, passing through and starting on
+// triangle edges and vertices. Which width is fastest depends on the scene
 // and the rays (coherent short rays in an open scene: packets; long, mostly blocked rays in a big scene:
 // single rays), so the caller measures it (raytrace/raytraced_channel.h).
 //

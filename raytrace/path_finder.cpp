@@ -212,20 +212,33 @@ void PathFinder::trace_sum(const Endpoint& antenna, std::span<const Endpoint> ta
     return;
   }
   // Level los in packets: the visibility of up to 16 links per Embree call, then each link's path with its
-  // known visibility. Links too long for a path get an inactive lane (and no path).
+  // known visibility. Links too long for a path get an inactive lane (and no path). A segment parallel to a
+  // coordinate plane (a direction component below 1e-6) is traced alone with rtcOccluded1, as trace() does:
+  // it is the one kind of ray that can lie in a surface's plane in a scene of axis-aligned surfaces (antenna
+  // and tag at a shelf's height), where Embree's packet and single-ray kernels may disagree
+  // (raytrace/embree_scene.h); any other ray crosses such planes and both kernels agree on it.
   constexpr size_t kBlock = 16;
+  constexpr double kAxisParallel = 1e-6;
   std::array<Segment, kBlock> seg;
-  std::array<bool, kBlock> blocked{};
+  std::array<bool, kBlock> blocked{}, alone{};
   for (size_t i = 0; i < which.size(); i += kBlock) {
     const size_t n = std::min(kBlock, which.size() - i);
     for (size_t j = 0; j < n; ++j) {
       const Endpoint& t = tags[which[i + j]];
       check_link(antenna, t, frequency_hz);  // trace()'s checks, before any ray
-      if (!direct_segment(antenna.pose.position, t.pose.position, seg[j])) seg[j].tnear = seg[j].tfar = 0.0;
+      alone[j] = false;
+      if (!direct_segment(antenna.pose.position, t.pose.position, seg[j])) {
+        seg[j].tnear = seg[j].tfar = 0.0;
+      } else if (seg[j].dir.cwiseAbs().minCoeff() < kAxisParallel) {
+        alone[j] = true;
+        seg[j].tnear = seg[j].tfar = 0.0;
+      }
     }
     scene_->bvh().occluded_many(packet_width, seg.data(), n, blocked.data());
     for (size_t j = 0; j < n; ++j) {
-      if (blocked[j])
+      if (alone[j])
+        sum(which[i + j], -1);
+      else if (blocked[j])
         h[which[i + j]] = {0.0, 0.0};  // trace() finds no path for a blocked link at level los
       else
         sum(which[i + j], 0);

@@ -99,8 +99,9 @@ class PathFinder {
              std::vector<TracedPath>& out) const;
 
   // The links antenna→tags[k] for k in `which`, in that order: h[k] = Σ contributions of trace()'s paths
-  // (bitwise what trace() gives). At level los the visibility rays are traced `packet_width` at a time
-  // (1, 4, 8 or 16: EmbreeScene::occluded_many), the same booleans at every width. Serial; thread-safe.
+  // (what trace() gives). At level los the visibility rays are traced `packet_width` at a time (1, 4, 8 or
+  // 16: EmbreeScene::occluded_many), except segments parallel to a coordinate plane, traced alone; the same
+  // booleans as single rays but on near-degenerate rays (raytrace/embree_scene.h). Serial; thread-safe.
   // Throws what trace() throws (InputError for coincident or non-finite endpoints, bad frequency).
   void trace_sum(const Endpoint& antenna, std::span<const Endpoint> tags, std::span<const uint32_t> which,
                  double frequency_hz, const PoseCandidates& candidates, int packet_width,

@@ -18,10 +18,12 @@
 //     win several times on small open scenes with short coherent rays and lose on big warehouses with long,
 //     mostly blocked ones (bench_rays), and where the crossover lies depends on the scene and the CPU, so no
 //     constant would do. Packets are taken only when ≥ 1.25× faster than single rays, so a scene near the
-//     crossover stays with single rays run after run. Embree's packet and single-ray tests give the same
-//     booleans for every ray except one lying in a triangle's plane (to float precision), which either may
-//     call blocked (tests/raytrace/test_packets.cpp): for such a link the result follows the width chosen.
-//     Packets are the serial loop's at any thread count (chunks aligned to 16 tags).
+//     crossover stays with single rays run after run. Embree's packet and single-ray kernels agree except on
+//     near-degenerate rays (in a triangle's plane, or grazing a surface's edge, to float precision;
+//     raytrace/embree_scene.h): segments parallel to a coordinate plane are traced alone with rtcOccluded1
+//     (PathFinder::trace_sum), and for any other such link the result follows the width chosen, so it can
+//     differ between runs (none did on 4 M bench links). Packets are the serial loop's at any thread count
+//     (chunks aligned to 16 tags).
 #include <atomic>
 #include <memory>
 
