@@ -15,6 +15,10 @@
 // output into ratios (ours / raw) per scene and thread count.
 //
 //   bench_rays [--scenes paper,w10k,...] [--tags N] [--poses N] [--candidate-rays N] [Google Benchmark flags]
+//   bench_rays --compare-widths 1 [--scenes ...] [--tags N] [--poses N]
+//     no timing: every link of the workload at level los through PathFinder::trace_sum at packet widths 4, 8
+//     and 16 against single rays; prints how many links' h differ (packets and single rays may differ on
+//     near-degenerate rays, raytrace/embree_scene.h).
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 #include <omp.h>
@@ -55,7 +59,27 @@ struct Prepared {
 struct Config {
   std::vector<std::string> scenes{"paper", "w10k", "w100k", "w1m", "w5m"};
   int tags = 2000, poses = 20, candidate_rays = 4096;
+  bool compare_widths = false;
 };
+
+// --compare-widths: links whose h differs between packets and single rays.
+void compare_widths(const std::string& name, Prepared& p) {
+  const size_t n = p.work.tags.size();
+  std::vector<std::complex<double>> single(n), packed(n);
+  PoseCandidates c;
+  size_t links = 0, visible = 0, differ[17] = {};
+  for (const Endpoint& a : p.work.antennas) {
+    p.los_finder->trace_sum(a, p.work.tags, p.identity, 865.7e6, c, 1, single);
+    for (const auto& x : single) visible += x != 0.0;
+    links += n;
+    for (int w : {4, 8, 16}) {
+      p.los_finder->trace_sum(a, p.work.tags, p.identity, 865.7e6, c, w, packed);
+      for (size_t k = 0; k < n; ++k) differ[w] += packed[k] != single[k];
+    }
+  }
+  std::printf("%s: %zu links, %zu visible; links whose h differs from single rays: width 4: %zu, 8: %zu, 16: %zu\n",
+              name.c_str(), links, visible, differ[4], differ[8], differ[16]);
+}
 
 std::map<std::string, std::unique_ptr<Prepared>> g_prepared;
 
@@ -264,6 +288,7 @@ int main(int argc, char** argv) {
     else if (k == "--tags") c.tags = std::atoi(v.c_str());
     else if (k == "--poses") c.poses = std::atoi(v.c_str());
     else if (k == "--candidate-rays") c.candidate_rays = std::atoi(v.c_str());
+    else if (k == "--compare-widths") c.compare_widths = std::atoi(v.c_str()) != 0;
     else {
       std::fprintf(stderr, "bench_rays: unknown option %s\n", k.c_str());
       return 2;
@@ -276,6 +301,10 @@ int main(int argc, char** argv) {
   try {
     for (const std::string& name : c.scenes) {
       Prepared* p = &prepare(name, c);
+      if (c.compare_widths) {
+        compare_widths(name, *p);
+        continue;
+      }
       std::fprintf(stderr, "bench_rays: %s: %zu triangles, %zu segments\n", name.c_str(), p->scene->triangle_count(),
                    p->segments.size());
       // Interleaved raw/ours so both see the same machine state; one thread count after the other.
@@ -304,6 +333,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_rays: %s\n", e.what());
     return 2;
   }
+  if (c.compare_widths) return 0;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;
