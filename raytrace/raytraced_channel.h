@@ -22,8 +22,8 @@
 //     near-degenerate rays (in a triangle's plane, or grazing a surface's edge, to float precision;
 //     raytrace/embree_scene.h): segments parallel to a coordinate plane are traced alone with rtcOccluded1
 //     (PathFinder::trace_sum), and for any other such link the result follows the width chosen, so it can
-//     differ between runs (none did on 10 M bench links: bench_rays --compare-widths). Packets are the serial loop's at any thread count
-//     (chunks aligned to 16 tags).
+//     differ between runs (none did on 10 M bench links: bench_rays --compare-widths). Packets are the
+//     serial loop's at any thread count (chunks aligned to 16 tags).
 #include <atomic>
 #include <memory>
 
