@@ -5,6 +5,9 @@
 //   occluded1_ours   PathFinder::trace at level `los` on the same links: exactly one rtcOccluded1 per link,
 //                    plus everything the tracer does around it (checks, pattern gains, polarization, the path)
 //   occluded16_raw   the same segments as rtcOccluded16 packets (16 tags of one antenna pose per packet)
+//   los_ours         what RaytracedChannel::one_way does per thread at level los: PathFinder::trace_sum over
+//                    each pose's tags, the visibility rays in packets of the width the channel measures on
+//                    the first pose (printed; 1 = single rays)
 // Tags are in Morton order (as RaytracedChannel::one_way traces them), so a packet's rays are coherent.
 //   intersect1_raw   rtcIntersect1 on the candidate-search directions (spherical Fibonacci) of every pose
 //   intersect1_ours  PathFinder::prepare_pose with the same number of candidate rays
@@ -12,6 +15,10 @@
 // output into ratios (ours / raw) per scene and thread count.
 //
 //   bench_rays [--scenes paper,w10k,...] [--tags N] [--poses N] [--candidate-rays N] [Google Benchmark flags]
+//   bench_rays --compare-widths 1 [--scenes ...] [--tags N] [--poses N]
+//     no timing: every link of the workload at level los through PathFinder::trace_sum at packet widths 4, 8
+//     and 16 against single rays; prints how many links' h differ (packets and single rays may differ on
+//     near-degenerate rays, raytrace/embree_scene.h).
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 #include <omp.h>
@@ -28,6 +35,7 @@
 #include "bench/workload.h"
 #include "raytrace/morton.h"
 #include "raytrace/path_finder.h"
+#include "raytrace/raytraced_channel.h"
 #include "raytrace/scene.h"
 
 using namespace rfidray;
@@ -44,12 +52,34 @@ struct Prepared {
   std::vector<Segment> segments;  // pose-major: tags of pose 0, then pose 1, ...
   std::vector<Vec3> directions;   // candidate-search directions
   std::unique_ptr<PathFinder> los_finder, candidate_finder;
+  std::vector<uint32_t> identity;  // 0 … tags − 1 (the tags are already in Morton order)
+  int los_width = 1;               // measured as one_way does
 };
 
 struct Config {
   std::vector<std::string> scenes{"paper", "w10k", "w100k", "w1m", "w5m"};
   int tags = 2000, poses = 20, candidate_rays = 4096;
+  bool compare_widths = false;
 };
+
+// --compare-widths: links whose h differs between packets and single rays.
+void compare_widths(const std::string& name, Prepared& p) {
+  const size_t n = p.work.tags.size();
+  std::vector<std::complex<double>> single(n), packed(n);
+  PoseCandidates c;
+  size_t links = 0, visible = 0, differ[17] = {};
+  for (const Endpoint& a : p.work.antennas) {
+    p.los_finder->trace_sum(a, p.work.tags, p.identity, 865.7e6, c, 1, single);
+    for (const auto& x : single) visible += x != 0.0;
+    links += n;
+    for (int w : {4, 8, 16}) {
+      p.los_finder->trace_sum(a, p.work.tags, p.identity, 865.7e6, c, w, packed);
+      for (size_t k = 0; k < n; ++k) differ[w] += packed[k] != single[k];
+    }
+  }
+  std::printf("%s: %zu links, %zu visible; links whose h differs from single rays: width 4: %zu, 8: %zu, 16: %zu\n",
+              name.c_str(), links, visible, differ[4], differ[8], differ[16]);
+}
 
 std::map<std::string, std::unique_ptr<Prepared>> g_prepared;
 
@@ -80,6 +110,10 @@ Prepared& prepare(const std::string& name, const Config& c) {
   TraceOptions los;
   los.level = ChannelLevel::kLos;
   p.los_finder = std::make_unique<PathFinder>(p.scene, los);
+  for (uint32_t i = 0; i < p.work.tags.size(); ++i) p.identity.push_back(i);
+  p.los_width = fastest_los_packet_width(*p.los_finder, p.work.antennas.front(), p.work.tags, p.identity);
+  std::fprintf(stderr, "bench_rays: %s: level-los packet width measured on the first pose: %d\n", name.c_str(),
+               p.los_width);
   TraceOptions cand;
   cand.candidate_rays = c.candidate_rays;
   p.candidate_finder = std::make_unique<PathFinder>(p.scene, cand);
@@ -170,6 +204,30 @@ void occluded1_ours(benchmark::State& state, Prepared* p) {
       double(blocked) / double(std::max<size_t>(1, state.iterations() * (e - b))), benchmark::Counter::kAvgThreads);
 }
 
+void los_ours(benchmark::State& state, Prepared* p) {
+  const size_t n_tags = p->work.tags.size();
+  const auto [b, e] = slice(state, p->segments.size());
+  PoseCandidates candidates;
+  std::vector<std::complex<double>> h(n_tags);
+  size_t blocked = 0;
+  for (auto _ : state) {
+    for (size_t i = b; i < e;) {
+      const size_t pose = i / n_tags, first = i % n_tags, count = std::min(e - i, n_tags - first);
+      p->los_finder->trace_sum(p->work.antennas[pose], p->work.tags,
+                               std::span<const uint32_t>(p->identity).subspan(first, count), 865.7e6, candidates,
+                               p->los_width, h);
+      for (size_t k = first; k < first + count; ++k) blocked += h[k] == 0.0;
+      i += count;
+    }
+  }
+  // (h is read above, so nothing is optimised away; no DoNotOptimize(blocked): with this GCC and Google
+  // Benchmark's "+m,r" constraint it handed back another register's value here.)
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (e - b)));
+  state.counters["blocked_fraction"] = benchmark::Counter(
+      double(blocked) / double(std::max<size_t>(1, state.iterations() * (e - b))), benchmark::Counter::kAvgThreads);
+  state.counters["packet_width"] = benchmark::Counter(double(p->los_width), benchmark::Counter::kAvgThreads);
+}
+
 void intersect1_raw(benchmark::State& state, Prepared* p) {
   const RTCScene scene = p->scene->bvh().handle();
   const size_t n_dir = p->directions.size();
@@ -230,6 +288,7 @@ int main(int argc, char** argv) {
     else if (k == "--tags") c.tags = std::atoi(v.c_str());
     else if (k == "--poses") c.poses = std::atoi(v.c_str());
     else if (k == "--candidate-rays") c.candidate_rays = std::atoi(v.c_str());
+    else if (k == "--compare-widths") c.compare_widths = std::atoi(v.c_str()) != 0;
     else {
       std::fprintf(stderr, "bench_rays: unknown option %s\n", k.c_str());
       return 2;
@@ -242,6 +301,10 @@ int main(int argc, char** argv) {
   try {
     for (const std::string& name : c.scenes) {
       Prepared* p = &prepare(name, c);
+      if (c.compare_widths) {
+        compare_widths(name, *p);
+        continue;
+      }
       std::fprintf(stderr, "bench_rays: %s: %zu triangles, %zu segments\n", name.c_str(), p->scene->triangle_count(),
                    p->segments.size());
       // Interleaved raw/ours so both see the same machine state; one thread count after the other.
@@ -261,6 +324,7 @@ int main(int argc, char** argv) {
         reg("occluded1_raw", occluded1_raw);
         reg("occluded1_ours", occluded1_ours);
         reg("occluded16_raw", occluded16_raw);
+        reg("los_ours", los_ours);
         reg("intersect1_raw", intersect1_raw);
         reg("intersect1_ours", intersect1_ours);
       }
@@ -269,6 +333,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_rays: %s\n", e.what());
     return 2;
   }
+  if (c.compare_widths) return 0;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

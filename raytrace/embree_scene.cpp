@@ -1,6 +1,7 @@
 #include "raytrace/embree_scene.h"
 
 #include <stdexcept>
+#include <type_traits>
 
 namespace rfidray {
 namespace {
@@ -53,6 +54,73 @@ EmbreeScene::EmbreeScene(std::span<const TriangleMesh> meshes, const std::string
     if (scene_) rtcReleaseScene(scene_);
     rtcReleaseDevice(device_);
     throw;
+  }
+}
+
+namespace {
+
+// One packet of width W (RTCRay4/8/16) over segments s[0..n), n ≤ W; the rays are rounded to float exactly as
+// fill_ray does for rtcOccluded1.
+template <int W, typename Packet, typename Fn>
+void occluded_packet(const Segment* s, size_t n, const Vec3& offset, bool* blocked, Fn&& call) {
+  alignas(64) Packet ray;
+  alignas(64) int valid[W];
+  for (int k = 0; k < W; ++k) {
+    const bool active = static_cast<size_t>(k) < n && s[k].tfar > s[k].tnear;
+    valid[k] = active ? -1 : 0;
+    const Segment& g = s[std::min<size_t>(k, n - 1)];
+    const Vec3 o = g.origin - offset;
+    ray.org_x[k] = static_cast<float>(o.x());
+    ray.org_y[k] = static_cast<float>(o.y());
+    ray.org_z[k] = static_cast<float>(o.z());
+    ray.dir_x[k] = static_cast<float>(g.dir.x());
+    ray.dir_y[k] = static_cast<float>(g.dir.y());
+    ray.dir_z[k] = static_cast<float>(g.dir.z());
+    ray.tnear[k] = static_cast<float>(g.tnear);
+    ray.tfar[k] = static_cast<float>(g.tfar);
+    ray.time[k] = 0.0f;
+    ray.mask[k] = 0xFFFFFFFFu;
+    ray.id[k] = 0;
+    ray.flags[k] = 0;
+    if (active) ++tl_rays_traced;
+  }
+  call(valid, &ray);
+  for (size_t k = 0; k < n; ++k) blocked[k] = valid[k] != 0 && ray.tfar[k] < 0.0f;
+}
+
+}  // namespace
+
+void EmbreeScene::occluded_many(int width, const Segment* s, size_t n, bool* blocked) const {
+  if (width != 1 && width != 4 && width != 8 && width != 16)
+    throw std::invalid_argument("EmbreeScene::occluded_many: width must be 1, 4, 8 or 16 (got " +
+                                std::to_string(width) + ")");
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  // Incoherent mode (the default) although the caller's rays share an origin: with
+  // RTC_INTERSECT_CONTEXT_FLAG_COHERENT Embree 3.13 answers differently from rtcOccluded1 for rays through a
+  // triangle's vertex or edge (tests/raytrace/test_packets.cpp), without it only for near-degenerate rays
+  // (embree_scene.h).
+  for (size_t i = 0; i < n; i += static_cast<size_t>(std::max(width, 1))) {
+    const size_t m = std::min(n - i, static_cast<size_t>(std::max(width, 1)));
+    switch (width) {
+      case 1:
+        blocked[i] = occluded(s[i].origin, s[i].dir, s[i].tnear, s[i].tfar);
+        break;
+      case 4:
+        occluded_packet<4, RTCRay4>(s + i, m, origin_, blocked + i,
+                                    [&](const int* v, RTCRay4* r) { rtcOccluded4(v, scene_, &context, r); });
+        break;
+      case 8:
+        occluded_packet<8, RTCRay8>(s + i, m, origin_, blocked + i,
+                                    [&](const int* v, RTCRay8* r) { rtcOccluded8(v, scene_, &context, r); });
+        break;
+      case 16:
+        occluded_packet<16, RTCRay16>(s + i, m, origin_, blocked + i,
+                                      [&](const int* v, RTCRay16* r) { rtcOccluded16(v, scene_, &context, r); });
+        break;
+      default:
+        break;  // checked above
+    }
   }
 }
 

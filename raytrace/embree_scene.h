@@ -4,6 +4,16 @@
 // so any number of threads may trace concurrently (Embree's rtcIntersect1/rtcOccluded1 are thread-safe on
 // a committed scene; the intersect context lives on the caller's stack, nothing is allocated per ray).
 //
+// Packets (occluded_many with width 4, 8 or 16: rtcOccluded4/8/16) answer the same question for several segments
+// at once. With the default (incoherent) context they give rtcOccluded1's booleans except on near-degenerate
+// rays: one lying in a triangle's plane, or grazing a surface's edge, to float precision, which either
+// kernel may call blocked (and the packet's answer may depend on its other lanes); with
+// RTC_INTERSECT_CONTEXT_FLAG_COHERENT also rays through interior edges and vertices, so it is not used.
+// tests/raytrace/test_packets.cpp checks random rays and rays ending at, passing through and starting on
+// triangle edges and vertices. Which width is fastest depends on the scene
+// and the rays (coherent short rays in an open scene: packets; long, mostly blocked rays in a big scene:
+// single rays), so the caller measures it (raytrace/raytraced_channel.h).
+//
 // Embree works in float: hit distances are good to ~1e-7 relative. The image method itself stays in double
 // (raytrace/path_finder.cpp); Embree only answers visibility and "which triangle is there".
 #include <algorithm>
@@ -22,6 +32,12 @@ namespace rfidray {
 
 // Rays traced by the calling thread through any EmbreeScene (deterministic cost measure for `channel: auto`).
 inline thread_local uint64_t tl_rays_traced = 0;
+
+// A segment origin + t·dir, t in [tnear, tfar], `dir` unit length, world coordinates.
+struct Segment {
+  Vec3 origin = Vec3::Zero(), dir = Vec3::UnitX();
+  double tnear = 0.0, tfar = 0.0;
+};
 
 struct RayHit {
   bool hit = false;
@@ -72,6 +88,12 @@ class EmbreeScene {
     rtcOccluded1(scene_, &context, &ray);
     return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
   }
+
+  // occluded() of each of the n segments s[0..n) into blocked[0..n), `width` segments per Embree call: 1 =
+  // rtcOccluded1 each; 4, 8, 16 = rtcOccluded4/8/16 packets (segments with tfar ≤ tnear are inactive lanes and
+  // not blocked, as in occluded()). Counts one ray per active segment. Throws std::invalid_argument for
+  // another width.
+  void occluded_many(int width, const Segment* s, size_t n, bool* blocked) const;
 
   RTCScene handle() const { return scene_; }  // for raw-Embree baselines in bench/ (coordinates − origin())
   const Vec3& origin() const { return origin_; }

@@ -181,9 +181,7 @@ void PathFinder::prepare_pose(const Vec3& antenna_position, PoseCandidates& out)
     if (plane_seen[gi]) out.planes.push_back(static_cast<uint32_t>(gi));
 }
 
-void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
-                       const PoseCandidates& candidates, std::vector<TracedPath>& out) const {
-  out.clear();
+void PathFinder::check_link(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) {
   const Vec3& a = antenna.pose.position;
   const Vec3& t = tag.pose.position;
   const double d = (t - a).norm();
@@ -191,7 +189,81 @@ void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double freq
     throw InputError("link: antenna and tag coincide or are not finite (distance " + std::to_string(d) + " m)");
   if (!(frequency_hz > 0.0) || !std::isfinite(frequency_hz))
     throw InputError("link: frequency must be > 0 Hz (got " + std::to_string(frequency_hz) + ")");
-  direct_path(antenna, tag, frequency_hz, out);
+}
+
+void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
+                       const PoseCandidates& candidates, std::vector<TracedPath>& out) const {
+  trace_impl(antenna, tag, frequency_hz, candidates, -1, out);
+}
+
+void PathFinder::trace_sum(const Endpoint& antenna, std::span<const Endpoint> tags, std::span<const uint32_t> which,
+                           double frequency_hz, const PoseCandidates& candidates, int packet_width,
+                           std::span<std::complex<double>> h) const {
+  thread_local std::vector<TracedPath> tl_paths;  // per-thread scratch: no allocation once warm
+  std::vector<TracedPath>& paths = tl_paths;
+  const auto sum = [&](uint32_t k, int hint) {
+    trace_impl(antenna, tags[k], frequency_hz, candidates, hint, paths);
+    std::complex<double> s{0.0, 0.0};
+    for (const TracedPath& p : paths) s += p.contribution;
+    h[k] = s;
+  };
+  if (options_.level != ChannelLevel::kLos || packet_width <= 1 || scene_->empty()) {
+    for (uint32_t k : which) sum(k, -1);
+    return;
+  }
+  // Level los in packets: the visibility of up to 16 links per Embree call, then each link's path with its
+  // known visibility. Links too long for a path get an inactive lane (and no path). A segment parallel to a
+  // coordinate plane (a direction component below 1e-6) is traced alone with rtcOccluded1, as trace() does:
+  // it is the one kind of ray that can lie in a surface's plane in a scene of axis-aligned surfaces (antenna
+  // and tag at a shelf's height), where Embree's packet and single-ray kernels may disagree
+  // (raytrace/embree_scene.h); any other ray crosses such planes and both kernels agree on it.
+  constexpr size_t kBlock = 16;
+  constexpr double kAxisParallel = 1e-6;
+  std::array<Segment, kBlock> seg;
+  std::array<bool, kBlock> blocked{}, alone{};
+  for (size_t i = 0; i < which.size(); i += kBlock) {
+    const size_t n = std::min(kBlock, which.size() - i);
+    for (size_t j = 0; j < n; ++j) {
+      const Endpoint& t = tags[which[i + j]];
+      check_link(antenna, t, frequency_hz);  // trace()'s checks, before any ray
+      alone[j] = false;
+      if (!direct_segment(antenna.pose.position, t.pose.position, seg[j])) {
+        seg[j].tnear = seg[j].tfar = 0.0;
+      } else if (seg[j].dir.cwiseAbs().minCoeff() < kAxisParallel) {
+        alone[j] = true;
+        seg[j].tnear = seg[j].tfar = 0.0;
+      }
+    }
+    scene_->bvh().occluded_many(packet_width, seg.data(), n, blocked.data());
+    for (size_t j = 0; j < n; ++j) {
+      if (alone[j])
+        sum(which[i + j], -1);
+      else if (blocked[j])
+        h[which[i + j]] = {0.0, 0.0};  // trace() finds no path for a blocked link at level los
+      else
+        sum(which[i + j], 0);
+    }
+  }
+}
+
+bool PathFinder::direct_segment(const Vec3& a, const Vec3& t, Segment& s, double* length_m) const {
+  const Vec3 delta = t - a;
+  const double length = delta.norm();
+  if (length_m) *length_m = length;
+  if (length > options_.max_path_length_m) return false;
+  const double eps = std::min(options_.endpoint_epsilon_m, 0.25 * length);
+  s.origin = a;
+  s.dir = delta / length;
+  s.tnear = eps;
+  s.tfar = length - eps;
+  return true;
+}
+
+void PathFinder::trace_impl(const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
+                            const PoseCandidates& candidates, int los_hint, std::vector<TracedPath>& out) const {
+  out.clear();
+  if (los_hint < 0) check_link(antenna, tag, frequency_hz);  // (trace_sum checked before its packet)
+  direct_path(antenna, tag, frequency_hz, los_hint, out);
   if (includes(options_.level, ChannelLevel::kSingleBounce)) {
     const size_t first = out.size();
     if (options_.candidates == CandidateMode::kExhaustive)
@@ -230,20 +302,22 @@ void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double freq
   std::erase_if(out, [&](const TracedPath& p) { return std::norm(p.contribution) < floor; });
 }
 
-void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f, std::vector<TracedPath>& out) const {
+void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f, int los_hint,
+                             std::vector<TracedPath>& out) const {
   const Vec3& a = ant.pose.position;
-  const Vec3 delta = tag.pose.position - a;
-  const double length = delta.norm();
-  if (length > options_.max_path_length_m) return;
-  const Vec3 dir = delta / length;
-  const double eps = std::min(options_.endpoint_epsilon_m, 0.25 * length);
+  Segment s;
+  double length = 0.0;
+  if (!direct_segment(a, tag.pose.position, s, &length)) return;
+  const Vec3& dir = s.dir;
+  const double eps = s.tnear;
   const EmbreeScene& bvh = scene_->bvh();
-  // At level `los` visibility is all that matters: one occlusion ray, and nothing more for an occluded link.
-  // Above it the first hit is needed anyway, so the segment is walked with closest-hit rays from the start.
+  // At level `los` visibility is all that matters: one occlusion ray (or the caller's packet's answer for it),
+  // and nothing more for an occluded link. Above it the first hit is needed anyway, so the segment is walked
+  // with closest-hit rays from the start.
   RayHit hit;
   if (!scene_->empty()) {
     if (options_.level == ChannelLevel::kLos) {
-      if (bvh.occluded(a, dir, eps, length - eps)) return;
+      if (los_hint >= 0 ? los_hint == 1 : bvh.occluded(a, dir, s.tnear, s.tfar)) return;
     } else {
       hit = bvh.intersect(a, dir, eps, length - eps);
     }

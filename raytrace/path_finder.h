@@ -98,6 +98,18 @@ class PathFinder {
   void trace(const Endpoint& antenna, const Endpoint& tag, double frequency_hz, const PoseCandidates& candidates,
              std::vector<TracedPath>& out) const;
 
+  // The links antenna→tags[k] for k in `which`, in that order: h[k] = Σ contributions of trace()'s paths
+  // (what trace() gives). At level los the visibility rays are traced `packet_width` at a time (1, 4, 8 or
+  // 16: EmbreeScene::occluded_many), except segments parallel to a coordinate plane, traced alone; the same
+  // booleans as single rays but on near-degenerate rays (raytrace/embree_scene.h). Serial; thread-safe.
+  // Throws what trace() throws (InputError for coincident or non-finite endpoints, bad frequency).
+  void trace_sum(const Endpoint& antenna, std::span<const Endpoint> tags, std::span<const uint32_t> which,
+                 double frequency_hz, const PoseCandidates& candidates, int packet_width,
+                 std::span<std::complex<double>> h) const;
+  // The level-los visibility segment of a link (direct_path's ray); false if the link is longer than
+  // max_path_length_m (no path, no ray). *length_m (if given) = |tag − antenna|.
+  bool direct_segment(const Vec3& antenna, const Vec3& tag, Segment& s, double* length_m = nullptr) const;
+
   // Converts a traced path to the core Path (material names filled in).
   Path to_path(const TracedPath& p) const;
 
@@ -148,7 +160,11 @@ class PathFinder {
   // radius_m across the ray) that hit at p as seen.
   void mark_seen(const PlaneGroup& g, const Vec3& p, const Vec3& dir, double radius_m, PoseCandidates& out) const;
 
-  void direct_path(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
+  // los_hint: −1 = trace the level-los visibility ray here, 0 = known clear, 1 = known blocked.
+  void trace_impl(const Endpoint& antenna, const Endpoint& tag, double frequency_hz, const PoseCandidates& candidates,
+                  int los_hint, std::vector<TracedPath>& out) const;
+  static void check_link(const Endpoint& antenna, const Endpoint& tag, double frequency_hz);
+  void direct_path(const Endpoint& a, const Endpoint& t, double f, int los_hint, std::vector<TracedPath>& out) const;
   void reflections_exhaustive(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
   void reflections_fast(const Endpoint& a, const Endpoint& t, double f, const PoseCandidates& c,
                         std::vector<TracedPath>& out) const;

@@ -1,24 +1,26 @@
 #include "raytrace/raytraced_channel.h"
 
+#include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_group.h>
 #include <omp.h>
 
 #include <algorithm>
+#include <chrono>
+#include <mutex>
+#include <stdexcept>
 
 #include "raytrace/morton.h"
 
 namespace rfidray {
-namespace {
-
-// Per-thread scratch so the per-link loop does not allocate once warmed up.
-std::vector<TracedPath>& scratch_paths() {
-  thread_local std::vector<TracedPath> paths;
-  return paths;
-}
-
-}  // namespace
 
 RaytracedChannel::RaytracedChannel(std::shared_ptr<const Scene> scene, const TraceOptions& options)
     : finder_(std::move(scene), options) {}
+
+void RaytracedChannel::set_los_packet_width(int width) {
+  if (width != 1 && width != 4 && width != 8 && width != 16)
+    throw std::invalid_argument("los packet width must be 1, 4, 8 or 16 (got " + std::to_string(width) + ")");
+  los_packet_width_.store(width, std::memory_order_relaxed);
+}
 
 std::vector<Path> RaytracedChannel::paths(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) const {
   PoseCandidates candidates;
@@ -31,37 +33,115 @@ std::vector<Path> RaytracedChannel::paths(const Endpoint& antenna, const Endpoin
   return out;
 }
 
+int fastest_los_packet_width(const PathFinder& finder, const Endpoint& antenna, std::span<const Endpoint> tags,
+                             std::span<const uint32_t> order) {
+  std::vector<Segment> seg;
+  const Vec3& a = antenna.pose.position;
+  for (size_t i = 0; i < order.size() && seg.size() < 512; ++i) {
+    const Vec3& t = tags[order[i]].pose.position;
+    Segment s;
+    if (all_finite(a) && all_finite(t) && (t - a).norm() > 0.0 && finder.direct_segment(a, t, s)) seg.push_back(s);
+  }
+  if (seg.empty() || finder.scene().empty()) return 1;
+  const uint64_t rays_before = tl_rays_traced;
+  const std::unique_ptr<bool[]> blocked(new bool[seg.size()]);
+  constexpr int kWidths[] = {1, 4, 8, 16};
+  double best[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
+  for (int round = 0; round < 5; ++round)
+    for (int j = 0; j < 4; ++j) {
+      const int w = round % 2 ? 3 - j : j;  // alternate the order, so no width always runs first
+      const auto t0 = std::chrono::steady_clock::now();
+      finder.scene().bvh().occluded_many(kWidths[w], seg.data(), seg.size(), blocked.get());
+      best[w] = std::min(best[w], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+  tl_rays_traced = rays_before;
+  // Packets only when clearly faster (by a quarter): near the crossover the choice would flip between runs,
+  // and the one case where packet and single-ray answers differ (a ray lying in a triangle's plane) would
+  // follow it.
+  const int packet = static_cast<int>(std::min_element(best + 1, best + 4) - best);
+  return best[packet] * 1.25 < best[0] ? kWidths[packet] : 1;
+}
+
 void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint> tags, double frequency_hz,
                                std::span<std::complex<double>> h) const {
-  // The caller's scratch, reused across calls (bitmaps cleared, not reallocated, per pose). Bound to plain
-  // references: inside the parallel region a thread_local name would denote each worker's own copy.
+  // The caller's scratch, reused across calls. Bound to plain references: inside a parallel loop a
+  // thread_local name would denote each worker's own copy.
   thread_local PoseCandidates tl_candidates;
-  thread_local std::vector<std::pair<uint64_t, uint32_t>> tl_order;
+  thread_local std::vector<uint64_t> tl_keys, tl_new_keys;
+  thread_local std::vector<std::pair<uint64_t, uint32_t>> tl_sorted;
+  thread_local std::vector<uint32_t> tl_order;
   PoseCandidates& candidates = tl_candidates;
-  std::vector<std::pair<uint64_t, uint32_t>>& order = tl_order;
+  std::vector<uint32_t>& order = tl_order;
   finder_.prepare_pose(antenna.pose.position, candidates);
-  const auto n = static_cast<std::ptrdiff_t>(tags.size());
+  const size_t n = tags.size();
   // Tags in spatial (Morton) order, so consecutive links traverse the same part of the BVH and hit warm
-  // caches; every link is computed on its own, so the order changes nothing but speed.
-  order.resize(tags.size());
-  for (size_t i = 0; i < tags.size(); ++i) order[i] = {morton_key(tags[i].pose.position), static_cast<uint32_t>(i)};
-  std::sort(order.begin(), order.end());
-  // Exceptions must not leave an OpenMP region: keep the first and rethrow after the loop.
-  std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic, 16) if (n >= 64 && !omp_in_parallel())
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    try {
-      const uint32_t k = order[i].second;
-      auto& traced = scratch_paths();
-      finder_.trace(antenna, tags[k], frequency_hz, candidates, traced);
-      std::complex<double> sum{0.0, 0.0};
-      for (const TracedPath& p : traced) sum += p.contribution;
-      h[k] = sum;
-    } catch (...) {
-#pragma omp critical(rfidray_raytrace_error)
-      if (!error) error = std::current_exception();
-    }
+  // caches; every link is computed on its own, so the order changes nothing but speed. The order depends on
+  // the keys alone: the same keys as the last call, the same order (no sort per pose over static tags).
+  std::vector<uint64_t>& keys = tl_new_keys;
+  keys.resize(n);
+  for (size_t i = 0; i < n; ++i) keys[i] = morton_key(tags[i].pose.position);
+  if (keys != tl_keys || order.size() != n) {
+    tl_keys.swap(keys);
+    std::vector<std::pair<uint64_t, uint32_t>>& sorted = tl_sorted;
+    sorted.resize(n);
+    for (size_t i = 0; i < n; ++i) sorted[i] = {tl_keys[i], static_cast<uint32_t>(i)};
+    std::sort(sorted.begin(), sorted.end());
+    order.resize(n);
+    for (size_t i = 0; i < n; ++i) order[i] = sorted[i].second;
   }
+  int width = 1;
+  if (finder_.options().level == ChannelLevel::kLos) {
+    width = los_packet_width_.load(std::memory_order_relaxed);
+    if (width == 0 && n >= 64) {
+      width = fastest_los_packet_width(finder_, antenna, tags, order);
+      int expected = 0;  // the first measurement wins (concurrent first poses)
+      if (!los_packet_width_.compare_exchange_strong(expected, width, std::memory_order_relaxed)) width = expected;
+    }
+    width = std::max(width, 1);
+  }
+  const int threads = omp_in_parallel() ? 1 : std::max(1, omp_get_max_threads());
+  if (threads < 2 || n < 64) {
+    finder_.trace_sum(antenna, tags, order, frequency_hz, candidates, width, h);
+    return;
+  }
+  thread_local std::unique_ptr<tbb::task_arena> tl_arena;
+  if (!tl_arena || tl_arena->max_concurrency() != threads) tl_arena = std::make_unique<tbb::task_arena>(threads);
+  // Rays traced by whichever thread runs a chunk are credited to the caller (tl_rays_traced), so counts
+  // summed over the caller's threads stay what a serial loop gives.
+  std::atomic<uint64_t> rays{0};
+  std::mutex error_mutex;
+  std::exception_ptr error;
+  const std::span<const uint32_t> all(order);
+  // Chunks of 16 tags starting at multiples of 16 (the packets are the serial loop's at any thread count),
+  // handed out one at a time from a shared counter to one lane per thread. A lane that starts late (a
+  // worker woken from sleep, or descheduled) finds fewer chunks or none, and the caller waits at most for
+  // the chunks already taken: a work-stealing split of the range itself would hand the first thief half of
+  // it, and the caller would wait for that half however late the thief started.
+  constexpr size_t kChunk = 16;
+  const size_t chunks = (n + kChunk - 1) / kChunk;
+  std::atomic<size_t> next{0};
+  const auto lane = [&] {
+    const uint64_t before = tl_rays_traced;
+    for (size_t c; (c = next.fetch_add(1, std::memory_order_relaxed)) < chunks;) {
+      const size_t first = c * kChunk, last = std::min(n, first + kChunk);
+      try {
+        finder_.trace_sum(antenna, tags, all.subspan(first, last - first), frequency_hz, candidates, width, h);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next.store(chunks, std::memory_order_relaxed);  // stop handing out chunks
+      }
+    }
+    rays.fetch_add(tl_rays_traced - before, std::memory_order_relaxed);
+    tl_rays_traced = before;
+  };
+  tl_arena->execute([&] {
+    tbb::task_group lanes;
+    for (int k = 1; k < threads; ++k) lanes.run(lane);
+    lane();
+    lanes.wait();  // runs any lane no worker took (it finds no chunk left)
+  });
+  tl_rays_traced += rays.load();
   if (error) std::rethrow_exception(error);
 }
 
