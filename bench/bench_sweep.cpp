@@ -47,6 +47,9 @@ std::vector<Setting> settings() {
     out.push_back({std::move(name), o});
   };
   add("los", ChannelLevel::kLos, 0);
+  // The opt-in packets (TraceOptions::los_packets_by_timing; not the default: determinism).
+  add("los packets", ChannelLevel::kLos, 0);
+  out.back().options.los_packets_by_timing = true;
   add("los+blocked", ChannelLevel::kLosBlocked, 0);
   add("single-bounce", ChannelLevel::kSingleBounce, 0);
   add("single-bounce rays=4096", ChannelLevel::kSingleBounce, 4096);

@@ -14,7 +14,10 @@
 namespace rfidray {
 
 RaytracedChannel::RaytracedChannel(std::shared_ptr<const Scene> scene, const TraceOptions& options)
-    : finder_(std::move(scene), options) {}
+    : finder_(std::move(scene), options) {
+  // Width 0 = "time the widths on the first pose"; single rays unless the user opted in (trace_options.h).
+  if (!options.los_packets_by_timing) los_packet_width_.store(1, std::memory_order_relaxed);
+}
 
 void RaytracedChannel::set_los_packet_width(int width) {
   if (width != 1 && width != 4 && width != 8 && width != 16)

@@ -13,7 +13,8 @@
 //     another process holds a core a descheduled team thread stalls every pose by a scheduler tick (4–8 ms
 //     per pose measured on the 2-core machine, whatever the tag count); work stealing waits only for chunks
 //     that another thread actually took, so a busy machine degrades to the calling thread's own speed;
-//   - at level los the visibility rays go in packets of the width that is fastest on this scene
+//   - at level los, when TraceOptions::los_packets_by_timing is set (off by default: determinism, see there),
+//     the visibility rays go in packets of the width that is fastest on this scene
 //     (rtcOccluded1/4/8/16), chosen once per channel by timing each width on the first pose's rays: packets
 //     win several times on small open scenes with short coherent rays and lose on big warehouses with long,
 //     mostly blocked ones (bench_rays), and where the crossover lies depends on the scene and the CPU, so no
@@ -45,9 +46,9 @@ class RaytracedChannel final : public Channel {
 
   const PathFinder& finder() const { return finder_; }
   const Scene& scene() const { return finder_.scene(); }
-  // The packet width of level los's visibility rays (1, 4, 8 or 16); 0 until the first batch of ≥ 64 tags
-  // has measured it. set_los_packet_width fixes it instead (tests, benchmarks); throws std::invalid_argument
-  // for another width.
+  // The packet width of level los's visibility rays (1, 4, 8 or 16): 1 unless los_packets_by_timing, then 0
+  // until the first batch of ≥ 64 tags has measured it. set_los_packet_width fixes it instead (tests,
+  // benchmarks); throws std::invalid_argument for another width.
   int los_packet_width() const { return los_packet_width_.load(std::memory_order_relaxed); }
   void set_los_packet_width(int width);
 

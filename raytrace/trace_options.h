@@ -42,6 +42,13 @@ struct TraceOptions {
   // the edge (UTD transition-function argument X = kL·a ≥ π·N²); its field is then at most 2/√(πX) of the
   // free-space field over its length.
   double diffraction_fresnel_zones = 3.0;
+  // Level los: trace a pose's visibility rays in Embree packets (rtcOccluded4/8/16) when timing them on the
+  // first pose shows a packet width ≥ 1.25× faster than single rays (raytraced_channel.h). Off by default:
+  // Embree's packet and single-ray kernels disagree on some near-degenerate rays (a ray in a triangle's
+  // plane, or one starting next to a surface — a tag mounted on a shelf), so a choice made by timing could
+  // change such a link's result from one run to the next, and rfidray's output depends only on its inputs
+  // and --seed. With it off every ray is rtcOccluded1, as before packets existed.
+  bool los_packets_by_timing = false;
 };
 
 const char* to_string(CandidateMode mode);

@@ -117,7 +117,9 @@ TEST(DoubleBounce, CornerOfTwoPerpendicularMetalWallsMatchesImageTheory) {
         const double sx = pa.x() / (pa.x() - image.x()), sy = pa.y() / (pa.y() - image.y());
         EXPECT_EQ(x_first, sx < sy);
         // Vertical polarization on vertical walls: TE twice, (−1)(−1) = +1.
-        if (axis == Vec3(0, 0, 1)) EXPECT_LT(std::abs(d.coefficient - 1.0), 1e-9);
+        if (axis == Vec3(0, 0, 1)) {
+          EXPECT_LT(std::abs(d.coefficient - 1.0), 1e-9);
+        }
         // The double reflection is the only new path: single-bounce gives the other three unchanged.
         const auto single = RaytracedChannel(scene, level_options(ChannelLevel::kSingleBounce, mode)).paths(a, t, kF);
         ASSERT_EQ(single.size(), 3u);

@@ -142,6 +142,9 @@ TEST(Packets, LosBatchIdenticalAtEveryWidth) {
   const std::vector<Endpoint> tags = random_tags(*scene, rng, 300);
   TraceOptions o;
   o.level = ChannelLevel::kLos;
+  // Single rays unless the packets are asked for (determinism, trace_options.h).
+  EXPECT_EQ(RaytracedChannel(scene, o).los_packet_width(), 1);
+  o.los_packets_by_timing = true;
   RaytracedChannel ch(scene, o);
   EXPECT_EQ(ch.los_packet_width(), 0);
   size_t visible = 0;
