@@ -115,7 +115,8 @@ std::vector<std::string> ray_ratios(const fs::path& dir) {
   }
   io::write_file_atomic(dir / "rays.csv", [&](std::ostream& out) { out << csv.str(); }, "rays.csv");
   std::ostringstream ratio;  // rays_ratio.csv
-  ratio << "scene,threads,occluded_ours_over_raw,intersect_ours_over_raw,occluded16_over_occluded1,raw_occluded1_rays_per_s\n";
+  ratio << "scene,threads,occluded_ours_over_raw,intersect_ours_over_raw,occluded16_over_occluded1,raw_occluded1_rays_per_s,"
+           "los_batch_over_fastest_raw\n";
   std::vector<std::string> lines;
   io::Series occ1{"occluded: ours / raw rtcOccluded1 (1 thread)", {}, {}, "linespoints"},
       occ2{"occluded: ours / raw rtcOccluded1 (2 threads)", {}, {}, "linespoints"},
@@ -127,7 +128,12 @@ std::vector<std::string> ray_ratios(const fs::path& dir) {
       if (!m.count("occluded1_raw")) continue;
       const double occ = m["occluded1_ours"] / m["occluded1_raw"], inter = m["intersect1_ours"] / m["intersect1_raw"],
                    pk = m["occluded16_raw"] / m["occluded1_raw"];
-      ratio << scenes[si] << "," << threads << "," << occ << "," << inter << "," << pk << "," << m["occluded1_raw"] << "\n";
+      ratio << scenes[si] << "," << threads << "," << occ << "," << inter << "," << pk << "," << m["occluded1_raw"] << ",";
+      // #13's figure: the per-pose LoS batch (los_ours, at the width timing chose) against the faster of the
+      // raw single-ray and 16-ray packet loops; empty when bench_rays did not run it.
+      if (m.count("los_ours") && m.count("occluded16_raw"))
+        ratio << m["los_ours"] / std::max(m["occluded1_raw"], m["occluded16_raw"]);
+      ratio << "\n";
       char buf[256];
       std::snprintf(buf, sizeof buf, "| %s | %d | %.2f | %.2f | %.2f | %.2f M |", scenes[si].c_str(), threads, occ,
                     inter, pk, m["occluded1_raw"] / 1e6);
