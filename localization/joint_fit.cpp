@@ -122,6 +122,13 @@ JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOpt
   const int inliers = n - fit.outliers;
   const int dof_left = std::max(1, inliers - d - model.group_count());
   fit.scale2 = std::max(1.0, fit.cost / dof_left);
+  // The inlier stops in time order (the aperture's order): the smooth-residual estimate and the jackknife
+  // blocks both walk it.
+  std::vector<int> by_time;
+  for (int i = 0; i < n; ++i)
+    if (fit.mask[i]) by_time.push_back(i);
+  std::stable_sort(by_time.begin(), by_time.end(),
+                   [&](int a, int b) { return model.points()[a].time_s < model.points()[b].time_s; });
   {
     std::vector<double> e = model.wrapped_residuals(fit.position), kept;
     for (int i = 0; i < n; ++i)
@@ -131,11 +138,6 @@ JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOpt
     // model cannot see; white read noise is not. Their variances separate in the lag-1 autocovariance of
     // the residuals in time order: ≈ σ_smooth² for an error that changes little from one stop to the next,
     // ≈ 0 for independent noise.
-    std::vector<int> by_time;
-    for (int i = 0; i < n; ++i)
-      if (fit.mask[i]) by_time.push_back(i);
-    std::stable_sort(by_time.begin(), by_time.end(),
-                     [&](int a, int b) { return model.points()[a].time_s < model.points()[b].time_s; });
     double lag1 = 0.0;
     for (size_t k = 1; k < by_time.size(); ++k) lag1 += e[by_time[k]] * e[by_time[k - 1]];
     if (by_time.size() >= 2) lag1 /= static_cast<double>(by_time.size() - 1);
@@ -188,11 +190,7 @@ JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOpt
   double radius2 = chi2_95(d) * std::max(0.0, lambda_max(cov_ls));
 
   // Delete-one-block jackknife over contiguous aperture blocks (by time).
-  std::vector<int> order;
-  for (int i = 0; i < n; ++i)
-    if (fit.mask[i]) order.push_back(i);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return model.points()[a].time_s < model.points()[b].time_s; });
+  const std::vector<int>& order = by_time;
   const int blocks = std::min(options.jackknife_blocks, static_cast<int>(order.size()) / 5);
   if (blocks >= d + 2) {
     std::vector<Eigen::VectorXd> est;
