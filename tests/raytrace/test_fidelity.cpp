@@ -9,6 +9,7 @@
 #include "core/simulation.h"
 #include "raytrace/fidelity.h"
 #include "raytrace/raytraced_channel.h"
+#include "tests/support/endpoint_at.h"
 #include "raytrace/warehouse.h"
 
 namespace rfidray {
@@ -16,11 +17,6 @@ namespace {
 
 constexpr double kF = 865.7e6;
 
-Endpoint at(const Vec3& p) {
-  Endpoint e;
-  e.pose.position = p;
-  return e;
-}
 
 // One batch per antenna position, every tag in each, with the default reader's and tag's readability.
 std::vector<LinkBatch> batches(const std::vector<Vec3>& antennas, const std::vector<Vec3>& tags) {
@@ -30,10 +26,10 @@ std::vector<LinkBatch> batches(const std::vector<Vec3>& antennas, const std::vec
     LinkBatch b;
     b.antenna = 0;
     b.frequency_hz = kF;
-    b.antenna_end = at(antennas[a]);
+    b.antenna_end = testing::endpoint_at(antennas[a]);
     for (size_t i = 0; i < tags.size(); ++i) {
       b.tags.push_back(i);
-      b.tag_ends.push_back(at(tags[i]));
+      b.tag_ends.push_back(testing::endpoint_at(tags[i]));
       b.min_readable_h2.push_back(min_h2);
     }
     out.push_back(b);

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "raytrace/obj_loader.h"
 #include "raytrace/raytraced_channel.h"
+#include "tests/support/endpoint_at.h"
 #include "raytrace/warehouse.h"
 
 namespace rfidray {
@@ -24,11 +25,6 @@ std::vector<TriangleMesh> shifted(std::vector<TriangleMesh> meshes, const Vec3& 
   return meshes;
 }
 
-Endpoint at(const Vec3& p) {
-  Endpoint e;
-  e.pose.position = p;
-  return e;
-}
 
 TEST(LargeCoordinates, UtmSizedSceneGivesTheSamePathsAsTheSceneNearTheOrigin) {
   const Vec3 utm(512345.0, 5012345.0, 0.0);  // a UTM easting / northing, metres
@@ -46,8 +42,8 @@ TEST(LargeCoordinates, UtmSizedSceneGivesTheSamePathsAsTheSceneNearTheOrigin) {
     size_t total = 0;
     for (const Vec3& a : antennas)
       for (const Vec3& t : tags) {
-        const auto pn = near_ch.paths(at(a), at(t), 866e6);
-        const auto pf = far_ch.paths(at(a + utm), at(t + utm), 866e6);
+        const auto pn = near_ch.paths(testing::endpoint_at(a), testing::endpoint_at(t), 866e6);
+        const auto pf = far_ch.paths(testing::endpoint_at(a + utm), testing::endpoint_at(t + utm), 866e6);
         ASSERT_EQ(pn.size(), pf.size()) << "antenna " << a.transpose() << ", tag " << t.transpose();
         total += pn.size();
         for (size_t i = 0; i < pn.size(); ++i) {

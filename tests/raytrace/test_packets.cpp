@@ -20,6 +20,7 @@
 
 #include "core/error.h"
 #include "raytrace/raytraced_channel.h"
+#include "tests/support/endpoint_at.h"
 #include "raytrace/warehouse.h"
 
 namespace rfidray {
@@ -27,11 +28,6 @@ namespace {
 
 constexpr double kF = 866e6;
 
-Endpoint endpoint(const Vec3& p) {
-  Endpoint e;
-  e.pose.position = p;
-  return e;
-}
 
 std::shared_ptr<const Scene> small_warehouse(uint64_t seed) {
   std::mt19937_64 rng(seed);
@@ -121,7 +117,7 @@ TEST(Packets, SameBooleansAsSingleRays) {
 std::vector<Endpoint> random_tags(const Scene& s, std::mt19937_64& rng, int n) {
   auto [lo, hi] = bounds(s);
   std::vector<Endpoint> tags;
-  for (int i = 0; i < n; ++i) tags.push_back(endpoint(random_point(rng, lo, hi)));
+  for (int i = 0; i < n; ++i) tags.push_back(testing::endpoint_at(random_point(rng, lo, hi)));
   return tags;
 }
 
@@ -149,7 +145,7 @@ TEST(Packets, LosBatchIdenticalAtEveryWidth) {
   EXPECT_EQ(ch.los_packet_width(), 0);
   size_t visible = 0;
   for (int pose = 0; pose < 3; ++pose) {
-    const Endpoint a = endpoint(random_tags(*scene, rng, 1)[0].pose.position);
+    const Endpoint a = testing::endpoint_at(random_tags(*scene, rng, 1)[0].pose.position);
     const std::vector<std::complex<double>> want = per_link(ch, a, tags);
     for (int width : {1, 4, 8, 16}) {
       ch.set_los_packet_width(width);
@@ -169,7 +165,7 @@ TEST(Packets, LosBatchIdenticalAtEveryWidth) {
   // The measured width is one of the four.
   const RaytracedChannel fresh(scene, o);
   std::vector<std::complex<double>> h(tags.size());
-  fresh.one_way(endpoint(Vec3(1, 1, 1)), tags, kF, h);
+  fresh.one_way(testing::endpoint_at(Vec3(1, 1, 1)), tags, kF, h);
   const int w = fresh.los_packet_width();
   EXPECT_TRUE(w == 1 || w == 4 || w == 8 || w == 16) << w;
 }
@@ -194,12 +190,12 @@ TEST(Packets, RaysInASurfacesPlaneAsSingleRays) {
       const double wp = u(rng);
       const Vec3 p = wp * v[0] + (1 - wp) * v[1];  // on one edge
       const Vec3 p_in = 0.5 * (p + (0.5 * (v[1] + v[2])));
-      const Endpoint a = endpoint(p - (p_in - p));
+      const Endpoint a = testing::endpoint_at(p - (p_in - p));
       std::vector<Endpoint> tags;
       for (int j = 0; j < 32; ++j) {
         const double w = u(rng);
         const Vec3 q = w * v[1] + (1 - w) * v[2];  // on the opposite edge
-        tags.push_back(endpoint(q + (q - p)));
+        tags.push_back(testing::endpoint_at(q + (q - p)));
       }
       std::vector<uint32_t> which(tags.size());
       for (uint32_t j = 0; j < which.size(); ++j) which[j] = j;
@@ -241,7 +237,7 @@ TEST(Packets, NoStateLeaksBetweenPoses) {
   auto [lo, hi] = bounds(*scene);
   std::mt19937_64 rng(7);
   const std::vector<Endpoint> tags_a = random_tags(*scene, rng, 120), tags_b = random_tags(*scene, rng, 120);
-  const Endpoint far_1 = endpoint(lo + Vec3(0.5, 0.5, 1.0)), far_2 = endpoint(hi - Vec3(0.5, 0.5, 1.0));
+  const Endpoint far_1 = testing::endpoint_at(lo + Vec3(0.5, 0.5, 1.0)), far_2 = testing::endpoint_at(hi - Vec3(0.5, 0.5, 1.0));
   for (ChannelLevel level : {ChannelLevel::kLos, ChannelLevel::kSingleBounce}) {
     TraceOptions o;
     o.level = level;
@@ -274,7 +270,7 @@ TEST(Packets, BadLinkInThreadedBatchThrows) {
   const auto scene = small_warehouse(5);
   std::mt19937_64 rng(55);
   std::vector<Endpoint> tags = random_tags(*scene, rng, 200);
-  const Endpoint a = endpoint(Vec3(1.0, 1.0, 1.0));
+  const Endpoint a = testing::endpoint_at(Vec3(1.0, 1.0, 1.0));
   tags[137] = a;  // coincides with the antenna
   for (ChannelLevel level : {ChannelLevel::kLos, ChannelLevel::kSingleBounce}) {
     TraceOptions o;
