@@ -120,8 +120,8 @@ int main(int argc, char** argv) {
   app.add_option("--poses", poses, "antenna poses per run")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--scenes", scene_list, "comma-separated subset of paper,w10k,w100k,w1m,w5m");
   std::string setting_list;
-  app.add_option("--settings", setting_list, "comma-separated subset of the settings (los, los+blocked, "
-                                             "single-bounce, 'single-bounce rays=4096')");
+  app.add_option("--settings", setting_list, "comma-separated subset of the settings (los, 'los packets', "
+                                             "los+blocked, single-bounce, 'single-bounce rays=4096')");
   bool no_tags_sweep = false;
   app.add_flag("--no-tags-sweep", no_tags_sweep, "skip the links/s vs tags sweep on w1m");
   std::vector<int> thread_counts{1, 2};

@@ -111,60 +111,58 @@ Vec3 shift_at(const std::vector<Intersection>& set, const CellGrid& grid, double
   thread_local std::vector<Vec3> offsets;
   thread_local std::vector<double> exponent, quality;
   thread_local Eigen::ArrayXd weights;
-  {
-    for (int it = 0; it < 30; ++it) {
-      const Key c = cell_key(x, cell);
-      const long reach = static_cast<long>(std::ceil(3.0 * h / cell));
-      const long reach_z = std::min(reach, z_cells);
-      // Gather the kernel's support first, then its weights in one vectorised exp (a libm call per point
-      // was most of this function's time).
-      offsets.clear();
-      exponent.clear();
-      quality.clear();
-      for (long dx = -reach; dx <= reach; ++dx)
-        for (long dy = -reach; dy <= reach; ++dy)
-          for (long dz = -reach_z; dz <= reach_z; ++dz) {
-            auto found = grid.find({std::get<0>(c) + dx, std::get<1>(c) + dy, std::get<2>(c) + dz});
-            if (found == grid.end()) continue;
-            for (int i : found->second) {
-              // The kernel is cut at 3h (what `reach` visits): beyond it exp(−4.5) ≈ 1 % adds nothing but cost
-              // and makes the sum depend on the cell boundaries.
-              const Vec3 d = set[i].point - x;
-              const double d2 = d.squaredNorm();
-              if (d2 > 9.0 * h * h) continue;
-              offsets.push_back(d);
-              exponent.push_back(-0.5 * d2 / (h * h));
-              quality.push_back(set[i].quality);
-            }
+  for (int it = 0; it < 30; ++it) {
+    const Key c = cell_key(x, cell);
+    const long reach = static_cast<long>(std::ceil(3.0 * h / cell));
+    const long reach_z = std::min(reach, z_cells);
+    // Gather the kernel's support first, then its weights in one vectorised exp (a libm call per point
+    // was most of this function's time).
+    offsets.clear();
+    exponent.clear();
+    quality.clear();
+    for (long dx = -reach; dx <= reach; ++dx)
+      for (long dy = -reach; dy <= reach; ++dy)
+        for (long dz = -reach_z; dz <= reach_z; ++dz) {
+          auto found = grid.find({std::get<0>(c) + dx, std::get<1>(c) + dy, std::get<2>(c) + dz});
+          if (found == grid.end()) continue;
+          for (int i : found->second) {
+            // The kernel is cut at 3h (what `reach` visits): beyond it exp(−4.5) ≈ 1 % adds nothing but cost
+            // and makes the sum depend on the cell boundaries.
+            const Vec3 d = set[i].point - x;
+            const double d2 = d.squaredNorm();
+            if (d2 > 9.0 * h * h) continue;
+            offsets.push_back(d);
+            exponent.push_back(-0.5 * d2 / (h * h));
+            quality.push_back(set[i].quality);
           }
-      const Eigen::Index m = static_cast<Eigen::Index>(offsets.size());
-      weights = Eigen::Map<const Eigen::ArrayXd>(quality.data(), m) * Eigen::Map<const Eigen::ArrayXd>(exponent.data(), m).exp();
-      // Plain scalar sums (Σw, Σw d, Σw d dᵀ): as Eigen temporaries they were kept on the stack and every
-      // iteration waited on the store of the one before.
-      double den = 0.0, nx = 0.0, ny = 0.0, nz = 0.0, sxx = 0.0, sxy = 0.0, sxz = 0.0, syy = 0.0, syz = 0.0, szz = 0.0;
-      for (Eigen::Index k = 0; k < m; ++k) {
-        const double w = weights[k], ex = offsets[k].x(), ey = offsets[k].y(), ez = offsets[k].z();
-        den += w;
-        nx += w * ex, ny += w * ey, nz += w * ez;
-        sxx += w * ex * ex, sxy += w * ex * ey, sxz += w * ex * ez;
-        syy += w * ey * ey, syz += w * ey * ez, szz += w * ez * ez;
-      }
-      const Vec3 num(nx, ny, nz);
-      Eigen::Matrix3d scatter;
-      scatter << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
-      if (den <= 0.0) break;
-      const Vec3 mean_shift = num / den;
-      // −H h² / den = I − scatter / (h² den); Newton: step = −H⁻¹ g = (I − scatter / (h² den))⁻¹ · mean_shift.
-      const Eigen::Matrix3d neg_h = Eigen::Matrix3d::Identity() - scatter / (h * h * den);
-      Vec3 step = mean_shift;
-      const Eigen::LLT<Eigen::Matrix3d> llt(neg_h);
-      if (llt.info() == Eigen::Success) {
-        const Vec3 newton = llt.solve(mean_shift);
-        if (newton.allFinite() && newton.norm() <= h) step = newton;
-      }
-      x += step;
-      if (step.norm() < 1e-6) break;  // 1 µm: far below the cluster spread; the joint fit polishes the point
+        }
+    const Eigen::Index m = static_cast<Eigen::Index>(offsets.size());
+    weights = Eigen::Map<const Eigen::ArrayXd>(quality.data(), m) * Eigen::Map<const Eigen::ArrayXd>(exponent.data(), m).exp();
+    // Plain scalar sums (Σw, Σw d, Σw d dᵀ): as Eigen temporaries they were kept on the stack and every
+    // iteration waited on the store of the one before.
+    double den = 0.0, nx = 0.0, ny = 0.0, nz = 0.0, sxx = 0.0, sxy = 0.0, sxz = 0.0, syy = 0.0, syz = 0.0, szz = 0.0;
+    for (Eigen::Index k = 0; k < m; ++k) {
+      const double w = weights[k], ex = offsets[k].x(), ey = offsets[k].y(), ez = offsets[k].z();
+      den += w;
+      nx += w * ex, ny += w * ey, nz += w * ez;
+      sxx += w * ex * ex, sxy += w * ex * ey, sxz += w * ex * ez;
+      syy += w * ey * ey, syz += w * ey * ez, szz += w * ez * ez;
     }
+    const Vec3 num(nx, ny, nz);
+    Eigen::Matrix3d scatter;
+    scatter << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
+    if (den <= 0.0) break;
+    const Vec3 mean_shift = num / den;
+    // −H h² / den = I − scatter / (h² den); Newton: step = −H⁻¹ g = (I − scatter / (h² den))⁻¹ · mean_shift.
+    const Eigen::Matrix3d neg_h = Eigen::Matrix3d::Identity() - scatter / (h * h * den);
+    Vec3 step = mean_shift;
+    const Eigen::LLT<Eigen::Matrix3d> llt(neg_h);
+    if (llt.info() == Eigen::Success) {
+      const Vec3 newton = llt.solve(mean_shift);
+      if (newton.allFinite() && newton.norm() <= h) step = newton;
+    }
+    x += step;
+    if (step.norm() < 1e-6) break;  // 1 µm: far below the cluster spread; the joint fit polishes the point
   }
   return x;
 }

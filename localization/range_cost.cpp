@@ -23,7 +23,6 @@ RangeCost::RangeCost(const PreparedTag& prep, bool fixed_z, double z_m) : prep_(
       start = end;
     }
     stops_.push_back(std::move(stops));
-    reads_per_segment_.push_back(static_cast<double>(s.range_m.size()));
   }
 }
 
@@ -77,7 +76,7 @@ double RangeCost::ssr(const Vec3& x) const {
       sum += stop.reads * e;
       sum2 += stop.reads * e * e;
     }
-    total += sum2 - sum * sum / reads_per_segment_[g];
+    total += sum2 - sum * sum / static_cast<double>(prep_.segments[g].range_m.size());
   }
   return std::max(total, 0.0);
 }

@@ -40,7 +40,6 @@ class RangeCost {
     double reads, mean_range_m;
   };
   std::vector<std::vector<Stop>> stops_;  // per segment
-  std::vector<double> reads_per_segment_;
   double within_stop_scatter_m2_ = 0.0;
 };
 

@@ -100,8 +100,9 @@ void EmbreeScene::occluded_many(int width, const Segment* s, size_t n, bool* blo
   // RTC_INTERSECT_CONTEXT_FLAG_COHERENT Embree 3.13 answers differently from rtcOccluded1 for rays through a
   // triangle's vertex or edge (tests/raytrace/test_packets.cpp), without it only for near-degenerate rays
   // (embree_scene.h).
-  for (size_t i = 0; i < n; i += static_cast<size_t>(std::max(width, 1))) {
-    const size_t m = std::min(n - i, static_cast<size_t>(std::max(width, 1)));
+  const size_t step = static_cast<size_t>(width);
+  for (size_t i = 0; i < n; i += step) {
+    const size_t m = std::min(n - i, step);
     switch (width) {
       case 1:
         blocked[i] = occluded(s[i].origin, s[i].dir, s[i].tnear, s[i].tfar);
