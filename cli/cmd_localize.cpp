@@ -10,6 +10,8 @@
 
 #include "io/antenna_file.h"
 #include "io/readings_csv.h"
+#include "io/scenario_yaml.h"
+#include "io/scene_multipath.h"
 #include "core/error.h"
 #include "localization/methods.h"
 #include "localization/summary.h"
@@ -24,6 +26,7 @@ struct LocalizeState {
   std::string method = "all";
   std::string mirror_prior = "none";
   std::string antenna_file;
+  std::string scenario;
   bool fold_pi = false;
   double max_residual_rad = loc::LocalizeOptions{}.max_residual_rad;
   double systematic_phase_rad = loc::LocalizeOptions{}.systematic_phase_rad;
@@ -60,6 +63,10 @@ int run_localize(const LocalizeState& s) {
   std::optional<loc::AntennaCalibration> calibration;
   if (!s.antenna_file.empty()) calibration = io::read_antenna_file(s.antenna_file);
 
+  // The known scene: its multipath allowance bounds what a fit cannot see (io/scene_multipath.h).
+  std::optional<io::SceneMultipath> scene;
+  if (!s.scenario.empty()) scene.emplace(io::load_scenario(s.scenario));
+
   std::map<std::string, Vec3> truth;
   if (!s.truth.empty()) truth = io::read_truth_csv(s.truth);
   if (s.height_known && s.truth.empty()) throw field_error("--height-known", "needs --truth (the tag z comes from it)");
@@ -82,6 +89,7 @@ int run_localize(const LocalizeState& s) {
     o.fold_pi = s.fold_pi;
     o.max_residual_rad = s.max_residual_rad;
     o.systematic_phase_rad = s.systematic_phase_rad;
+    if (scene) o.multipath_phase_rad = scene->allowance_for(tag);
     const auto t = truth.find(tag.tag);
     if (s.height_known || prior == loc::MirrorPrior::kPoint) {
       if (t == truth.end())
@@ -115,6 +123,7 @@ int run_localize(const LocalizeState& s) {
       }
       j["uncertainty_m"] = r.ok ? number_or_null(r.uncertainty_m) : nullptr;
       j["residual_rad"] = number_or_null(r.residual_rad);  // robust σ of the wrapped-phase residuals of the fit
+      if (scene && !std::isnan(r.multipath_phase_rad)) j["multipath_phase_rad"] = number_or_null(r.multipath_phase_rad);
       if (r.ok && !r.mirror_resolved_by.empty()) j["mirror_resolved_by"] = r.mirror_resolved_by;
       j["reads"] = tag.read_count();
       j["time_ms"] = ms;
@@ -198,6 +207,12 @@ std::function<int()> setup_localize(CLI::App& app) {
   sub->add_option("--antenna-file", state->antenna_file,
                   "antenna calibration (YAML, from `rfidray calibrate`): phase centre, carrier offsets and phase "
                   "pattern applied by the joint model of nlls and sar and by the uncertainty of all methods")
+      ->check(CLI::ExistingFile);
+  sub->add_option("--scenario", state->scenario,
+                  "the scenario the readings come from (or a survey of the site): its scene's extra paths at each "
+                  "estimate, over the tag's antenna positions, bound the bias a fit cannot see in its residuals "
+                  "(multipath_phase_rad in the JSON; status failed, reason multipath, when they make the region "
+                  "too large)")
       ->check(CLI::ExistingFile);
   sub->add_flag("--fold-pi", state->fold_pi, "the reader reports phase modulo pi: fit twice the phase");
   sub->add_option("--max-residual-rad", state->max_residual_rad,

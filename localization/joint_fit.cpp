@@ -215,19 +215,55 @@ JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOpt
   // (multipath off nearby objects, pattern residue) that happens to lie in the span of J shifts the estimate
   // by (J_uᵀJ_u)⁻¹J_uᵀε, at most σ_sys · sqrt(N λ_max((J_uᵀJ_u)⁻¹)) (Cauchy–Schwarz; J_u unweighted, rad/m).
   // It is invisible in the residuals (the fit absorbs it), so it is added as a bias bound, not averaged.
-  // Its RMS is the larger of the allowance and the smooth misfit measured in this fit's residuals.
-  const double systematic_rad = std::max(options.systematic_phase_rad, fit.smooth_residual_rad);
-  if (systematic_rad > 0.0) {
+  // Its RMS is the larger of the allowance and the smooth misfit measured in this fit's residuals (and, with
+  // a known scene, of its multipath allowance: below).
+  const double fixed_rad = std::max(options.systematic_phase_rad, fit.smooth_residual_rad);
+  double bias_m_per_rad = 0.0;
+  {
     Eigen::MatrixXd Ju = J;
     for (int i = 0; i < n; ++i) {
       const double w = model.points()[i].weight * fit.mask[i];
       Ju.row(i) = w > 0.0 ? Eigen::RowVectorXd(J.row(i) / std::sqrt(w)) : Eigen::RowVectorXd::Zero(d);
     }
     Eigen::FullPivLU<Eigen::MatrixXd> lu_u(Ju.transpose() * Ju);
-    if (lu_u.isInvertible())
-      fit.radius_m += systematic_rad * std::sqrt(inliers * std::max(0.0, lambda_max(lu_u.inverse())));
-    else
-      fit.radius_m = std::numeric_limits<double>::infinity();
+    bias_m_per_rad = lu_u.isInvertible() ? std::sqrt(inliers * std::max(0.0, lambda_max(lu_u.inverse())))
+                                         : std::numeric_limits<double>::infinity();
+  }
+  const double stat_radius_m = fit.radius_m;
+  auto radius_with = [&](double systematic_rad) {
+    return systematic_rad > 0.0 ? stat_radius_m + systematic_rad * bias_m_per_rad : stat_radius_m;
+  };
+  fit.radius_m = radius_with(fixed_rad);
+  // A known scene's allowance (multipath_allowance.h) depends on where the tag is, and the fit has already
+  // moved by the bias it bounds: a wall 0.1 m behind a tag pulls the estimate towards it, where the image is
+  // nearer and the allowance small (0.015 against 0.15 rad at the truth, 7 cm away). So the allowance is the
+  // largest over the region it implies: at the estimate and on the region's boundary (8 directions in the
+  // plane, 14 in 3-D), grown until the region no longer grows (a few rounds) or it is past any use.
+  if (options.multipath_phase_rad && std::isfinite(fit.radius_m)) {
+    double allowance = options.multipath_phase_rad(fit.position);
+    std::vector<Vec3> directions;
+    for (int i = 0; i < 8; ++i)
+      directions.emplace_back(std::cos(kPi * i / 4.0), std::sin(kPi * i / 4.0), 0.0);
+    if (!options.height_known) {
+      directions.emplace_back(0.0, 0.0, 1.0), directions.emplace_back(0.0, 0.0, -1.0);
+      for (int sx : {-1, 1})
+        for (int sy : {-1, 1})
+          for (int sz : {-1, 1}) directions.push_back(Vec3(sx, sy, sz).normalized());
+    }
+    for (int round = 0; round < 6 && std::isfinite(allowance); ++round) {
+      const double reach_m = radius_with(std::max(fixed_rad, allowance));
+      if (!(reach_m <= 2.0 * options.max_uncertainty_m)) break;  // failed whatever the boundary holds
+      double boundary = allowance;
+      // A boundary point no path reaches (behind a metal wall) is not where a tag that was read can be.
+      for (const Vec3& u : directions) {
+        const double a = options.multipath_phase_rad(fit.position + reach_m * u);
+        if (std::isfinite(a)) boundary = std::max(boundary, a);
+      }
+      if (!(boundary > allowance)) break;
+      allowance = boundary;
+    }
+    fit.multipath_phase_rad = allowance;
+    fit.radius_m = radius_with(std::max(fixed_rad, allowance));
   }
   if (!std::isfinite(fit.radius_m)) fit.radius_m = std::numeric_limits<double>::infinity();
   return fit;
@@ -242,6 +278,7 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
     result.position = report_own_position ? own : f.position;
     result.uncertainty_m = f.radius_m + (report_own_position ? (own - f.position).norm() : 0.0);
     result.residual_rad = f.residual_rad;
+    result.multipath_phase_rad = f.multipath_phase_rad;
     result.outliers = f.outliers;
   };
   auto fail = [&](FailReason reason, const std::string& why) {
@@ -250,6 +287,11 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
     result.detail = why;
   };
   apply_fit(fit);
+  if (std::isinf(fit.multipath_phase_rad)) {
+    fail(FailReason::kMultipath, "no path of the scene reaches the estimate from some of the antenna positions: "
+                                 "its phase there is unknown");
+    return;
+  }
   // LM only accepts cost decreases, so an iteration cap still leaves a point at least as good as its start;
   // its region comes from the residuals and the jackknife like any other.
 
@@ -346,6 +388,18 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
   if (!(result.uncertainty_m <= options.max_uncertainty_m)) {
     const double angle = aperture_angle_deg(positions, result.position);
     std::ostringstream why;
+    if (fit.multipath_phase_rad > std::max(options.systematic_phase_rad, fit.smooth_residual_rad)) {
+      if (std::isinf(fit.multipath_phase_rad)) {
+        fail(FailReason::kMultipath, "no path of the scene reaches the estimate from some of the antenna "
+                                     "positions: its phase there is unknown");
+        return;
+      }
+      why << "the scene's extra paths bend the phase near the estimate by " << fit.multipath_phase_rad
+          << " rad RMS along the aperture (a fit absorbs such an error without a trace in its residuals): 95% "
+          << "position uncertainty " << result.uncertainty_m << " m > " << options.max_uncertainty_m << " m";
+      fail(FailReason::kMultipath, why.str());
+      return;
+    }
     why << "95% position uncertainty " << result.uncertainty_m << " m > " << options.max_uncertainty_m
         << " m; path seen under " << angle << " deg, wrapped residual sigma " << fit.residual_rad << " rad";
     fail(angle < 60.0 ? FailReason::kApertureTooShort : FailReason::kNoisyPhase, why.str());

@@ -15,7 +15,9 @@
 //     blocks (delete-one-block jackknife).
 //   radius = max( sqrt(χ²_{d,0.95} λ_max(Cov_LS)), sqrt(T²_{d,B−1,0.95} λ_max(Cov_JK)) )
 //            + σ_sys sqrt(N λ_max((J_uᵀJ_u)⁻¹))   (bias bound of an unmodelled smooth phase error of RMS
-//              σ_sys = options.systematic_phase_rad that the fit absorbs and the residuals cannot show).
+//              σ_sys = the largest of options.systematic_phase_rad, the fit's smooth misfit and the known
+//              scene's multipath allowance at the estimate (multipath_allowance.h): an error the fit absorbs
+//              and the residuals cannot show).
 // Why both: systematic model error (multipath ripple, an uncalibrated pattern) is correlated over a good part
 // of the aperture; the design effect sees it only up to the first sign change, while the block jackknife sees
 // any error that changes along the aperture (it re-fits with each part missing) but is itself noisy with
@@ -31,8 +33,9 @@
 //       correlated residuals do not make a rival look worse than it is. A rival mirror is settled by the
 //       mirror prior when one is given (then the fit is redone there), else ambiguous mirror; another rival
 //       is undersampled (median antenna step > λ/4: grating lobes) or ambiguous peak;
-//   (c) radius ≤ max_uncertainty_m (else aperture too short when the path is seen under < 60°, else phase
-//       too noisy).
+//   (c) radius ≤ max_uncertainty_m (else multipath when the known scene's allowance set σ_sys, else aperture
+//       too short when the path is seen under < 60°, else phase too noisy).
+#include <limits>
 #include <vector>
 
 #include "localization/joint_model.h"
@@ -50,6 +53,7 @@ struct JointFit {
   double inflation = 1.0;          // ρ
   double residual_rad = 0.0;       // robust σ of the unweighted wrapped residuals (inliers)
   double smooth_residual_rad = 0.0;  // RMS of their smooth part: √(lag-1 autocovariance in time order, ≥ 0)
+  double multipath_phase_rad = std::numeric_limits<double>::quiet_NaN();  // known-scene allowance at position
   double radius_m = 0.0;
   double predicted_std_m = 0.0;    // sqrt(trace Cov_LS)
 };

@@ -1,5 +1,6 @@
 #pragma once
 // Options shared by the localization methods. Defaults are documented where they are chosen.
+#include <functional>
 #include <optional>
 
 #include "core/geometry.h"
@@ -57,6 +58,11 @@ struct LocalizeOptions {
   // Model-error allowance (joint_fit.h): RMS of an unmodelled smooth phase error that the fit cannot see;
   // it enters uncertainty_m as a bias bound. Tuned on the AdaRF train split (real Impinj reads).
   double systematic_phase_rad = 0.1;
+  // Known-scene allowance (multipath_allowance.h): the RMS (rad) of the smooth phase error the scene's extra
+  // paths add at a candidate tag position, over this tag's antenna positions. Set per tag by callers that know
+  // the scene (`rfidray localize --scenario`); empty: none. Called from the localizing thread, a few times per
+  // fit; must be deterministic. When it sets the radius above max_uncertainty_m the reason is multipath.
+  std::function<double(const Vec3& tag_m)> multipath_phase_rad;
   double confidence = 0.95;        // of the uncertainty_m region (0.95 only: the quantiles are tabulated)
   int jackknife_blocks = 10;       // contiguous aperture blocks for the delete-one-block jackknife
   double max_residual_rad = 0.25;  // robust σ of the wrapped residuals above this → phase too noisy

@@ -23,6 +23,7 @@ const char* to_string(FailReason r) {
     case FailReason::kInconsistentResiduals: return "residuals inconsistent with the model";
     case FailReason::kAmbiguousPeak: return "ambiguous: another optimum fits as well";
     case FailReason::kBehindAntenna: return "behind the antenna";
+    case FailReason::kMultipath: return "multipath from the scene";
   }
   return "?";
 }

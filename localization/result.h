@@ -21,6 +21,7 @@ enum class FailReason {
   kInconsistentResiduals,  // residuals do not fit the model (wrapped-phase σ too large, too many outliers)
   kAmbiguousPeak,     // another optimum (not the mirror) outside the confidence region fits nearly as well
   kBehindAntenna,     // --mirror-prior boresight, yet the best fit lies behind the antenna (prior and data disagree)
+  kMultipath,         // the known scene's extra paths bend the phase at the estimate by more than it can be trusted
 };
 
 const char* to_string(Method m);
@@ -39,6 +40,8 @@ struct LocalizeResult {
   // height is known, else 3-D), from the actual residuals (joint_fit.h); NaN when failed before a fit.
   double uncertainty_m = std::numeric_limits<double>::quiet_NaN();
   double residual_rad = 0.0;       // robust σ of the wrapped-phase residuals of the joint fit
+  // Known-scene allowance at the fit (LocalizeOptions::multipath_phase_rad), rad RMS; NaN when not evaluated.
+  double multipath_phase_rad = std::numeric_limits<double>::quiet_NaN();
   int outliers = 0;                // stops trimmed as outliers
   int reads_used = 0;
   int segments = 0;
