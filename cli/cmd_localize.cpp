@@ -27,6 +27,7 @@ struct LocalizeState {
   std::string mirror_prior = "none";
   std::string antenna_file;
   std::string scenario;
+  std::string channel;
   bool fold_pi = false;
   double max_residual_rad = loc::LocalizeOptions{}.max_residual_rad;
   double systematic_phase_rad = loc::LocalizeOptions{}.systematic_phase_rad;
@@ -65,7 +66,12 @@ int run_localize(const LocalizeState& s) {
 
   // The known scene: its multipath allowance bounds what a fit cannot see (io/scene_multipath.h).
   std::optional<io::SceneMultipath> scene;
-  if (!s.scenario.empty()) scene.emplace(io::load_scenario(s.scenario));
+  if (!s.channel.empty() && s.scenario.empty()) throw field_error("--channel", "needs --scenario");
+  if (!s.scenario.empty()) {
+    Scenario scenario = io::load_scenario(s.scenario);
+    if (!s.channel.empty()) scenario.channel = parse_channel_level(s.channel, "--channel");
+    scene.emplace(scenario);
+  }
 
   std::map<std::string, Vec3> truth;
   if (!s.truth.empty()) truth = io::read_truth_csv(s.truth);
@@ -214,6 +220,10 @@ std::function<int()> setup_localize(CLI::App& app) {
                   "(multipath_phase_rad in the JSON; status failed, reason multipath, when they make the region "
                   "too large)")
       ->check(CLI::ExistingFile);
+  sub->add_option("--channel", state->channel,
+                  "with --scenario: the channel level the readings were simulated with, overrides the scenario's "
+                  "`channel` as `simulate --channel` does (ideal, los, los+blocked, single-bounce, double-bounce, "
+                  "full-selective, full, auto)");
   sub->add_flag("--fold-pi", state->fold_pi, "the reader reports phase modulo pi: fit twice the phase");
   sub->add_option("--max-residual-rad", state->max_residual_rad,
                   "status ok needs the robust sigma of the wrapped-phase residuals below this (rad)")
