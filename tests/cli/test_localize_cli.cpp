@@ -266,6 +266,12 @@ TEST(LocalizeCli, ScenarioErrorsNameTheFile) {
   out = run((d / "out" / "stage.csv").string() + " --scenario " + (d / "other.yaml").string(), status);
   EXPECT_EQ(status, 2) << out;
   EXPECT_NE(out.find("antenna 'stage'"), std::string::npos) << out;
+  out = run((d / "out" / "stage.csv").string() + " --channel single-bounce", status);
+  EXPECT_EQ(status, 2) << out;
+  EXPECT_NE(out.find("--channel"), std::string::npos) << out;
+  out = run((d / "out" / "stage.csv").string() + " --scenario " + (d / "wall.yaml").string() + " --channel sideways", status);
+  EXPECT_EQ(status, 2) << out;
+  EXPECT_NE(out.find("sideways"), std::string::npos) << out;
 }
 
 }  // namespace
