@@ -219,6 +219,10 @@ void validate(const PhasePattern& pattern, const std::string& field) {
   for (double e : pattern.elevation_rad) require_finite(e, field + ".elevation_rad");
   if (pattern.azimuth_rad.size() > 8 || pattern.elevation_rad.size() > 8)
     throw field_error(field, "at most 8 coefficients per angle");
+  for (double c : pattern.ripple_cos_rad) require_finite(c, field + ".ripple");
+  for (double c : pattern.ripple_sin_rad) require_finite(c, field + ".ripple");
+  if (pattern.ripple_cos_rad.size() != pattern.ripple_sin_rad.size() || pattern.ripple_cos_rad.size() > 180)
+    throw field_error(field, "ripple: at most 180 harmonics, as many cosine as sine terms");
 }
 
 void validate(const TagParams& tag, const std::string& field) {

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -16,6 +17,7 @@
 #include "io/antenna_file.h"
 #include "io/checked_yaml.h"
 #include "io/tag_generators.h"
+#include "core/random.h"
 #include "raytrace/scene.h"
 #include "core/error.h"
 #include "core/reader_model.h"
@@ -136,6 +138,20 @@ PhasePattern parse_phase_pattern(const YamlFile& src, const YAML::Node& n, const
   if (auto a = m.get("azimuth_rad")) p.azimuth_rad = src.numbers(*a, m.field("azimuth_rad"));
   if (auto e = m.get("elevation_rad")) p.elevation_rad = src.numbers(*e, m.field("elevation_rad"));
   p.azimuth_elevation_rad = m.number("azimuth_elevation_rad", 0.0);
+  // The ripple's parameters; parse_scenario draws it once the scenario's seed is known.
+  if (m.has("ripple_rms_rad") || m.has("ripple_scale_deg") || m.has("ripple_spread")) {
+    p.ripple_rms_rad = m.number("ripple_rms_rad", 0.0);
+    const double scale_deg = m.number("ripple_scale_deg", 30.0);
+    p.ripple_spread = m.number("ripple_spread", 0.0);
+    if (!(p.ripple_spread >= 0.0 && p.ripple_spread <= 2.0))
+      throw src.error(*m.get("ripple_spread"), m.field("ripple_spread"), "must be in [0, 2] (log-sd)");
+    if (!(p.ripple_rms_rad >= 0.0 && p.ripple_rms_rad <= 3.2))
+      throw src.error(*m.get("ripple_rms_rad"), m.field("ripple_rms_rad"), "must be in [0, 3.2] rad");
+    if (!(scale_deg >= 1.0 && scale_deg <= 180.0))
+      throw src.error(m.has("ripple_scale_deg") ? *m.get("ripple_scale_deg") : n, m.field("ripple_scale_deg"),
+                      "must be in [1, 180] degrees");
+    p.ripple_scale_rad = scale_deg * std::numbers::pi / 180.0;
+  }
   m.finish();
   return p;
 }
@@ -671,6 +687,22 @@ Scenario parse_scenario(const std::string& text, const std::string& source) {
                           "generates the tag name '" + t.tag.name + "', which already exists");
         s.tags.push_back(std::move(t));
       }
+    }
+  }
+  // Phase ripples (core/phase_pattern.h) are hardware: drawn once per element from the scenario file's seed and
+  // the element's index, so `simulate --seed` redraws the noise, not the tags.
+  for (size_t i = 0; i < s.tags.size(); ++i) {
+    PhasePattern& p = s.tags[i].tag.phase_pattern;
+    if (p.ripple_rms_rad > 0.0) {
+      Rng rng = make_stream(s.seed, {0x7269706c65ULL, 1, i});
+      draw_phase_ripple(p, p.ripple_rms_rad, p.ripple_scale_rad, p.ripple_spread, rng);
+    }
+  }
+  for (size_t a = 0; a < s.antennas.size(); ++a) {
+    PhasePattern& p = s.antennas[a].reader.phase_pattern;
+    if (p.ripple_rms_rad > 0.0) {
+      Rng rng = make_stream(s.seed, {0x7269706c65ULL, 0, a});
+      draw_phase_ripple(p, p.ripple_rms_rad, p.ripple_scale_rad, p.ripple_spread, rng);
     }
   }
   top.finish();

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/reader_model.h"
 #include "core/simulation.h"
+#include "core/random.h"
 #include "core/units.h"
 
 namespace rfidray {
@@ -78,6 +79,56 @@ TEST(HardwareEffects, PhasePatternsAddTheirPolynomialAlongTheDirection) {
   e.antennas[0].reader.phase_pattern.elevation_rad = {0.0, -0.4};
   EXPECT_NEAR(std::remainder(only_phase(e) - phase_of_distance(std::sqrt(2.0)) + 0.4 * kPi * kPi / 16, kTwoPi), 0.0,
               1e-9);
+}
+
+TEST(HardwareEffects, TagPhaseRippleIsItsHarmonicSumAndHasTheDrawnRms) {
+  // The ripple enters the phase like the polynomial: along the direction of the antenna in the tag frame.
+  const double az = kPi / 6;
+  const Vec3 tag(2 * std::cos(az), 2 * std::sin(az), 0);
+  Scenario s = one_link(ReaderModelKind::kPhysical, tag);
+  PhasePattern& p = s.tags[0].tag.phase_pattern;
+  p.ripple_cos_rad = {0.0, 0.3};
+  p.ripple_sin_rad = {0.0, -0.2};
+  const double seen = az - kPi;  // the antenna from the unrotated tag
+  const double expected = 0.3 * std::cos(4 * seen) - 0.2 * std::sin(4 * seen);
+  EXPECT_NEAR(std::remainder(only_phase(s) - phase_of_distance(2.0) - expected, kTwoPi), 0.0, 1e-9);
+
+  // Drawn: harmonics ⌈N/2⌉…N only (N = round(π / scale)), RMS over azimuth about the median σ. For one element
+  // the mean square over azimuth is Σ (c² + s²)/2 exactly; over many elements its mean is σ² e^{2·spread²}
+  // (log-normal) — 2000 draws: a χ² of 8000 degrees of freedom, relative sd of the mean ≈ 1.6 %·(1 + spread).
+  for (double spread : {0.0, 0.6}) {
+    Rng rng = make_stream(7, {1});
+    double mean_square = 0.0;
+    const int draws = 2000;
+    for (int k = 0; k < draws; ++k) {
+      PhasePattern d;
+      draw_phase_ripple(d, 0.35, kPi / 6, spread, rng);  // 30°: N = 6, harmonics 3…6
+      ASSERT_EQ(d.ripple_cos_rad.size(), 6u);
+      for (int n = 0; n < 2; ++n) {
+        ASSERT_EQ(d.ripple_cos_rad[n], 0.0);
+        ASSERT_EQ(d.ripple_sin_rad[n], 0.0);
+      }
+      double ms = 0.0, numeric = 0.0;
+      for (size_t n = 0; n < 6; ++n) ms += 0.5 * (d.ripple_cos_rad[n] * d.ripple_cos_rad[n] + d.ripple_sin_rad[n] * d.ripple_sin_rad[n]);
+      // The same mean square by integrating the ripple over one period of azimuth (π).
+      for (int i = 0; i < 720; ++i) {
+        const double a = -kPi / 2 + kPi * i / 720;
+        const double v = d.phase_rad(Vec3(std::cos(a), std::sin(a), 0.0));
+        numeric += v * v / 720;
+      }
+      ASSERT_NEAR(numeric, ms, 1e-12 + 1e-9 * ms);
+      mean_square += ms / draws;
+    }
+    const double expected_ms = 0.35 * 0.35 * std::exp(2 * spread * spread);
+    EXPECT_NEAR(mean_square, expected_ms, 0.06 * (1 + 2 * spread) * expected_ms) << spread;
+  }
+  // Deterministic: the same stream draws the same ripple.
+  PhasePattern a, b;
+  Rng r1 = make_stream(3, {9}), r2 = make_stream(3, {9});
+  draw_phase_ripple(a, 0.2, kPi / 10, 0.5, r1);
+  draw_phase_ripple(b, 0.2, kPi / 10, 0.5, r2);
+  EXPECT_EQ(a.ripple_cos_rad, b.ripple_cos_rad);
+  EXPECT_EQ(a.ripple_sin_rad, b.ripple_sin_rad);
 }
 
 // Sample standard deviation of the phase about its circular mean, over many ticks of one link.

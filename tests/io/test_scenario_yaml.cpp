@@ -172,6 +172,37 @@ antennas:
   EXPECT_NE(bad_p.find("read_probability"), std::string::npos) << bad_p;
 }
 
+TEST(ScenarioYaml, TagPhaseRippleIsDrawnOncePerTagFromTheFilesSeed) {
+  const std::string text = R"(duration_s: 1
+seed: 5
+antennas:
+  - name: a
+    position: [0, 0, 1]
+tags:
+  - {name: t1, position: [1, 0, 1], phase_pattern: {ripple_rms_rad: 0.35, ripple_scale_deg: 30, ripple_spread: 0.6}}
+  - {name: t2, position: [1, 1, 1], phase_pattern: {ripple_rms_rad: 0.35, ripple_scale_deg: 30, ripple_spread: 0.6}}
+  - {name: t3, position: [1, 2, 1]}
+)";
+  const Scenario s = parse_scenario(text, "s.yaml");
+  const PhasePattern& p1 = s.tags[0].tag.phase_pattern;
+  const PhasePattern& p2 = s.tags[1].tag.phase_pattern;
+  ASSERT_EQ(p1.ripple_cos_rad.size(), 6u);  // 30°: harmonics 3…6 of the half-space
+  EXPECT_EQ(p1.ripple_cos_rad[0], 0.0);
+  EXPECT_NE(p1.ripple_cos_rad[3], 0.0);
+  EXPECT_NE(p1.ripple_cos_rad, p2.ripple_cos_rad);  // each tag its own
+  EXPECT_TRUE(s.tags[2].tag.phase_pattern.empty());
+  EXPECT_EQ(parse_scenario(text, "s.yaml").tags[0].tag.phase_pattern.ripple_cos_rad, p1.ripple_cos_rad);
+  std::string other = text;
+  other.replace(other.find("seed: 5"), 7, "seed: 6");
+  EXPECT_NE(parse_scenario(other, "s.yaml").tags[0].tag.phase_pattern.ripple_cos_rad, p1.ripple_cos_rad);
+  for (const char* bad : {"ripple_rms_rad: -0.1", "ripple_rms_rad: .nan", "ripple_scale_deg: 0.5", "ripple_spread: 3"}) {
+    std::string t = text;
+    t.replace(t.find("ripple_rms_rad: 0.35, ripple_scale_deg: 30, ripple_spread: 0.6"), 62, bad);
+    const std::string e = error_of(t);
+    EXPECT_NE(e.find("s.yaml:7: field 'tags[0].phase_pattern.ripple_"), std::string::npos) << bad << ": " << e;
+  }
+}
+
 // A calibrated antenna (rfidray calibrate's file) is simulated as measured: phase centre, pattern (the
 // calibration's own basis, loc::pattern_basis) and carrier offsets give the phase the calibration model predicts.
 TEST(ScenarioYaml, AntennaFileDrivesTheSimulation) {
