@@ -269,6 +269,9 @@ JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOpt
   return fit;
 }
 
+constexpr const char* kNoPathDetail =
+    "no path of the scene reaches the estimate from some of the antenna positions: its phase there is unknown";
+
 void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, const std::vector<Vec3>& rivals,
                  const PreparedTag& prep, const LocalizeOptions& options, bool report_own_position) {
   if (!result.ok) return;
@@ -288,8 +291,7 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
   };
   apply_fit(fit);
   if (std::isinf(fit.multipath_phase_rad)) {
-    fail(FailReason::kMultipath, "no path of the scene reaches the estimate from some of the antenna positions: "
-                                 "its phase there is unknown");
+    fail(FailReason::kMultipath, kNoPathDetail);
     return;
   }
   // LM only accepts cost decreases, so an iteration cap still leaves a point at least as good as its start;
@@ -390,8 +392,7 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
     std::ostringstream why;
     if (fit.multipath_phase_rad > std::max(options.systematic_phase_rad, fit.smooth_residual_rad)) {
       if (std::isinf(fit.multipath_phase_rad)) {
-        fail(FailReason::kMultipath, "no path of the scene reaches the estimate from some of the antenna "
-                                     "positions: its phase there is unknown");
+        fail(FailReason::kMultipath, kNoPathDetail);
         return;
       }
       why << "the scene's extra paths bend the phase near the estimate by " << fit.multipath_phase_rad
