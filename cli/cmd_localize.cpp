@@ -4,6 +4,7 @@
 #include <iomanip>
 #include <iostream>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <nlohmann/json.hpp>
@@ -30,9 +31,11 @@ struct LocalizeState {
   std::string channel;
   bool fold_pi = false;
   double max_residual_rad = loc::LocalizeOptions{}.max_residual_rad;
-  double systematic_phase_rad = loc::LocalizeOptions{}.systematic_phase_rad;
+  // Unset: loc::default_systematic_phase_rad (0.1 rad with an antenna file, 0.2 without).
+  double systematic_phase_rad = std::numeric_limits<double>::quiet_NaN();
   bool height_known = false;
   bool json = false;
+  bool systematic_phase_rad_given = false;
   double frequency_hz = 865.7e6;
   double max_range_m = 10.0;
   double stride_m = 0.10;
@@ -60,7 +63,12 @@ int run_localize(const LocalizeState& s) {
   if (!(s.max_range_m > 0.0) || !std::isfinite(s.max_range_m)) throw field_error("--max-range", "must be a finite number > 0");
   if (!(s.stride_m > 0.0) || !std::isfinite(s.stride_m)) throw field_error("--stride", "must be a finite number > 0");
   if (!(s.max_residual_rad > 0.0) || !std::isfinite(s.max_residual_rad)) throw field_error("--max-residual-rad", "must be a finite number > 0");
-  if (!(s.systematic_phase_rad >= 0.0) || !std::isfinite(s.systematic_phase_rad)) throw field_error("--systematic-phase-rad", "must be a finite number >= 0");
+  if (s.systematic_phase_rad_given &&
+      (!(s.systematic_phase_rad >= 0.0) || !std::isfinite(s.systematic_phase_rad)))
+    throw field_error("--systematic-phase-rad", "must be a finite number >= 0");
+  const double systematic_phase_rad = s.systematic_phase_rad_given
+                                          ? s.systematic_phase_rad
+                                          : loc::default_systematic_phase_rad(!s.antenna_file.empty());
   std::optional<loc::AntennaCalibration> calibration;
   if (!s.antenna_file.empty()) calibration = io::read_antenna_file(s.antenna_file);
 
@@ -94,7 +102,7 @@ int run_localize(const LocalizeState& s) {
     o.calibration = calibration;
     o.fold_pi = s.fold_pi;
     o.max_residual_rad = s.max_residual_rad;
-    o.systematic_phase_rad = s.systematic_phase_rad;
+    o.systematic_phase_rad = systematic_phase_rad;
     if (scene) o.multipath_phase_rad = scene->allowance_for(tag);
     const auto t = truth.find(tag.tag);
     if (s.height_known || prior == loc::MirrorPrior::kPoint) {
@@ -228,9 +236,10 @@ std::function<int()> setup_localize(CLI::App& app) {
   sub->add_option("--max-residual-rad", state->max_residual_rad,
                   "status ok needs the robust sigma of the wrapped-phase residuals below this (rad)")
       ->capture_default_str();
-  sub->add_option("--systematic-phase-rad", state->systematic_phase_rad,
-                  "model-error allowance (rad RMS of an unmodelled smooth phase error) in uncertainty_m")
-      ->capture_default_str();
+  CLI::Option* systematic = sub->add_option(
+      "--systematic-phase-rad", state->systematic_phase_rad,
+      "model-error allowance (rad RMS of an unmodelled smooth phase error) in uncertainty_m; default 0.1 with "
+      "--antenna-file, 0.2 without (an uncalibrated antenna's phase pattern is model error too)");
   sub->add_option("--frequency-hz", state->frequency_hz, "carrier when the CSV has no frequency column")
       ->capture_default_str();
   sub->add_option("--max-range", state->max_range_m, "search region: within this distance (m) of the path")
@@ -240,7 +249,10 @@ std::function<int()> setup_localize(CLI::App& app) {
   sub->add_flag("--json", state->json, "print JSON: results[] {name, method, status, reason?, x, y, z, error_m?, "
                                        "uncertainty_m (95 % radius, null when failed), time_ms} and summary per "
                                        "method (with ok_outside_uncertainty when --truth is given)");
-  return [state] { return run_localize(*state); };
+  return [state, systematic] {
+    state->systematic_phase_rad_given = systematic->count() > 0;
+    return run_localize(*state);
+  };
 }
 
 }  // namespace rfidray::cli

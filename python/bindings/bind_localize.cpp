@@ -74,7 +74,7 @@ std::vector<io::ReadingRow> rows_from(const pyb::dict& columns, size_t file) {
 pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std::string& method,
                        bool height_known, const std::string& mirror_prior, double frequency_hz, double max_range_m,
                        double stride_m, std::optional<std::string> antenna_file, bool fold_pi,
-                       double max_residual_rad, double systematic_phase_rad) {
+                       double max_residual_rad, std::optional<double> systematic_phase_rad_given) {
   // The checks and options of `rfidray localize` (cli/cmd_localize.cpp), with the keyword names of this API.
   std::vector<loc::Method> methods;
   if (method == "all") {
@@ -95,6 +95,9 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
   positive(max_range_m, "max_range_m");
   positive(stride_m, "stride_m");
   positive(max_residual_rad, "max_residual_rad");
+  const double systematic_phase_rad = systematic_phase_rad_given
+                                          ? *systematic_phase_rad_given
+                                          : loc::default_systematic_phase_rad(antenna_file.has_value());
   if (!(systematic_phase_rad >= 0.0) || !std::isfinite(systematic_phase_rad))
     throw field_error("systematic_phase_rad", "must be a finite number >= 0");
   std::optional<loc::AntennaCalibration> calibration;

@@ -167,13 +167,15 @@ def localize(readings: ReadingsLike, *, method: str = "all",
              height_known: bool = False, mirror_prior: str = "none", frequency_hz: float = 865.7e6,
              max_range_m: float = 10.0, stride_m: float = 0.10,
              antenna_file: Union[None, str, os.PathLike] = None, fold_pi: bool = False,
-             max_residual_rad: float = 0.25, systematic_phase_rad: float = 0.1) -> List[Dict[str, Any]]:
+             max_residual_rad: float = 0.25,
+             systematic_phase_rad: Optional[float] = None) -> List[Dict[str, Any]]:
     """Locates every tag as ``rfidray localize`` does.
 
     ``readings``: a CSV path, a readings array, a :class:`Simulation`, or a list of these (one phase history
     per file, antenna and carrier). ``method``: 'hyperbolic' | 'nlls' | 'sar' | 'all'. ``truth``: a tags CSV,
     a dict name → (x, y, z) or a tags array (``Simulation.tags``); it adds ``error_m`` and is needed by
-    ``height_known`` and ``mirror_prior='truth'``. Returns one dict per (tag, method) with the keys of
+    ``height_known`` and ``mirror_prior='truth'``. ``systematic_phase_rad``: None takes the command's default
+    (0.1 rad with ``antenna_file``, 0.2 without). Returns one dict per (tag, method) with the keys of
     ``localize --json``: name, method, status ('ok' | 'failed'), reason, detail, x, y, z, error_m,
     uncertainty_m (95 % radius), residual_rad, mirror_resolved_by, reads; None where the JSON has null.
     """
