@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -96,6 +97,12 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     }
   }
   build_exact_groups();
+  if (options_.cull_covered && options_.candidates == CandidateMode::kFast &&
+      includes(options_.level, ChannelLevel::kSingleBounce) && !scene_->empty()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    covered_ = std::make_unique<CoveredRects>(scene_->meshes(), scene_->local_origin());
+    covered_build_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
   // Spherical Fibonacci directions for the optional per-pose candidate search.
   const int n = options_.candidate_rays;
   const double golden = kPi * (3.0 - std::sqrt(5.0));
@@ -671,13 +678,20 @@ void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p
   const double end_eps1 = std::min(options_.endpoint_epsilon_m, 0.25 * l1);
   const double end_eps2 = std::min(options_.endpoint_epsilon_m, 0.25 * l2);
   // Both legs must be clear, so the order changes only the number of rays: the longer leg first (it crosses
-  // more of the scene, so it is the more often blocked one, and a blocked leg ends the test).
-  const auto leg1_blocked = [&] {
-    return check_leg1 && bvh.occluded(a, dir1, end_eps1, l1 - plane_margin(clearance, cos_theta, l1));
-  };
-  const auto leg2_blocked = [&] {
-    return bvh.occluded(p, dir2, plane_margin(clearance, cos_theta, l2), l2 - end_eps2);
-  };
+  // more of the scene, so it is the more often blocked one, and a blocked leg ends the test). The covered
+  // rectangles (no ray; true only where the Embree ray would be blocked) are asked about both legs first.
+  const double leg1_far = l1 - plane_margin(clearance, cos_theta, l1);
+  const double leg2_near = plane_margin(clearance, cos_theta, l2), leg2_far = l2 - end_eps2;
+  if (covered_) {
+    const auto culled1 = [&] { return check_leg1 && covered_->blocks(a, dir1, end_eps1, leg1_far); };
+    const auto culled2 = [&] { return covered_->blocks(p, dir2, leg2_near, leg2_far); };
+    if (l2 > l1 ? culled2() || culled1() : culled1() || culled2()) {
+      ++tl_segments_culled;
+      return;
+    }
+  }
+  const auto leg1_blocked = [&] { return check_leg1 && bvh.occluded(a, dir1, end_eps1, leg1_far); };
+  const auto leg2_blocked = [&] { return bvh.occluded(p, dir2, leg2_near, leg2_far); };
   if (l2 > l1 ? leg2_blocked() || leg1_blocked() : leg1_blocked() || leg2_blocked()) return;
 
   const RadioMaterial& m = scene_->materials()[fc.material];

@@ -44,6 +44,7 @@
 
 #include "core/channel.h"
 #include "core/path.h"
+#include "raytrace/covered_rects.h"
 #include "raytrace/edges.h"
 #include "raytrace/scene.h"
 #include "raytrace/trace_options.h"
@@ -109,6 +110,11 @@ class PathFinder {
   // The level-los visibility segment of a link (direct_path's ray); false if the link is longer than
   // max_path_length_m (no path, no ray). *length_m (if given) = |tag − antenna|.
   bool direct_segment(const Vec3& antenna, const Vec3& tag, Segment& s, double* length_m = nullptr) const;
+
+  // The covered rectangles that cull reflection legs (TraceOptions::cull_covered; null when off, in exhaustive
+  // mode, or below level single-bounce) and the seconds their construction took.
+  const CoveredRects* covered_rects() const { return covered_.get(); }
+  double covered_build_s() const { return covered_build_s_; }
 
   // Converts a traced path to the core Path (material names filled in).
   Path to_path(const TracedPath& p) const;
@@ -206,6 +212,8 @@ class PathFinder {
   };
   std::vector<PlaneBox> plane_box_;    // per facet
   std::vector<uint64_t> exact_bits_;   // occupancy bitmaps of the exact groups
+  std::unique_ptr<CoveredRects> covered_;
+  double covered_build_s_ = 0.0;
   std::vector<Vec3> candidate_directions_;
   double candidate_spacing_rad_ = 0.0;  // angular spacing of the candidate rays, √(4π/N)
 };
