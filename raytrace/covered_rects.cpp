@@ -80,6 +80,14 @@ size_t CoveredRects::rect_count() const {
   return n;
 }
 
+std::vector<CoveredRects::Rect> CoveredRects::rects() const {
+  std::vector<Rect> out;
+  for (const AxisGrid& g : grids_)
+    for (const Entry& e : g.entries)
+      out.push_back({g.k, e.c, e.u_lo + origin_[g.u], e.u_hi + origin_[g.u], e.v_lo + origin_[g.v], e.v_hi + origin_[g.v]});
+  return out;
+}
+
 size_t CoveredRects::bytes() const {
   size_t n = sizeof(*this);
   for (const AxisGrid& g : grids_) n += g.start.capacity() * sizeof(uint32_t) + g.entries.capacity() * sizeof(Entry);
@@ -103,8 +111,8 @@ void CoveredRects::build_axis(std::span<const TriangleMesh> meshes, int k) {
       if (m.vertices[t[1]][k] != c || m.vertices[t[2]][k] != c || !std::isfinite(c)) continue;
       tris.push_back({c, mi, ti});
       for (uint32_t vi : t) {
-        ulo = std::min(ulo, m.vertices[vi][g.u]), uhi = std::max(uhi, m.vertices[vi][g.u]);
-        vlo = std::min(vlo, m.vertices[vi][g.v]), vhi = std::max(vhi, m.vertices[vi][g.v]);
+        const double pu = m.vertices[vi][g.u] - origin_[g.u], pv = m.vertices[vi][g.v] - origin_[g.v];
+        ulo = std::min(ulo, pu), uhi = std::max(uhi, pu), vlo = std::min(vlo, pv), vhi = std::max(vhi, pv);
       }
     }
   }
@@ -148,7 +156,8 @@ void CoveredRects::build_axis(std::span<const TriangleMesh> meshes, int k) {
     for (size_t i = 0; i < n; ++i) {
       const TriangleMesh& mesh = meshes[tris[first + i].mesh];
       const auto& t = mesh.triangles[tris[first + i].tri];
-      for (int j = 0; j < 3; ++j) corner[i][j] = {mesh.vertices[t[j]][g.u], mesh.vertices[t[j]][g.v]};
+      for (int j = 0; j < 3; ++j)
+        corner[i][j] = {mesh.vertices[t[j]][g.u] - origin_[g.u], mesh.vertices[t[j]][g.v] - origin_[g.v]};
       for (int j = 0; j < 3; ++j) {
         Uv a = corner[i][j], b = corner[i][(j + 1) % 3];
         if (std::tie(b.u, b.v) < std::tie(a.u, a.v)) std::swap(a, b);
@@ -290,7 +299,9 @@ bool CoveredRects::blocks(const Vec3& o, const Vec3& d, double tnear, double tfa
 
 bool CoveredRects::blocks_axis(const AxisGrid& g, const Vec3& o, const Vec3& d, double ta, double tb,
                                double slack) const {
-  const double ou = o[g.u], ov = o[g.v], ok = o[g.k], du = d[g.u], dv = d[g.v], dk = d[g.k];
+  // (u, v) about the local origin, as the grid and rectangles are stored; k and c in world coordinates.
+  const double ou = o[g.u] - origin_[g.u], ov = o[g.v] - origin_[g.v], ok = o[g.k];
+  const double du = d[g.u], dv = d[g.v], dk = d[g.k];
   const double inv_dk = 1.0 / dk;
   // Clip [ta, tb] to the grid's extent (a crossing outside it has no rectangle).
   double t0 = ta, t1 = tb;

@@ -49,19 +49,27 @@ class CoveredRects {
   // True only if EmbreeScene::occluded(o, d, tnear, tfar) is certain to be true (header comment); `d` unit.
   bool blocks(const Vec3& o, const Vec3& d, double tnear, double tfar) const;
 
+  // One covered rectangle: plane x_axis = c, [lo_u, hi_u] × [lo_v, hi_v] in axes u = (axis+1)%3, v = (axis+2)%3;
+  // every point of it inflated by margin_m() lies on a triangle of the scene in that plane.
+  struct Rect {
+    int axis;
+    double c, lo_u, hi_u, lo_v, hi_v;
+  };
+  std::vector<Rect> rects() const;  // all of them (for tests)
   size_t rect_count() const;
   size_t bytes() const;         // heap bytes held
   double margin_m() const { return margin_m_; }
 
  private:
-  struct Entry {                 // R in cell: plane x_k = c, (u, v) bounds rounded inwards to float
+  struct Entry {                 // R in cell: plane x_k = c (world), (u, v) bounds about the local origin,
+                                 // rounded inwards to float
     double c;
     float u_lo, u_hi, v_lo, v_hi;
   };
   struct AxisGrid {
     int k = 2, u = 0, v = 1;
     int nu = 0, nv = 0;          // 0: no rectangle on this axis
-    double u0 = 0, v0 = 0, h = 1, inv_h = 1;
+    double u0 = 0, v0 = 0, h = 1, inv_h = 1;  // about the local origin
     std::vector<uint32_t> start; // CSR over cells (nu·nv + 1) into entries, entries ascending in c per cell
     std::vector<Entry> entries;
   };
