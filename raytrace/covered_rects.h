@@ -18,9 +18,13 @@
 //
 // Certainty. blocks(o, d, tnear, tfar) is true only if the segment crosses some R transversally, at Q with
 // |Q − R| = 0 and Q's distance along the ray inside [tnear, tfar] by more than Embree's float error. Embree
-// (float vertices relative to Scene::local_origin, RTC_SCENE_FLAG_ROBUST: watertight across shared edges and
-// vertices) then must report a hit on a triangle covering Q within the margin, so `occluded` would return
-// true: culling with blocks() changes the number of rays, never a result. The float error allowed for is
+// (float vertices relative to Scene::local_origin) then reports a hit on a triangle covering Q, so `occluded`
+// would return true: culling with blocks() changes the number of rays, never a result. Q may lie on an inner
+// edge or vertex of a tessellated face; there the hit rests on RTC_SCENE_FLAG_ROBUST (raytrace/
+// embree_scene.cpp): its Plücker edge functions of two neighbouring triangles are exact negatives of each
+// other and vertices get a ulp·|U+V+W| tolerance — the property the exhaustive search's own legs rely on.
+// tests/raytrace/test_covered_rects.cpp checks blocks() ⇒ occluded() on random segments, segments ending on
+// surfaces, crossings next to rectangle edges and crossings exactly at inner vertices and edges. The float error allowed for is
 // err = 1e-6·(M + |o − origin| + tfar) metres (M = the scene's largest coordinate magnitude about the local
 // origin; ≥ 16 float ulps of every magnitude involved); across the plane it grows as err/|d_k|, so
 // crossings flatter than that allows (|d_k| < err / (margin/2 − err)) are not decided here (false).

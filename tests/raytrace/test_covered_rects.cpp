@@ -175,6 +175,32 @@ TEST(CoveredRects, BlocksOnlyWhatEmbreeBlocks) {
     const CoveredRects cr(scene->meshes(), scene->local_origin());
     EXPECT_GT(expect_blocks_sound(*scene, cr, rng, 3000), 1000u) << "tessellation " << tess;
   }
+  // Crossings exactly at the inner vertices and edge midpoints of tessellated faces (3 × 3 per face): the
+  // culling counts on Embree's robust mode hitting a covered point there (its edge functions of neighbouring
+  // triangles are exact negatives, vertices get a ulp tolerance), as the exhaustive search's legs do.
+  {
+    WarehouseParams p;
+    p.rows = 2, p.racks_per_row = 2, p.shelves = 3, p.tessellation = 3;
+    const auto scene = std::make_shared<const Scene>(generate_warehouse(p), MaterialAssignment{});
+    const CoveredRects cr(scene->meshes(), scene->local_origin());
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    size_t decided = 0;
+    for (const TriangleMesh& m : scene->meshes())
+      for (size_t t = 0; t < m.triangles.size(); t += 3)
+        for (int j = 0; j < 3; ++j) {
+          const Vec3& a = m.vertices[m.triangles[t][j]];
+          const Vec3& b = m.vertices[m.triangles[t][(j + 1) % 3]];
+          for (const Vec3& q : {a, Vec3(0.5 * (a + b))}) {
+            const Vec3 d = Vec3(u(rng), u(rng), u(rng)).normalized();
+            const Vec3 o = q - 1.5 * d;
+            if (cr.blocks(o, d, 1e-3, 3.0 - 1e-3)) {
+              ++decided;
+              EXPECT_TRUE(scene->bvh().occluded(o, d, 1e-3, 3.0 - 1e-3)) << "through (" << q.transpose() << ")";
+            }
+          }
+        }
+    EXPECT_GT(decided, 1000u) << "vertices and edges";
+  }
   // A scene far from the world origin (Embree works relative to the local origin; the margins follow).
   WarehouseParams p;
   p.rows = 2, p.racks_per_row = 2, p.shelves = 3;
