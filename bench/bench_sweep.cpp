@@ -13,7 +13,8 @@
 // pose (the channel's one-off packet-width timing at level los, cold caches); the level-los lines say which
 // packet width the channel chose.
 // culled_per_link: reflection candidates rejected without a ray because a leg crosses a covered rectangle
-// (raytrace/covered_rects.h), with setting "single-bounce cull" (TraceOptions::cull_covered; off by default).
+// (raytrace/covered_rects.h), with setting "single-bounce cull" (TraceOptions::cull_covered; off by default; run
+// only when --settings names it).
 // Writes DIR/links_per_level.csv, DIR/links_vs_tags.csv, DIR/links_vs_triangles.png, DIR/links_vs_tags.png.
 #include <omp.h>
 
@@ -38,6 +39,7 @@ namespace {
 struct Setting {
   std::string name;
   TraceOptions options;
+  bool only_if_named = false;  // not part of the default run (--settings must name it)
 };
 
 std::vector<Setting> settings() {
@@ -57,6 +59,7 @@ std::vector<Setting> settings() {
   // The same with the covered-rectangle culling of reflection legs (TraceOptions::cull_covered, off by default).
   add("single-bounce cull", ChannelLevel::kSingleBounce, 0);
   out.back().options.cull_covered = true;
+  out.back().only_if_named = true;  // an A/B setting: the default run's tables and charts stay as they were
   add("single-bounce rays=4096", ChannelLevel::kSingleBounce, 4096);
   return out;
 }
@@ -147,7 +150,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   std::vector<Setting> chosen;
   for (const Setting& st : settings())
-    if (setting_list.empty() || ("," + setting_list + ",").find("," + st.name + ",") != std::string::npos)
+    if (setting_list.empty() ? !st.only_if_named : ("," + setting_list + ",").find("," + st.name + ",") != std::string::npos)
       chosen.push_back(st);
   if (chosen.empty()) {
     std::cerr << "bench_sweep: --settings: no known setting in '" << setting_list << "'\n";
