@@ -289,6 +289,7 @@ bool CoveredRects::blocks(const Vec3& o, const Vec3& d, double tnear, double tfa
     const AxisGrid& g = grids_[k];
     if (g.nu == 0) continue;
     const double adk = std::abs(d[k]);
+    if (!(adk > 0.0)) continue;                    // parallel to this axis's planes
     const double slack = err * (1.0 + 1.0 / adk);  // the float crossing's error along the ray and across it
     if (!(slack <= 0.5 * margin_m_)) continue;     // too flat to decide here
     const double ta = tnear + slack, tb = tfar - slack;
