@@ -268,6 +268,24 @@ TEST(ExactSearch, ReflectionPointsOnEdgesAndVertices) {
   EXPECT_GT(expect_exact(scene, links, "edges and vertices"), 200u);
 }
 
+TEST(ExactSearch, ReflectionPointsJustOffAFacet) {
+  // P within ±2 µm of a tessellated facet's outer edges and corners (nothing beyond them), where the search's
+  // early exits (the bounds test, the covered-rectangle shortcut before point-in-triangle) must decide as the
+  // exhaustive point-in-triangle test does: a reflection up to its 1e-9 m tolerance outside, none beyond.
+  TriangleMesh ground;
+  ground.name = "ground";
+  ground.material_names = {"metal"};
+  add_quad(ground, Vec3(0, 0, 0), Vec3(4, 0, 0), Vec3(0, 4, 0), 0, 4, 4);
+  const auto scene = scene_of({ground});
+  std::vector<Link> links;
+  for (double off : {-2e-6, -5e-7, -5e-8, -1e-9, 0.0, 1e-10, 5e-9, 5e-8, 5e-7, 2e-6})
+    for (const Vec3& p : {Vec3(1.3, 4.0 + off, 0.0), Vec3(-off, 2.6, 0.0), Vec3(4.0 + off, 4.0 + off, 0.0), Vec3(-off, -off, 0.0)})
+      for (const Vec3& d : {Vec3(1.0, 0.0, 0.0), Vec3(0.6, 0.8, 0.0)}) links.push_back({p - d + Vec3(0, 0, 0.7), p + d + Vec3(0, 0, 0.7)});
+  const size_t reflections = expect_exact(scene, links, "just off a facet");
+  EXPECT_GT(reflections, 30u);
+  EXPECT_LT(reflections, links.size());  // the points well outside reflect nowhere
+}
+
 TEST(ExactSearch, MovingObstacle) {
   // A metal crate moves across a link above a concrete floor beside a metal wall; the scene is rebuilt at each
   // position (a moving obstacle as `simulate` would see it tick by tick), the crate shadowing in turn the
