@@ -205,6 +205,8 @@ int main(int argc, char** argv) {
       if (cov)
         std::printf("  %-24s channel build %.3f s, of which covered rectangles %.3f s: %zu rectangles, %.1f B/triangle\n",
                     st.name.c_str(), channel_s, cov_s, cov->rect_count(), cov_bytes);
+      else
+        std::printf("  %-24s channel build %.3f s (search grids)\n", st.name.c_str(), channel_s);
       for (int threads : thread_counts) {
         omp_set_num_threads(threads);
         const Rate r = measure(ch, w, runs);

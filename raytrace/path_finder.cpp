@@ -97,7 +97,8 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     }
   }
   build_exact_groups();
-  build_full_rects();
+  if (options_.candidates == CandidateMode::kFast && includes(options_.level, ChannelLevel::kSingleBounce))
+    build_full_rects();
   if (options_.cull_covered && options_.candidates == CandidateMode::kFast &&
       includes(options_.level, ChannelLevel::kSingleBounce) && !scene_->empty()) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -512,80 +513,86 @@ void PathFinder::build_full_rects() {
   struct Uv {
     double u, v;
   };
-  std::vector<std::array<Uv, 3>> tri;
-  std::vector<std::pair<Uv, Uv>> edges;
-  for (size_t f = 0; f < facets.size(); ++f) {
-    const Facet& fc = facets[f];
-    int k = -1;
-    for (int a = 0; a < 3; ++a)
-      if (std::abs(fc.normal[a]) == 1.0) k = a;
-    if (k < 0 || fc.triangles.empty()) continue;
-    const int u = (k + 1) % 3, v = (k + 2) % 3;
-    const double c = scene_->corners(fc.triangles.front())[0][k];
-    double ulo = INFINITY, uhi = -INFINITY, vlo = INFINITY, vhi = -INFINITY;
-    bool planar = true;
-    tri.clear();
-    for (uint32_t t : fc.triangles) {
-      const auto cs = scene_->corners(t);
-      std::array<Uv, 3> q;
-      for (int j = 0; j < 3; ++j) {
-        planar = planar && cs[j][k] == c;
-        q[j] = {cs[j][u], cs[j][v]};
-        ulo = std::min(ulo, q[j].u), uhi = std::max(uhi, q[j].u), vlo = std::min(vlo, q[j].v), vhi = std::max(vhi, q[j].v);
-      }
-      tri.push_back(q);
-    }
-    // (fc.lo/hi are these bounds; the fast path compares against them)
-    if (!planar || !(ulo < uhi && vlo < vhi) || ulo != fc.lo[u] || uhi != fc.hi[u] || vlo != fc.lo[v] ||
-        vhi != fc.hi[v])
-      continue;
-    edges.clear();
-    for (const auto& q : tri)
-      for (int j = 0; j < 3; ++j) {
-        Uv a = q[j], b = q[(j + 1) % 3];
-        if (std::tie(b.u, b.v) < std::tie(a.u, a.v)) std::swap(a, b);
-        edges.push_back({a, b});
-      }
-    const auto key = [](const std::pair<Uv, Uv>& e) { return std::tie(e.first.u, e.first.v, e.second.u, e.second.v); };
-    std::sort(edges.begin(), edges.end(), [&](const auto& x, const auto& y) { return key(x) < key(y); });
-    bool sides_only = true;
-    for (size_t i = 0; i < edges.size() && sides_only;) {
-      size_t j = i + 1;
-      while (j < edges.size() && key(edges[j]) == key(edges[i])) ++j;
-      if ((j - i) % 2 == 1) {
-        const Uv a = edges[i].first, b = edges[i].second;
-        sides_only = (a.u == ulo && b.u == ulo) || (a.u == uhi && b.u == uhi) || (a.v == vlo && b.v == vlo) ||
-                     (a.v == vhi && b.v == vhi);
-      }
-      i = j;
-    }
-    if (!sides_only) continue;
-    // Covering parity at a sample point strictly inside (not within rounding of any triangle's edge).
-    static constexpr double kSamples[4][2] = {{0.5, 0.5}, {0.31, 0.67}, {0.73, 0.29}, {0.53, 0.41}};
-    for (const auto& sf : kSamples) {
-      const Uv s{ulo + sf[0] * (uhi - ulo), vlo + sf[1] * (vhi - vlo)};
-      int count = 0;
-      bool ambiguous = false;
-      for (const auto& q : tri) {
-        bool pos = false, neg = false, near = false;
+  // Facets are independent: in parallel (each writes only its own flag).
+  const auto n = static_cast<std::ptrdiff_t>(facets.size());
+#pragma omp parallel if (n >= 4096 && !omp_in_parallel())
+  {
+    std::vector<std::array<Uv, 3>> tri;
+    std::vector<std::pair<Uv, Uv>> edges;
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t f = 0; f < n; ++f) {
+      const Facet& fc = facets[f];
+      int k = -1;
+      for (int a = 0; a < 3; ++a)
+        if (std::abs(fc.normal[a]) == 1.0) k = a;
+      if (k < 0 || fc.triangles.empty()) continue;
+      const int u = (k + 1) % 3, v = (k + 2) % 3;
+      const double c = scene_->corners(fc.triangles.front())[0][k];
+      double ulo = INFINITY, uhi = -INFINITY, vlo = INFINITY, vhi = -INFINITY;
+      bool planar = true;
+      tri.clear();
+      for (uint32_t t : fc.triangles) {
+        const auto cs = scene_->corners(t);
+        std::array<Uv, 3> q;
         for (int j = 0; j < 3; ++j) {
-          const Uv a = q[j], b = q[(j + 1) % 3];
-          const double eu = b.u - a.u, ev = b.v - a.v;
-          const double e = eu * (s.v - a.v) - ev * (s.u - a.u);
-          const double scale = std::sqrt(eu * eu + ev * ev) * ((uhi - ulo) + (vhi - vlo));
-          if (std::abs(e) <= 1e-12 * scale) near = true;
-          else (e > 0 ? pos : neg) = true;
+          planar = planar && cs[j][k] == c;
+          q[j] = {cs[j][u], cs[j][v]};
+          ulo = std::min(ulo, q[j].u), uhi = std::max(uhi, q[j].u), vlo = std::min(vlo, q[j].v), vhi = std::max(vhi, q[j].v);
         }
-        if (pos && neg) continue;
-        if (near) {
-          ambiguous = true;
+        tri.push_back(q);
+      }
+      // (fc.lo/hi are these bounds; the fast path compares against them)
+      if (!planar || !(ulo < uhi && vlo < vhi) || ulo != fc.lo[u] || uhi != fc.hi[u] || vlo != fc.lo[v] ||
+          vhi != fc.hi[v])
+        continue;
+      edges.clear();
+      for (const auto& q : tri)
+        for (int j = 0; j < 3; ++j) {
+          Uv a = q[j], b = q[(j + 1) % 3];
+          if (std::tie(b.u, b.v) < std::tie(a.u, a.v)) std::swap(a, b);
+          edges.push_back({a, b});
+        }
+      const auto key = [](const std::pair<Uv, Uv>& e) { return std::tie(e.first.u, e.first.v, e.second.u, e.second.v); };
+      std::sort(edges.begin(), edges.end(), [&](const auto& x, const auto& y) { return key(x) < key(y); });
+      bool sides_only = true;
+      for (size_t i = 0; i < edges.size() && sides_only;) {
+        size_t j = i + 1;
+        while (j < edges.size() && key(edges[j]) == key(edges[i])) ++j;
+        if ((j - i) % 2 == 1) {
+          const Uv a = edges[i].first, b = edges[i].second;
+          sides_only = (a.u == ulo && b.u == ulo) || (a.u == uhi && b.u == uhi) || (a.v == vlo && b.v == vlo) ||
+                       (a.v == vhi && b.v == vhi);
+        }
+        i = j;
+      }
+      if (!sides_only) continue;
+      // Covering parity at a sample point strictly inside (not within rounding of any triangle's edge).
+      static constexpr double kSamples[4][2] = {{0.5, 0.5}, {0.31, 0.67}, {0.73, 0.29}, {0.53, 0.41}};
+      for (const auto& sf : kSamples) {
+        const Uv s{ulo + sf[0] * (uhi - ulo), vlo + sf[1] * (vhi - vlo)};
+        int count = 0;
+        bool ambiguous = false;
+        for (const auto& q : tri) {
+          bool pos = false, neg = false, near = false;
+          for (int j = 0; j < 3; ++j) {
+            const Uv a = q[j], b = q[(j + 1) % 3];
+            const double eu = b.u - a.u, ev = b.v - a.v;
+            const double e = eu * (s.v - a.v) - ev * (s.u - a.u);
+            const double scale = std::sqrt(eu * eu + ev * ev) * ((uhi - ulo) + (vhi - vlo));
+            if (std::abs(e) <= 1e-12 * scale) near = true;
+            else (e > 0 ? pos : neg) = true;
+          }
+          if (pos && neg) continue;
+          if (near) {
+            ambiguous = true;
+            break;
+          }
+          ++count;
+        }
+        if (!ambiguous) {
+          full_rect_[f] = count % 2 == 1;
           break;
         }
-        ++count;
-      }
-      if (!ambiguous) {
-        full_rect_[f] = count % 2 == 1;
-        break;
       }
     }
   }
@@ -694,7 +701,7 @@ void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, dou
               !inside_box(p, b.lo, b.hi, 1e-6))
             continue;
           // On a facet that covers its bounding rectangle, inside the closed rectangle means on the facet.
-          const bool in_rect = full_rect_[e.facet] && p[g.axis_u] >= b.lo[g.axis_u] && p[g.axis_u] <= b.hi[g.axis_u] &&
+          const bool in_rect = !full_rect_.empty() && full_rect_[e.facet] && p[g.axis_u] >= b.lo[g.axis_u] && p[g.axis_u] <= b.hi[g.axis_u] &&
                                p[g.axis_v] >= b.lo[g.axis_v] && p[g.axis_v] <= b.hi[g.axis_v];
           if (!in_rect && !point_on_facet(facets[e.facet], p)) continue;
           found.push_back({e.facet, image, p});
