@@ -12,6 +12,9 @@
 // issued, per link: a figure that does not depend on the machine. Each measurement first traces one untimed
 // pose (the channel's one-off packet-width timing at level los, cold caches); the level-los lines say which
 // packet width the channel chose.
+// culled_per_link: reflection candidates rejected without a ray because a leg crosses a covered rectangle
+// (raytrace/covered_rects.h), with setting "single-bounce cull" (TraceOptions::cull_covered; off by default; run
+// only when --settings names it).
 // Writes DIR/links_per_level.csv, DIR/links_vs_tags.csv, DIR/links_vs_triangles.png, DIR/links_vs_tags.png.
 #include <omp.h>
 
@@ -36,6 +39,7 @@ namespace {
 struct Setting {
   std::string name;
   TraceOptions options;
+  bool only_if_named = false;  // not part of the default run (--settings must name it)
 };
 
 std::vector<Setting> settings() {
@@ -52,6 +56,10 @@ std::vector<Setting> settings() {
   out.back().options.los_packets_by_timing = true;
   add("los+blocked", ChannelLevel::kLosBlocked, 0);
   add("single-bounce", ChannelLevel::kSingleBounce, 0);
+  // The same with the covered-rectangle culling of reflection legs (TraceOptions::cull_covered, off by default).
+  add("single-bounce cull", ChannelLevel::kSingleBounce, 0);
+  out.back().options.cull_covered = true;
+  out.back().only_if_named = true;  // an A/B setting: the default run's tables and charts stay as they were
   add("single-bounce rays=4096", ChannelLevel::kSingleBounce, 4096);
   return out;
 }
@@ -79,6 +87,17 @@ uint64_t take_pool_rays() {
   return rays + std::exchange(tl_rays_traced, 0);
 }
 
+// Reflection candidates culled without a ray (raytrace/covered_rects.h) by the pool since the last call.
+uint64_t take_pool_culled() {
+  uint64_t culled = 0;
+#pragma omp parallel reduction(+ : culled)
+  {
+    culled += tl_segments_culled;
+    tl_segments_culled = 0;
+  }
+  return culled + std::exchange(tl_segments_culled, 0);
+}
+
 // ", packets of 16" when the channel traces its level-los rays in packets (chosen by measurement).
 std::string packet_note(const RaytracedChannel& ch) {
   const int w = ch.los_packet_width();
@@ -86,7 +105,7 @@ std::string packet_note(const RaytracedChannel& ch) {
 }
 
 struct Rate {
-  double median = 0, min = 0, max = 0, rays_per_link = 0;
+  double median = 0, min = 0, max = 0, rays_per_link = 0, culled_per_link = 0;
 };
 
 Rate measure(const RaytracedChannel& ch, const bench::Workload& w, int runs) {
@@ -96,14 +115,16 @@ Rate measure(const RaytracedChannel& ch, const bench::Workload& w, int runs) {
   // pose) and cold caches are not part of the rate.
   ch.one_way(w.antennas.front(), w.tags, 865.7e6, h);
   take_pool_rays();
+  take_pool_culled();
   for (int r = 0; r < runs; ++r) {
     const auto t0 = std::chrono::steady_clock::now();
     for (const Endpoint& ant : w.antennas) ch.one_way(ant, w.tags, 865.7e6, h);
     rates.push_back(double(w.links()) / seconds_since(t0));
   }
-  const uint64_t rays = take_pool_rays();
+  const uint64_t rays = take_pool_rays(), culled = take_pool_culled();
   std::sort(rates.begin(), rates.end());
-  return {rates[rates.size() / 2], rates.front(), rates.back(), double(rays) / double(runs * w.links())};
+  return {rates[rates.size() / 2], rates.front(), rates.back(), double(rays) / double(runs * w.links()),
+          double(culled) / double(runs * w.links())};
 }
 
 }  // namespace
@@ -121,7 +142,7 @@ int main(int argc, char** argv) {
   app.add_option("--scenes", scene_list, "comma-separated subset of paper,w10k,w100k,w1m,w5m");
   std::string setting_list;
   app.add_option("--settings", setting_list, "comma-separated subset of the settings (los, 'los packets', "
-                                             "los+blocked, single-bounce, 'single-bounce rays=4096')");
+                                             "los+blocked, single-bounce, 'single-bounce cull', 'single-bounce rays=4096')");
   bool no_tags_sweep = false;
   app.add_flag("--no-tags-sweep", no_tags_sweep, "skip the links/s vs tags sweep on w1m");
   std::vector<int> thread_counts{1, 2};
@@ -129,7 +150,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   std::vector<Setting> chosen;
   for (const Setting& st : settings())
-    if (setting_list.empty() || ("," + setting_list + ",").find("," + st.name + ",") != std::string::npos)
+    if (setting_list.empty() ? !st.only_if_named : ("," + setting_list + ",").find("," + st.name + ",") != std::string::npos)
       chosen.push_back(st);
   if (chosen.empty()) {
     std::cerr << "bench_sweep: --settings: no known setting in '" << setting_list << "'\n";
@@ -152,7 +173,8 @@ int main(int argc, char** argv) {
 
   std::ofstream csv(std::filesystem::path(out_dir) / "links_per_level.csv");
   csv << "scene,triangles,facets,planes,build_s,embree_bytes_per_triangle,resident_bytes_per_triangle,setting,"
-         "threads,tags,poses,links_per_s_median,links_per_s_min,links_per_s_max,rays_per_link\n";
+         "threads,tags,poses,links_per_s_median,links_per_s_min,links_per_s_max,rays_per_link,culled_per_link,"
+         "covered_bytes_per_triangle,covered_build_s\n";
   std::map<std::string, io::Series> by_triangles;  // setting → (triangles, links/s at 2 threads)
   std::ofstream tags_csv(std::filesystem::path(out_dir) / "links_vs_tags.csv");
   tags_csv << "scene,setting,threads,tags,poses,links_per_s_median,rays_per_link\n";
@@ -174,18 +196,28 @@ int main(int argc, char** argv) {
                 scene->bvh().embree_bytes() / n_tri, double(rss1 - std::min(rss0, rss1)) / n_tri, w.tags.size(),
                 w.antennas.size());
     for (const Setting& st : chosen) {
+      const auto tc = std::chrono::steady_clock::now();
       const RaytracedChannel ch(scene, st.options);
+      const double channel_s = seconds_since(tc);
+      const CoveredRects* cov = ch.finder().covered_rects();
+      const double cov_bytes = cov ? double(cov->bytes()) / n_tri : 0.0;
+      const double cov_s = ch.finder().covered_build_s();
+      if (cov)
+        std::printf("  %-24s channel build %.3f s, of which covered rectangles %.3f s: %zu rectangles, %.1f B/triangle\n",
+                    st.name.c_str(), channel_s, cov_s, cov->rect_count(), cov_bytes);
+      else
+        std::printf("  %-24s channel build %.3f s (search grids)\n", st.name.c_str(), channel_s);
       for (int threads : thread_counts) {
         omp_set_num_threads(threads);
         const Rate r = measure(ch, w, runs);
-        std::printf("  %-24s %d thread%s  %12.0f links/s median (min %.0f, max %.0f)  %6.2f rays/link%s\n",
+        std::printf("  %-24s %d thread%s  %12.0f links/s median (min %.0f, max %.0f)  %6.2f rays/link  %6.2f culled/link%s\n",
                     st.name.c_str(), threads, threads == 1 ? " " : "s", r.median, r.min, r.max, r.rays_per_link,
-                    packet_note(ch).c_str());
+                    r.culled_per_link, packet_note(ch).c_str());
         csv << bs.name << "," << scene->triangle_count() << "," << scene->facets().size() << "," << planes << ","
             << build_s << "," << scene->bvh().embree_bytes() / n_tri << ","
             << double(rss1 - std::min(rss0, rss1)) / n_tri << "," << st.name << "," << threads << ","
             << w.tags.size() << "," << w.antennas.size() << "," << r.median << "," << r.min << "," << r.max << ","
-            << r.rays_per_link << "\n";
+            << r.rays_per_link << "," << r.culled_per_link << "," << cov_bytes << "," << cov_s << "\n";
         if (threads == 2) {
           auto& s = by_triangles[st.name];
           s.title = st.name, s.style = "linespoints";

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -96,6 +97,14 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     }
   }
   build_exact_groups();
+  if (options_.candidates == CandidateMode::kFast && includes(options_.level, ChannelLevel::kSingleBounce))
+    build_full_rects();
+  if (options_.cull_covered && options_.candidates == CandidateMode::kFast &&
+      includes(options_.level, ChannelLevel::kSingleBounce) && !scene_->empty()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    covered_ = std::make_unique<CoveredRects>(scene_->meshes(), scene_->local_origin());
+    covered_build_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
   // Spherical Fibonacci directions for the optional per-pose candidate search.
   const int n = options_.candidate_rays;
   const double golden = kPi * (3.0 - std::sqrt(5.0));
@@ -498,6 +507,97 @@ void PathFinder::build_exact_groups() {
     throw InputError("scene: too many triangles for the exact reflection search's grid");
 }
 
+void PathFinder::build_full_rects() {
+  const auto& facets = scene_->facets();
+  full_rect_.assign(facets.size(), 0);
+  struct Uv {
+    double u, v;
+  };
+  // Facets are independent: in parallel (each writes only its own flag).
+  const auto n = static_cast<std::ptrdiff_t>(facets.size());
+#pragma omp parallel if (n >= 4096 && !omp_in_parallel())
+  {
+    std::vector<std::array<Uv, 3>> tri;
+    std::vector<std::pair<Uv, Uv>> edges;
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t f = 0; f < n; ++f) {
+      const Facet& fc = facets[f];
+      int k = -1;
+      for (int a = 0; a < 3; ++a)
+        if (std::abs(fc.normal[a]) == 1.0) k = a;
+      if (k < 0 || fc.triangles.empty()) continue;
+      const int u = (k + 1) % 3, v = (k + 2) % 3;
+      const double c = scene_->corners(fc.triangles.front())[0][k];
+      double ulo = INFINITY, uhi = -INFINITY, vlo = INFINITY, vhi = -INFINITY;
+      bool planar = true;
+      tri.clear();
+      for (uint32_t t : fc.triangles) {
+        const auto cs = scene_->corners(t);
+        std::array<Uv, 3> q;
+        for (int j = 0; j < 3; ++j) {
+          planar = planar && cs[j][k] == c;
+          q[j] = {cs[j][u], cs[j][v]};
+          ulo = std::min(ulo, q[j].u), uhi = std::max(uhi, q[j].u), vlo = std::min(vlo, q[j].v), vhi = std::max(vhi, q[j].v);
+        }
+        tri.push_back(q);
+      }
+      // (fc.lo/hi are these bounds; the fast path compares against them)
+      if (!planar || !(ulo < uhi && vlo < vhi) || ulo != fc.lo[u] || uhi != fc.hi[u] || vlo != fc.lo[v] ||
+          vhi != fc.hi[v])
+        continue;
+      edges.clear();
+      for (const auto& q : tri)
+        for (int j = 0; j < 3; ++j) {
+          Uv a = q[j], b = q[(j + 1) % 3];
+          if (std::tie(b.u, b.v) < std::tie(a.u, a.v)) std::swap(a, b);
+          edges.push_back({a, b});
+        }
+      const auto key = [](const std::pair<Uv, Uv>& e) { return std::tie(e.first.u, e.first.v, e.second.u, e.second.v); };
+      std::sort(edges.begin(), edges.end(), [&](const auto& x, const auto& y) { return key(x) < key(y); });
+      bool sides_only = true;
+      for (size_t i = 0; i < edges.size() && sides_only;) {
+        size_t j = i + 1;
+        while (j < edges.size() && key(edges[j]) == key(edges[i])) ++j;
+        if ((j - i) % 2 == 1) {
+          const Uv a = edges[i].first, b = edges[i].second;
+          sides_only = (a.u == ulo && b.u == ulo) || (a.u == uhi && b.u == uhi) || (a.v == vlo && b.v == vlo) ||
+                       (a.v == vhi && b.v == vhi);
+        }
+        i = j;
+      }
+      if (!sides_only) continue;
+      // Covering parity at a sample point strictly inside (not within rounding of any triangle's edge).
+      static constexpr double kSamples[4][2] = {{0.5, 0.5}, {0.31, 0.67}, {0.73, 0.29}, {0.53, 0.41}};
+      for (const auto& sf : kSamples) {
+        const Uv s{ulo + sf[0] * (uhi - ulo), vlo + sf[1] * (vhi - vlo)};
+        int count = 0;
+        bool ambiguous = false;
+        for (const auto& q : tri) {
+          bool pos = false, neg = false, near = false;
+          for (int j = 0; j < 3; ++j) {
+            const Uv a = q[j], b = q[(j + 1) % 3];
+            const double eu = b.u - a.u, ev = b.v - a.v;
+            const double e = eu * (s.v - a.v) - ev * (s.u - a.u);
+            const double scale = std::sqrt(eu * eu + ev * ev) * ((uhi - ulo) + (vhi - vlo));
+            if (std::abs(e) <= 1e-12 * scale) near = true;
+            else (e > 0 ? pos : neg) = true;
+          }
+          if (pos && neg) continue;
+          if (near) {
+            ambiguous = true;
+            break;
+          }
+          ++count;
+        }
+        if (!ambiguous) {
+          full_rect_[f] = count % 2 == 1;
+          break;
+        }
+      }
+    }
+  }
+}
+
 void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, double f,
                                    std::vector<TracedPath>& out) const {
   struct Candidate {
@@ -598,8 +698,12 @@ void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, dou
           if (w.pu1 < e.u_lo || w.pu0 > e.u_hi || w.pv1 < e.v_lo || w.pv0 > e.v_hi) continue;  // fails inside_box
           const PlaneBox& b = plane_box_[e.facet];
           if (!image_point(b.normal, b.offset_m, a, t, eps, image, p) || (image - a).squaredNorm() > max_length2_ ||
-              !inside_box(p, b.lo, b.hi, 1e-6) || !point_on_facet(facets[e.facet], p))
+              !inside_box(p, b.lo, b.hi, 1e-6))
             continue;
+          // On a facet that covers its bounding rectangle, inside the closed rectangle means on the facet.
+          const bool in_rect = !full_rect_.empty() && full_rect_[e.facet] && p[g.axis_u] >= b.lo[g.axis_u] && p[g.axis_u] <= b.hi[g.axis_u] &&
+                               p[g.axis_v] >= b.lo[g.axis_v] && p[g.axis_v] <= b.hi[g.axis_v];
+          if (!in_rect && !point_on_facet(facets[e.facet], p)) continue;
           found.push_back({e.facet, image, p});
         }
       }
@@ -671,13 +775,20 @@ void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p
   const double end_eps1 = std::min(options_.endpoint_epsilon_m, 0.25 * l1);
   const double end_eps2 = std::min(options_.endpoint_epsilon_m, 0.25 * l2);
   // Both legs must be clear, so the order changes only the number of rays: the longer leg first (it crosses
-  // more of the scene, so it is the more often blocked one, and a blocked leg ends the test).
-  const auto leg1_blocked = [&] {
-    return check_leg1 && bvh.occluded(a, dir1, end_eps1, l1 - plane_margin(clearance, cos_theta, l1));
-  };
-  const auto leg2_blocked = [&] {
-    return bvh.occluded(p, dir2, plane_margin(clearance, cos_theta, l2), l2 - end_eps2);
-  };
+  // more of the scene, so it is the more often blocked one, and a blocked leg ends the test). The covered
+  // rectangles (no ray; true only where the Embree ray would be blocked) are asked about both legs first.
+  const double leg1_far = l1 - plane_margin(clearance, cos_theta, l1);
+  const double leg2_near = plane_margin(clearance, cos_theta, l2), leg2_far = l2 - end_eps2;
+  if (covered_) {
+    const auto culled1 = [&] { return check_leg1 && covered_->blocks(a, dir1, end_eps1, leg1_far); };
+    const auto culled2 = [&] { return covered_->blocks(p, dir2, leg2_near, leg2_far); };
+    if (l2 > l1 ? culled2() || culled1() : culled1() || culled2()) {
+      ++tl_segments_culled;
+      return;
+    }
+  }
+  const auto leg1_blocked = [&] { return check_leg1 && bvh.occluded(a, dir1, end_eps1, leg1_far); };
+  const auto leg2_blocked = [&] { return bvh.occluded(p, dir2, leg2_near, leg2_far); };
   if (l2 > l1 ? leg2_blocked() || leg1_blocked() : leg1_blocked() || leg2_blocked()) return;
 
   const RadioMaterial& m = scene_->materials()[fc.material];

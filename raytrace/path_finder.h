@@ -44,6 +44,7 @@
 
 #include "core/channel.h"
 #include "core/path.h"
+#include "raytrace/covered_rects.h"
 #include "raytrace/edges.h"
 #include "raytrace/scene.h"
 #include "raytrace/trace_options.h"
@@ -110,6 +111,11 @@ class PathFinder {
   // max_path_length_m (no path, no ray). *length_m (if given) = |tag − antenna|.
   bool direct_segment(const Vec3& antenna, const Vec3& tag, Segment& s, double* length_m = nullptr) const;
 
+  // The covered rectangles that cull reflection legs (TraceOptions::cull_covered; null when off, in exhaustive
+  // mode, or below level single-bounce) and the seconds their construction took.
+  const CoveredRects* covered_rects() const { return covered_.get(); }
+  double covered_build_s() const { return covered_build_s_; }
+
   // Converts a traced path to the core Path (material names filled in).
   Path to_path(const TracedPath& p) const;
 
@@ -152,6 +158,8 @@ class PathFinder {
     size_t first_bit = 0;     // into exact_bits_
   };
   void build_exact_groups();
+  // Marks facets whose triangles cover their bounding rectangle exactly (below: full_rect_).
+  void build_full_rects();
   void reflections_exact(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
 
   // Bit index of p's cell in g's grid, or SIZE_MAX when p is outside the grid.
@@ -206,6 +214,15 @@ class PathFinder {
   };
   std::vector<PlaneBox> plane_box_;    // per facet
   std::vector<uint64_t> exact_bits_;   // occupancy bitmaps of the exact groups
+  // Per facet, 1 if it lies exactly in an axis-aligned plane (normal ±unit, every vertex's coordinate on that
+  // axis bitwise equal) and its triangles cover its bounding rectangle: the edges occurring an odd number of
+  // times among them (welded by exact position) all lie on the rectangle's sides and its centre is in an odd
+  // number of them (the mod-2 argument of raytrace/covered_rects.h). A point of that closed rectangle is
+  // then on some closed triangle of the facet, so point_on_facet — whose tolerance only adds — is true
+  // there: reflections_exact skips it (a cheap early exit, the same decision).
+  std::vector<uint8_t> full_rect_;
+  std::unique_ptr<CoveredRects> covered_;
+  double covered_build_s_ = 0.0;
   std::vector<Vec3> candidate_directions_;
   double candidate_spacing_rad_ = 0.0;  // angular spacing of the candidate rays, √(4π/N)
 };

@@ -7,6 +7,8 @@
 //   reflection points exactly on facet edges and vertices (inner edges of a facet, its outer boundary, a corner
 //   shared with a perpendicular facet, two coplanar facets of different materials meeting on an edge), and an
 //   obstacle moving through a link (the scene rebuilt at each position).
+// Each comparison is made twice, the fast search without and with its covered-rectangle culling of blocked
+// legs (raytrace/covered_rects.h), which must change the rays traced and nothing else.
 // Every path is kept (drop_below_db = 400) so weak reflections are compared too, and each case checks that it
 // exercised reflections at all.
 #include <gtest/gtest.h>
@@ -34,7 +36,11 @@ struct Link {
   Vec3 antenna, tag;
 };
 
-// Compares the two searches on every link; returns the number of reflections seen.
+// Reflection candidates the culled fast search rejected without a ray, over every expect_exact call.
+uint64_t g_culled = 0;
+
+// Compares the fast search, without and with covered-rectangle culling (TraceOptions::cull_covered), to the
+// exhaustive one on every link; returns the number of reflections seen.
 size_t expect_exact(const std::shared_ptr<const Scene>& scene, const std::vector<Link>& links,
                     const std::string& what, double drop_below_db = 400.0) {
   TraceOptions ref_o;
@@ -42,12 +48,18 @@ size_t expect_exact(const std::shared_ptr<const Scene>& scene, const std::vector
   ref_o.drop_below_db = drop_below_db;
   TraceOptions fast_o = ref_o;
   fast_o.candidates = CandidateMode::kFast;
-  const RaytracedChannel reference(scene, ref_o), fast(scene, fast_o);
+  TraceOptions cull_o = fast_o;  // the fast search with legs culled by covered rectangles (covered_rects.h)
+  cull_o.cull_covered = true;
+  const RaytracedChannel reference(scene, ref_o), fast(scene, fast_o), culled(scene, cull_o);
   size_t reflections = 0;
-  for (size_t i = 0; i < links.size(); ++i) {
-    const Endpoint a = endpoint(links[i].antenna, i % 3 == 2), t = endpoint(links[i].tag);
-    const std::vector<Path> want = reference.paths(a, t, kF), got = fast.paths(a, t, kF);
-    const std::string where = what + ": link " + std::to_string(i) + " antenna (" +
+  for (size_t i = 0; i < 2 * links.size(); ++i) {
+    const Link& link = links[i % links.size()];
+    const bool cull = i >= links.size();
+    const Endpoint a = endpoint(link.antenna, (i % links.size()) % 3 == 2), t = endpoint(link.tag);
+    const uint64_t culled_before = tl_segments_culled;
+    const std::vector<Path> want = reference.paths(a, t, kF), got = (cull ? culled : fast).paths(a, t, kF);
+    g_culled += tl_segments_culled - culled_before;
+    const std::string where = what + (cull ? " (culled)" : "") + ": link " + std::to_string(i % links.size()) + " antenna (" +
                               std::to_string(a.pose.position.x()) + ", " + std::to_string(a.pose.position.y()) +
                               ", " + std::to_string(a.pose.position.z()) + ") tag (" +
                               std::to_string(t.pose.position.x()) + ", " + std::to_string(t.pose.position.y()) +
@@ -64,7 +76,7 @@ size_t expect_exact(const std::shared_ptr<const Scene>& scene, const std::vector
           << where << " path " << k;
       h_want += want[k].contribution;
       h_got += got[k].contribution;
-      reflections += want[k].kind == PathKind::kReflection;
+      reflections += !cull && want[k].kind == PathKind::kReflection;
     }
     EXPECT_LE(std::abs(h_want - h_got), 1e-12 * std::abs(h_want)) << where;
   }
@@ -114,6 +126,69 @@ TEST(ExactSearch, RandomParametricWarehouses) {
     reflections += expect_exact(scene, random_links(rng, lo, hi, 30), "warehouse " + std::to_string(k) + " 40 dB", 40.0);
   }
   EXPECT_GT(reflections, 500u);
+}
+
+TEST(ExactSearch, TagsOnShelfSurfacesWithCulling) {
+  // Tags mounted exactly on shelf-plate surfaces (top faces, aisle-side front faces, plate corners) and
+  // antennas in the aisles, at shelf height too: legs end on the covered rectangles' own planes, next to
+  // their edges, and run along them. The culled search must still give the exhaustive paths, and cull.
+  WarehouseParams p;
+  p.rows = 3, p.racks_per_row = 3, p.shelves = 3, p.tessellation = 2;
+  const auto meshes = generate_warehouse(p);
+  const auto scene = scene_of(meshes);
+  const double gap = 0.1;
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Link> links;
+  for (int i = 0; i < 150; ++i) {
+    const int row = static_cast<int>(u(rng) * p.rows), rack = static_cast<int>(u(rng) * p.racks_per_row);
+    const int shelf = static_cast<int>(u(rng) * p.shelves);
+    const double front = row * (p.rack_depth_m + p.aisle_m) + p.aisle_m, y0 = rack * (p.rack_length_m + gap);
+    const double top = 0.15 + shelf * p.shelf_spacing_m;
+    Vec3 tag;
+    switch (i % 3) {
+      case 0: tag = {front + u(rng) * p.rack_depth_m, y0 + u(rng) * p.rack_length_m, top}; break;          // on a top
+      case 1: tag = {front, y0 + u(rng) * p.rack_length_m, top - u(rng) * 0.03}; break;   // on a front
+      default: tag = {front, y0 + (i % 2) * p.rack_length_m, top}; break;                               // a corner
+    }
+    const int aisle = static_cast<int>(u(rng) * (p.rows + 1));
+    const double ax = aisle * (p.rack_depth_m + p.aisle_m) + (0.2 + 0.6 * u(rng)) * p.aisle_m;
+    const double az = i % 4 == 0 ? top + 0.01 : 0.3 + 3.0 * u(rng);
+    links.push_back({Vec3(ax, -1.0 + u(rng) * (p.racks_per_row * (p.rack_length_m + gap) + 2.0), az), tag});
+  }
+  const uint64_t culled_before = g_culled;
+  EXPECT_GT(expect_exact(scene, links, "tags on shelves"), 50u);
+  EXPECT_GT(g_culled - culled_before, 100u) << "the covered rectangles culled (almost) nothing";
+}
+
+TEST(ExactSearch, CullingRemovesRaysNotPaths) {
+  // On a warehouse the culled search traces fewer Embree rays for the same channel, and counts what it culled;
+  // off, it culls nothing (so this fails if the culling is switched off or stops culling).
+  WarehouseParams p;
+  p.rows = 3, p.racks_per_row = 4, p.shelves = 4, p.tessellation = 1;
+  const auto scene = scene_of(generate_warehouse(p));
+  TraceOptions off;
+  TraceOptions on = off;
+  on.cull_covered = true;
+  const RaytracedChannel fast(scene, off), culled(scene, on);
+  ASSERT_EQ(fast.finder().covered_rects(), nullptr);
+  ASSERT_NE(culled.finder().covered_rects(), nullptr);
+  EXPECT_GT(culled.finder().covered_rects()->rect_count(), 0u);
+  std::mt19937_64 rng(8);
+  auto [lo, hi] = bounds_of(generate_warehouse(p));
+  const std::vector<Link> links = random_links(rng, lo + Vec3(0.05, 0.05, 0.05), hi - Vec3(0.05, 0.05, 0.05), 200);
+  uint64_t rays[2] = {0, 0}, culls[2] = {0, 0};
+  for (int mode = 0; mode < 2; ++mode)
+    for (const Link& l : links) {
+      const uint64_t r0 = tl_rays_traced, c0 = tl_segments_culled;
+      const std::vector<Path> got = (mode ? culled : fast).paths(endpoint(l.antenna), endpoint(l.tag), kF);
+      rays[mode] += tl_rays_traced - r0;
+      culls[mode] += tl_segments_culled - c0;
+    }
+  EXPECT_EQ(culls[0], 0u);
+  EXPECT_GT(culls[1], 200u);
+  EXPECT_LE(rays[1] + culls[1], rays[0]) << "each culled candidate saves at least one ray";
+  EXPECT_LT(rays[1], rays[0]);
 }
 
 TEST(ExactSearch, NoisyMeshMergedIntoFittedPlanes) {
@@ -191,6 +266,24 @@ TEST(ExactSearch, ReflectionPointsOnEdgesAndVertices) {
     for (double z : {0.0, 1.5, 3.0})
       links.push_back({Vec3(5.0, y - 0.5, z + 0.5), Vec3(5.0, y + 0.5, z - 0.5)});
   EXPECT_GT(expect_exact(scene, links, "edges and vertices"), 200u);
+}
+
+TEST(ExactSearch, ReflectionPointsJustOffAFacet) {
+  // P within ±2 µm of a tessellated facet's outer edges and corners (nothing beyond them), where the search's
+  // early exits (the bounds test, the covered-rectangle shortcut before point-in-triangle) must decide as the
+  // exhaustive point-in-triangle test does: a reflection up to its 1e-9 m tolerance outside, none beyond.
+  TriangleMesh ground;
+  ground.name = "ground";
+  ground.material_names = {"metal"};
+  add_quad(ground, Vec3(0, 0, 0), Vec3(4, 0, 0), Vec3(0, 4, 0), 0, 4, 4);
+  const auto scene = scene_of({ground});
+  std::vector<Link> links;
+  for (double off : {-2e-6, -5e-7, -5e-8, -1e-9, 0.0, 1e-10, 5e-9, 5e-8, 5e-7, 2e-6})
+    for (const Vec3& p : {Vec3(1.3, 4.0 + off, 0.0), Vec3(-off, 2.6, 0.0), Vec3(4.0 + off, 4.0 + off, 0.0), Vec3(-off, -off, 0.0)})
+      for (const Vec3& d : {Vec3(1.0, 0.0, 0.0), Vec3(0.6, 0.8, 0.0)}) links.push_back({p - d + Vec3(0, 0, 0.7), p + d + Vec3(0, 0, 0.7)});
+  const size_t reflections = expect_exact(scene, links, "just off a facet");
+  EXPECT_GT(reflections, 30u);
+  EXPECT_LT(reflections, links.size());  // the points well outside reflect nowhere
 }
 
 TEST(ExactSearch, MovingObstacle) {
