@@ -12,6 +12,8 @@
 #include "io/antenna_file.h"
 #include "io/checked_yaml.h"
 #include "io/readings_csv.h"
+#include "io/scenario_yaml.h"
+#include "io/scene_multipath.h"
 #include "localization/methods.h"
 #include "python/bindings/bindings.h"
 
@@ -74,7 +76,8 @@ std::vector<io::ReadingRow> rows_from(const pyb::dict& columns, size_t file) {
 pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std::string& method,
                        bool height_known, const std::string& mirror_prior, double frequency_hz, double max_range_m,
                        double stride_m, std::optional<std::string> antenna_file, bool fold_pi,
-                       double max_residual_rad, std::optional<double> systematic_phase_rad_given) {
+                       double max_residual_rad, std::optional<double> systematic_phase_rad_given,
+                       std::optional<std::string> scenario_file, std::optional<std::string> channel) {
   // The checks and options of `rfidray localize` (cli/cmd_localize.cpp), with the keyword names of this API.
   std::vector<loc::Method> methods;
   if (method == "all") {
@@ -102,6 +105,14 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
     throw field_error("systematic_phase_rad", "must be a finite number >= 0");
   std::optional<loc::AntennaCalibration> calibration;
   if (antenna_file) calibration = io::read_antenna_file(*antenna_file);
+  // The known scene (io/scene_multipath.h), as `rfidray localize --scenario [--channel]`.
+  if (channel && !scenario_file) throw field_error("channel", "needs scenario");
+  std::optional<io::SceneMultipath> scene;
+  if (scenario_file) {
+    Scenario scenario = io::load_scenario(*scenario_file);
+    if (channel) scenario.channel = parse_channel_level(*channel, "channel");
+    scene.emplace(scenario);
+  }
 
   std::map<std::string, Vec3> truth;
   const bool have_truth = !truth_arg.is_none();
@@ -143,6 +154,7 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
       o.fold_pi = fold_pi;
       o.max_residual_rad = max_residual_rad;
       o.systematic_phase_rad = systematic_phase_rad;
+      if (scene) o.multipath_phase_rad = scene->allowance_for(tag);
       const auto t = truth.find(tag.tag);
       if (height_known || prior == loc::MirrorPrior::kPoint) {
         if (t == truth.end())
@@ -175,6 +187,7 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
     d["error_m"] = it.error_m ? pyb::object(pyb::float_(*it.error_m)) : pyb::none();
     d["uncertainty_m"] = r.ok ? number(r.uncertainty_m) : pyb::none();
     d["residual_rad"] = number(r.residual_rad);
+    d["multipath_phase_rad"] = scene ? number(r.multipath_phase_rad) : pyb::none();
     d["mirror_resolved_by"] = r.ok && !r.mirror_resolved_by.empty() ? pyb::object(pyb::str(r.mirror_resolved_by)) : pyb::none();
     d["reads"] = it.reads;
     out.append(d);
@@ -188,7 +201,7 @@ void bind_localize(pyb::module_& m) {
   m.def("_localize", &run_localize, pyb::arg("files"), pyb::arg("truth"), pyb::arg("method"),
         pyb::arg("height_known"), pyb::arg("mirror_prior"), pyb::arg("frequency_hz"), pyb::arg("max_range_m"),
         pyb::arg("stride_m"), pyb::arg("antenna_file"), pyb::arg("fold_pi"), pyb::arg("max_residual_rad"),
-        pyb::arg("systematic_phase_rad"));
+        pyb::arg("systematic_phase_rad"), pyb::arg("scenario"), pyb::arg("channel"));
 }
 
 }  // namespace rfidray::py

@@ -168,16 +168,20 @@ def localize(readings: ReadingsLike, *, method: str = "all",
              max_range_m: float = 10.0, stride_m: float = 0.10,
              antenna_file: Union[None, str, os.PathLike] = None, fold_pi: bool = False,
              max_residual_rad: float = 0.25,
-             systematic_phase_rad: Optional[float] = None) -> List[Dict[str, Any]]:
+             systematic_phase_rad: Optional[float] = None,
+             scenario: Union[None, str, os.PathLike] = None, channel: Optional[str] = None) -> List[Dict[str, Any]]:
     """Locates every tag as ``rfidray localize`` does.
 
     ``readings``: a CSV path, a readings array, a :class:`Simulation`, or a list of these (one phase history
     per file, antenna and carrier). ``method``: 'hyperbolic' | 'nlls' | 'sar' | 'all'. ``truth``: a tags CSV,
     a dict name → (x, y, z) or a tags array (``Simulation.tags``); it adds ``error_m`` and is needed by
     ``height_known`` and ``mirror_prior='truth'``. ``systematic_phase_rad``: None takes the command's default
-    (0.1 rad with ``antenna_file``, 0.2 without). Returns one dict per (tag, method) with the keys of
+    (0.1 rad with ``antenna_file``, 0.2 without). ``scenario`` (a scenario file) and ``channel`` (a level): the
+    known scene whose extra paths bound the bias (``localize --scenario --channel``; README "Known scene"),
+    reported as ``multipath_phase_rad``. Returns one dict per (tag, method) with the keys of
     ``localize --json``: name, method, status ('ok' | 'failed'), reason, detail, x, y, z, error_m,
-    uncertainty_m (95 % radius), residual_rad, mirror_resolved_by, reads; None where the JSON has null.
+    uncertainty_m (95 % radius), residual_rad, multipath_phase_rad, mirror_resolved_by, reads; None where the JSON
+    has null.
     """
     if isinstance(truth, np.ndarray):
         truth = {str(t["name"]): (float(t["x"]), float(t["y"]), float(t["z"])) for t in truth}
@@ -187,4 +191,4 @@ def localize(readings: ReadingsLike, *, method: str = "all",
         truth = {str(k): [float(x) for x in v] for k, v in truth.items()}
     return _localize(_reading_files(readings), truth, method, height_known, mirror_prior, frequency_hz,
                      max_range_m, stride_m, None if antenna_file is None else os.fspath(antenna_file), fold_pi,
-                     max_residual_rad, systematic_phase_rad)
+                     max_residual_rad, systematic_phase_rad, None if scenario is None else os.fspath(scenario), channel)

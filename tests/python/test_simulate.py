@@ -95,3 +95,20 @@ def test_localize_takes_a_simulation(paper_run):
     assert {r["name"] for r in results} == {f"tag{i}" for i in range(1, 11)}
     ok = [r for r in results if r["status"] == "ok"]
     assert ok and all(r["uncertainty_m"] > 0 and r["error_m"] is not None for r in ok)
+
+
+def test_localize_with_the_known_scene_matches_the_command(paper_run):
+    out, _ = paper_run
+    csv_file = out / "mobile.csv"
+    args = ("--method", "nlls", "--height-known", "--mirror-prior", "truth", "--json", "--scenario", SCENARIO,
+            "--channel", "los+blocked")
+    expected = json.loads(run_cli("localize", csv_file, "--truth", out / "tags.csv", *args).stdout)["results"]
+    got = rfidray.localize(rfidray.load_readings(csv_file), method="nlls", truth=out / "tags.csv",
+                           height_known=True, mirror_prior="truth", scenario=SCENARIO, channel="los+blocked")
+    assert len(got) == len(expected) == 10
+    assert any(g["multipath_phase_rad"] is not None for g in got)
+    for g, e in zip(got, expected):
+        for key in ("status", "x", "y", "uncertainty_m", "multipath_phase_rad"):
+            assert g[key] == e.get(key), key
+    with pytest.raises(rfidray.InputError, match="channel"):
+        rfidray.localize(csv_file, method="nlls", channel="single-bounce")
