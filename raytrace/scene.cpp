@@ -52,6 +52,12 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
   FacetSet fs = merge_facets(meshes_, resolved.per_triangle, triangle_offset_, options.facets, origin_);
   facets_ = std::move(fs.facets);
   facet_of_triangle_ = std::move(fs.facet_of_triangle);
+  // Embree shares each mesh's index array (raytrace/embree_scene.h): one spare element of capacity, zeroed.
+  for (TriangleMesh& m : meshes_) {
+    if (m.triangles.capacity() == m.triangles.size()) m.triangles.reserve(m.triangles.size() + 1);
+    m.triangles.push_back({0, 0, 0});
+    m.triangles.pop_back();
+  }
   bvh_ = std::make_unique<EmbreeScene>(meshes_, options.embree_config, origin_);
 }
 
