@@ -53,7 +53,11 @@ class Scene {
   // Global triangle id of an Embree hit.
   uint32_t triangle_id(uint32_t geom, uint32_t prim) const { return triangle_offset_[geom] + prim; }
   uint32_t facet_of(uint32_t triangle) const { return facet_of_triangle_[triangle]; }
-  uint32_t material_of(uint32_t triangle) const { return material_of_triangle_[triangle]; }
+  // Through the mesh's own per-triangle material names (not a second per-triangle table: 4 bytes per triangle).
+  uint32_t material_of(uint32_t triangle) const {
+    const uint32_t mesh = triangle_mesh_[triangle];
+    return material_slot_[slot_offset_[mesh] + meshes_[mesh].triangle_material[triangle - triangle_offset_[mesh]]];
+  }
   // Unit normal of a triangle (zero for degenerate ones). Computed on demand (not stored: 24 bytes per
   // triangle); only the walk of a blocked direct path asks for it.
   Vec3 normal_of(uint32_t triangle) const {
@@ -75,7 +79,8 @@ class Scene {
   std::vector<RadioMaterial> materials_;
   std::vector<uint32_t> triangle_offset_;       // per mesh
   std::vector<uint32_t> triangle_mesh_;         // global triangle → mesh
-  std::vector<uint32_t> material_of_triangle_;  // global triangle → material
+  std::vector<uint32_t> slot_offset_;          // per mesh: its first entry in material_slot_
+  std::vector<uint32_t> material_slot_;        // per mesh and material name: index into materials_
   std::vector<uint32_t> facet_of_triangle_;     // global triangle → facet
   std::vector<Facet> facets_;
   std::vector<std::string> notes_;

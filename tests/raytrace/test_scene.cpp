@@ -211,7 +211,7 @@ TEST(EmbreeScene, HitsMapBackToTrianglesFacetsAndMaterials) {
 // meshes with no spare capacity (which Scene then pads) must hit every triangle it hit before, also after the
 // Scene object is moved (the shared arrays move with it) and the caller's meshes are gone; and sharing must
 // save the index copy: the same meshes without the spare element (copied) cost Embree ≥ 12 bytes per triangle
-// more.
+// more. Each triangle's material is the one its mesh names.
 TEST(EmbreeScene, SharedIndexArraysStayValidAndSaveTheCopy) {
   std::vector<TriangleMesh> meshes = paper_warehouse_meshes();
   for (TriangleMesh& m : meshes) m.triangles.shrink_to_fit();
@@ -233,6 +233,9 @@ TEST(EmbreeScene, SharedIndexArraysStayValidAndSaveTheCopy) {
       ASSERT_TRUE(h.hit) << "mesh " << g << " triangle " << t;
       EXPECT_NEAR(h.t, 1e-3, 1e-6);
       if (h.geom == g && h.prim == t) ++n;
+      // material_of goes through the mesh's own material names (no per-triangle copy): the name it was given.
+      EXPECT_EQ(scene.materials()[scene.material_of(scene.triangle_id(uint32_t(g), uint32_t(t)))].name,
+                kept[g].material_names[kept[g].triangle_material[t]]);
     }
   EXPECT_GT(checked, 1000u);
   EXPECT_GE(10 * n, 9 * checked);  // (all of them, with Embree 3.13: no coplanar twins in this scene)
