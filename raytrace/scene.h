@@ -41,9 +41,11 @@ class Scene {
   // origin trace exactly as they always did). Queries always take world coordinates.
   const Vec3& local_origin() const { return origin_; }
   static constexpr double kRecentreBeyondM = 1e4;
-  // Resident bytes per triangle of a built scene (meshes in double, facets, Embree BVH): 150–330 measured on
-  // the parametric warehouses (README, "Speed and accuracy"); the upper end is the estimate checked against the
-  // memory budget before a scene is built.
+  // Resident bytes per triangle of a built scene (meshes in double, facets, Embree BVH and its float vertex
+  // copy; the index arrays are shared with Embree): 124–180 measured on the parametric warehouses of 0.1–5 M
+  // triangles (0.89 vertices per triangle; README, #13 memory), plus a few MB fixed. Kept at 330, the upper end
+  // measured before, so that meshes with unshared vertices (up to 3 per triangle: ~76 bytes more) fit too;
+  // it is the estimate checked against the memory budget before a scene is built.
   static constexpr double kSceneBytesPerTriangle = 330.0;
   // Defaults applied and other remarks from material resolution, for the user.
   const std::vector<std::string>& notes() const { return notes_; }
