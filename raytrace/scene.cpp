@@ -70,8 +70,9 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
   resolved.per_triangle = {};
 #ifdef __GLIBC__
   // The build's temporaries (the vertex weld's hash nodes, the facets' triangle lists as they grew) are small
-  // blocks that glibc keeps resident after free; hand whole free pages back (≈6 bytes per
-  // triangle on the parametric warehouses).
+  // blocks that glibc keeps resident after free; hand whole free pages back (≈6 bytes per triangle on the
+  // parametric warehouses). Moving the Scene later keeps Embree's shared index arrays valid (vector moves
+  // keep their buffers; tests/raytrace/test_scene.cpp).
   malloc_trim(0);
 #endif
 }

@@ -81,8 +81,8 @@ class Scene {
   std::vector<RadioMaterial> materials_;
   std::vector<uint32_t> triangle_offset_;       // per mesh
   std::vector<uint32_t> triangle_mesh_;         // global triangle → mesh
-  std::vector<uint32_t> slot_offset_;          // per mesh: its first entry in material_slot_
-  std::vector<uint32_t> material_slot_;        // per mesh and material name: index into materials_
+  std::vector<uint32_t> slot_offset_;           // per mesh: its first entry in material_slot_
+  std::vector<uint32_t> material_slot_;         // per mesh and material name: index into materials_
   std::vector<uint32_t> facet_of_triangle_;     // global triangle → facet
   std::vector<Facet> facets_;
   std::vector<std::string> notes_;
