@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <type_traits>
 
+static_assert(sizeof(std::array<uint32_t, 3>) == 3 * sizeof(uint32_t), "triangles are shared as RTC_FORMAT_UINT3");
+
 namespace rfidray {
 namespace {
 
@@ -36,13 +38,21 @@ EmbreeScene::EmbreeScene(std::span<const TriangleMesh> meshes, const std::string
       RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
       auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                             3 * sizeof(float), mesh.vertices.size()));
-      auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                 3 * sizeof(uint32_t), mesh.triangles.size()));
+      // The index array is shared, not copied (12 bytes per triangle), when it has the spare element Embree's
+      // 16-byte loads may read past the last triangle (rtcSetSharedGeometryBuffer(3)); Scene provides it.
+      if (mesh.triangles.capacity() <= mesh.triangles.size()) {
+        auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(uint32_t), mesh.triangles.size()));
+        for (size_t t = 0; t < mesh.triangles.size(); ++t)
+          for (int k = 0; k < 3; ++k) idx[3 * t + k] = mesh.triangles[t][k];
+      } else {
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.triangles.data(), 0,
+                                   sizeof(mesh.triangles[0]), mesh.triangles.size());
+      }
       check(device_, "geometry buffers");
+      // Vertices are copied: Embree wants float relative to the origin, the image method keeps doubles.
       for (size_t i = 0; i < mesh.vertices.size(); ++i)
         for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(mesh.vertices[i][k] - origin_[k]);
-      for (size_t t = 0; t < mesh.triangles.size(); ++t)
-        for (int k = 0; k < 3; ++k) idx[3 * t + k] = mesh.triangles[t][k];
       rtcCommitGeometry(g);
       rtcAttachGeometryByID(scene_, g, static_cast<unsigned>(m));
       rtcReleaseGeometry(g);  // the scene holds the reference

@@ -51,6 +51,9 @@ class EmbreeScene {
   // Embree stores float vertices relative to `origin` (Scene passes the bounding-box centre of scenes far from
   // the world origin, e.g. in UTM coordinates, so float precision is spent on the scene, not on its offset);
   // every query below takes world coordinates. Throws std::runtime_error if Embree reports an error.
+  // Each mesh's index array (`triangles`) is shared with Embree, not copied, when its capacity exceeds its size
+  // (Embree may read up to 16 bytes past the last triangle; Scene reserves that spare element): such meshes
+  // must then outlive this object with their `triangles` neither modified nor reallocated. Vertices are copied.
   explicit EmbreeScene(std::span<const TriangleMesh> meshes, const std::string& config = "",
                        const Vec3& origin = Vec3::Zero());
   ~EmbreeScene();

@@ -4,6 +4,9 @@
 
 #include <cstdio>
 #include <limits>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "core/error.h"
 #include "core/limits.h"
@@ -41,18 +44,37 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
   materials_ = std::move(resolved.materials);
   notes_ = std::move(resolved.notes);
   uint32_t offset = 0;
+  triangle_mesh_.reserve(total_triangles);
   for (size_t m = 0; m < meshes_.size(); ++m) {
+    const TriangleMesh& mesh = meshes_[m];
     triangle_offset_.push_back(offset);
-    offset += static_cast<uint32_t>(meshes_[m].triangles.size());
-    for (size_t t = 0; t < meshes_[m].triangles.size(); ++t) {
-      triangle_mesh_.push_back(static_cast<uint32_t>(m));
-      material_of_triangle_.push_back(resolved.per_triangle[m][t]);
-    }
+    offset += static_cast<uint32_t>(mesh.triangles.size());
+    triangle_mesh_.insert(triangle_mesh_.end(), mesh.triangles.size(), static_cast<uint32_t>(m));
+    // The resolved material of each of the mesh's material names (resolve_materials maps names, not triangles).
+    slot_offset_.push_back(static_cast<uint32_t>(material_slot_.size()));
+    material_slot_.resize(material_slot_.size() + mesh.material_names.size(), 0);
+    for (size_t t = 0; t < mesh.triangles.size(); ++t)
+      material_slot_[slot_offset_.back() + mesh.triangle_material[t]] = resolved.per_triangle[m][t];
   }
   FacetSet fs = merge_facets(meshes_, resolved.per_triangle, triangle_offset_, options.facets, origin_);
   facets_ = std::move(fs.facets);
   facet_of_triangle_ = std::move(fs.facet_of_triangle);
+  for (Facet& f : facets_) f.triangles.shrink_to_fit();  // grown one push_back at a time: up to 2× capacity
+  // Embree shares each mesh's index array (raytrace/embree_scene.h): one spare element of capacity, zeroed.
+  for (TriangleMesh& m : meshes_) {
+    if (m.triangles.capacity() == m.triangles.size()) m.triangles.reserve(m.triangles.size() + 1);
+    m.triangles.push_back({0, 0, 0});
+    m.triangles.pop_back();
+  }
   bvh_ = std::make_unique<EmbreeScene>(meshes_, options.embree_config, origin_);
+  resolved.per_triangle = {};
+#ifdef __GLIBC__
+  // The build's temporaries (the vertex weld's hash nodes, the facets' triangle lists as they grew) are small
+  // blocks that glibc keeps resident after free; hand whole free pages back (≈6 bytes per triangle on the
+  // parametric warehouses). Moving the Scene later keeps Embree's shared index arrays valid (vector moves
+  // keep their buffers; tests/raytrace/test_scene.cpp).
+  malloc_trim(0);
+#endif
 }
 
 std::vector<std::string> extrapolation_warnings(const Scene& scene, double frequency_hz) {

@@ -41,9 +41,11 @@ class Scene {
   // origin trace exactly as they always did). Queries always take world coordinates.
   const Vec3& local_origin() const { return origin_; }
   static constexpr double kRecentreBeyondM = 1e4;
-  // Resident bytes per triangle of a built scene (meshes in double, facets, Embree BVH): 150–330 measured on
-  // the parametric warehouses (README, "Speed and accuracy"); the upper end is the estimate checked against the
-  // memory budget before a scene is built.
+  // Resident bytes per triangle of a built scene (meshes in double, facets, Embree BVH and its float vertex
+  // copy; the index arrays are shared with Embree): 124–180 measured on the parametric warehouses of 0.1–5 M
+  // triangles (0.89 vertices per triangle; README, #13 memory), plus a few MB fixed. Kept at 330, the upper end
+  // measured before, so that meshes with unshared vertices (up to 3 per triangle: ~76 bytes more) fit too;
+  // it is the estimate checked against the memory budget before a scene is built.
   static constexpr double kSceneBytesPerTriangle = 330.0;
   // Defaults applied and other remarks from material resolution, for the user.
   const std::vector<std::string>& notes() const { return notes_; }
@@ -53,7 +55,11 @@ class Scene {
   // Global triangle id of an Embree hit.
   uint32_t triangle_id(uint32_t geom, uint32_t prim) const { return triangle_offset_[geom] + prim; }
   uint32_t facet_of(uint32_t triangle) const { return facet_of_triangle_[triangle]; }
-  uint32_t material_of(uint32_t triangle) const { return material_of_triangle_[triangle]; }
+  // Through the mesh's own per-triangle material names (not a second per-triangle table: 4 bytes per triangle).
+  uint32_t material_of(uint32_t triangle) const {
+    const uint32_t mesh = triangle_mesh_[triangle];
+    return material_slot_[slot_offset_[mesh] + meshes_[mesh].triangle_material[triangle - triangle_offset_[mesh]]];
+  }
   // Unit normal of a triangle (zero for degenerate ones). Computed on demand (not stored: 24 bytes per
   // triangle); only the walk of a blocked direct path asks for it.
   Vec3 normal_of(uint32_t triangle) const {
@@ -75,7 +81,8 @@ class Scene {
   std::vector<RadioMaterial> materials_;
   std::vector<uint32_t> triangle_offset_;       // per mesh
   std::vector<uint32_t> triangle_mesh_;         // global triangle → mesh
-  std::vector<uint32_t> material_of_triangle_;  // global triangle → material
+  std::vector<uint32_t> slot_offset_;           // per mesh: its first entry in material_slot_
+  std::vector<uint32_t> material_slot_;         // per mesh and material name: index into materials_
   std::vector<uint32_t> facet_of_triangle_;     // global triangle → facet
   std::vector<Facet> facets_;
   std::vector<std::string> notes_;

@@ -207,6 +207,45 @@ TEST(EmbreeScene, HitsMapBackToTrianglesFacetsAndMaterials) {
   EXPECT_FALSE(scene.bvh().occluded(Vec3(-1, -3.0, 1.985), Vec3(1, 0, 0), 0.0, 3.9));
 }
 
+// Embree shares each mesh's index array instead of copying it (raytrace/embree_scene.h). The scene built from
+// meshes with no spare capacity (which Scene then pads) must hit every triangle it hit before, also after the
+// Scene object is moved (the shared arrays move with it) and the caller's meshes are gone; and sharing must
+// save the index copy: the same meshes without the spare element (copied) cost Embree ≥ 12 bytes per triangle
+// more. Each triangle's material is the one its mesh names.
+TEST(EmbreeScene, SharedIndexArraysStayValidAndSaveTheCopy) {
+  std::vector<TriangleMesh> meshes = paper_warehouse_meshes();
+  for (TriangleMesh& m : meshes) m.triangles.shrink_to_fit();
+  const std::vector<TriangleMesh> kept = meshes;  // for the expected hits
+  auto built = std::make_unique<Scene>(std::move(meshes), MaterialAssignment{});
+  const Scene scene(std::move(*built));
+  built.reset();
+  size_t n = 0, checked = 0;
+  for (size_t g = 0; g < kept.size(); ++g)
+    for (size_t t = 0; t < kept[g].triangles.size(); ++t) {
+      const auto& tri = kept[g].triangles[t];
+      const Vec3 a = kept[g].vertices[tri[0]], b = kept[g].vertices[tri[1]], c = kept[g].vertices[tri[2]];
+      const Vec3 normal = (b - a).cross(c - a);
+      if (normal.norm() < 1e-9) continue;
+      ++checked;
+      const Vec3 dir = normal.normalized(), centroid = (a + b + c) / 3.0;
+      // From 1 mm in front of the centroid back onto it: this triangle (or a coplanar twin at the same t).
+      const RayHit h = scene.bvh().intersect(centroid + 1e-3 * dir, -dir, 0.0, 2e-3);
+      ASSERT_TRUE(h.hit) << "mesh " << g << " triangle " << t;
+      EXPECT_NEAR(h.t, 1e-3, 1e-6);
+      if (h.geom == g && h.prim == t) ++n;
+      // material_of goes through the mesh's own material names (no per-triangle copy): the name it was given.
+      EXPECT_EQ(scene.materials()[scene.material_of(scene.triangle_id(uint32_t(g), uint32_t(t)))].name,
+                kept[g].material_names[kept[g].triangle_material[t]]);
+    }
+  EXPECT_GT(checked, 1000u);
+  EXPECT_GE(10 * n, 9 * checked);  // (all of them, with Embree 3.13: no coplanar twins in this scene)
+  std::vector<TriangleMesh> padded = kept, unpadded = kept;
+  for (TriangleMesh& m : padded) m.triangles.reserve(m.triangles.size() + 1);
+  for (TriangleMesh& m : unpadded) m.triangles.shrink_to_fit();
+  const EmbreeScene shared(padded, "threads=1"), copied(unpadded, "threads=1");
+  EXPECT_GE(copied.embree_bytes(), shared.embree_bytes() + 12 * shared.triangle_count());
+}
+
 TEST(SceneSpec, PlacesScalesAndMapsMaterialsWithLocatedErrors) {
   const fs::path p = temp_file("quad.obj", "o q\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl paint\nf 1 2 3 4\n");
   SceneSpec spec;
