@@ -116,14 +116,12 @@ TEST(CoveredRects, NoneOnNoisyOrTiltedMeshes) {
 
 // blocks() ⇒ Embree occluded(), on `n` segments of each kind; returns how many blocks() decided.
 size_t expect_blocks_sound(const Scene& scene, const CoveredRects& cr, std::mt19937_64& rng, int n) {
-  const auto [lo, hi] = [&] {
-    Vec3 l = Vec3::Constant(1e30), h = Vec3::Constant(-1e30);
-    for (const TriangleMesh& m : scene.meshes()) {
-      const auto [a, b] = m.bounds();
-      l = l.cwiseMin(a), h = h.cwiseMax(b);
-    }
-    return std::pair{l, h};
-  }();
+  // Plain variables, not a structured binding: lambdas below capture them (clang 14 cannot capture bindings).
+  Vec3 lo = Vec3::Constant(1e30), hi = Vec3::Constant(-1e30);
+  for (const TriangleMesh& m : scene.meshes()) {
+    const auto [a, b] = m.bounds();
+    lo = lo.cwiseMin(a), hi = hi.cwiseMax(b);
+  }
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const auto inside = [&] { return Vec3(lo.x() + u(rng) * (hi.x() - lo.x()), lo.y() + u(rng) * (hi.y() - lo.y()),
                                         lo.z() + u(rng) * (hi.z() - lo.z())); };
