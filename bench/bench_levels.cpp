@@ -19,6 +19,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "bench/pool_counters.h"
 #include "bench/workload.h"
 #include "core/channel_error.h"
 #include "core/reader_model.h"
@@ -26,21 +27,12 @@
 #include "raytrace/raytraced_channel.h"
 
 using namespace rfidray;
+using bench::take_pool_rays;
 
 namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-uint64_t take_pool_rays() {
-  uint64_t rays = 0;
-#pragma omp parallel reduction(+ : rays)
-  {
-    rays += tl_rays_traced;
-    tl_rays_traced = 0;
-  }
-  return rays + std::exchange(tl_rays_traced, 0);
 }
 
 std::vector<std::complex<double>> values(const Channel& ch, const bench::Workload& w) {

@@ -28,11 +28,14 @@
 #include <map>
 #include <sstream>
 
+#include "bench/pool_counters.h"
 #include "bench/workload.h"
 #include "io/plot.h"
 #include "raytrace/raytraced_channel.h"
 
 using namespace rfidray;
+using bench::take_pool_rays;
+using bench::take_pool_culled;
 
 namespace {
 
@@ -74,28 +77,6 @@ size_t resident_bytes() {
   size_t pages = 0, resident = 0;
   in >> pages >> resident;
   return resident * 4096;
-}
-
-// Rays traced by every thread of the OpenMP pool since the last call (the pool's threads persist).
-uint64_t take_pool_rays() {
-  uint64_t rays = 0;
-#pragma omp parallel reduction(+ : rays)
-  {
-    rays += tl_rays_traced;
-    tl_rays_traced = 0;
-  }
-  return rays + std::exchange(tl_rays_traced, 0);
-}
-
-// Reflection candidates culled without a ray (raytrace/covered_rects.h) by the pool since the last call.
-uint64_t take_pool_culled() {
-  uint64_t culled = 0;
-#pragma omp parallel reduction(+ : culled)
-  {
-    culled += tl_segments_culled;
-    tl_segments_culled = 0;
-  }
-  return culled + std::exchange(tl_segments_culled, 0);
 }
 
 // ", packets of 16" when the channel traces its level-los rays in packets (chosen by measurement).

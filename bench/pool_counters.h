@@ -1,0 +1,32 @@
+#pragma once
+// The ray tracer's per-thread counters (tl_rays_traced, tl_segments_culled), summed over the caller and every
+// thread of the OpenMP pool (its threads persist between regions) and reset: what the benchmarks report per link.
+#include <omp.h>
+
+#include <cstdint>
+#include <utility>
+
+#include "raytrace/covered_rects.h"
+#include "raytrace/embree_scene.h"
+
+namespace rfidray::bench {
+
+// `local` returns the calling thread's counter (a thread_local: each pool thread must read its own).
+inline uint64_t take_from_pool(uint64_t& (*local)()) {
+  uint64_t sum = 0;
+#pragma omp parallel reduction(+ : sum)
+  { sum += std::exchange(local(), 0); }
+  return sum + std::exchange(local(), 0);
+}
+
+// Rays traced since the last call.
+inline uint64_t take_pool_rays() {
+  return take_from_pool([]() -> uint64_t& { return tl_rays_traced; });
+}
+
+// Reflection candidates culled without a ray (raytrace/covered_rects.h) since the last call.
+inline uint64_t take_pool_culled() {
+  return take_from_pool([]() -> uint64_t& { return tl_segments_culled; });
+}
+
+}  // namespace rfidray::bench
