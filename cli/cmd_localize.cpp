@@ -11,7 +11,6 @@
 
 #include "io/antenna_file.h"
 #include "io/readings_csv.h"
-#include "io/scenario_yaml.h"
 #include "io/scene_multipath.h"
 #include "core/error.h"
 #include "localization/methods.h"
@@ -75,11 +74,9 @@ int run_localize(const LocalizeState& s) {
   // The known scene: its multipath allowance bounds what a fit cannot see (io/scene_multipath.h).
   std::optional<io::SceneMultipath> scene;
   if (!s.channel.empty() && s.scenario.empty()) throw field_error("--channel", "needs --scenario");
-  if (!s.scenario.empty()) {
-    Scenario scenario = io::load_scenario(s.scenario);
-    if (!s.channel.empty()) scenario.channel = parse_channel_level(s.channel, "--channel");
-    scene.emplace(scenario);
-  }
+  if (!s.scenario.empty())
+    scene = io::load_scene_multipath(s.scenario, s.channel.empty() ? std::nullopt : std::optional(s.channel),
+                                     "--channel");
 
   std::map<std::string, Vec3> truth;
   if (!s.truth.empty()) truth = io::read_truth_csv(s.truth);

@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "io/channel_factory.h"
+#include "io/scenario_yaml.h"
 #include "localization/multipath_allowance.h"
 
 namespace rfidray::io {
@@ -60,6 +61,13 @@ std::function<double(const Vec3& tag_m)> SceneMultipath::allowance_for(const loc
     }
     return loc::multipath_phase_rms_rad(ratio);
   };
+}
+
+SceneMultipath load_scene_multipath(const std::string& scenario_file, const std::optional<std::string>& channel,
+                                    const std::string& channel_field) {
+  Scenario scenario = load_scenario(scenario_file);
+  if (channel) scenario.channel = parse_channel_level(*channel, channel_field);
+  return SceneMultipath(scenario);
 }
 
 }  // namespace rfidray::io

@@ -16,6 +16,7 @@
 #include <complex>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "core/channel.h"
@@ -30,11 +31,15 @@ class SceneMultipath {
 
   explicit SceneMultipath(const Scenario& scenario);
   std::function<double(const Vec3& tag_m)> allowance_for(const loc::TagReads& tag) const;
-  const Channel& channel() const { return *channel_; }
 
  private:
   Scenario scenario_;
   std::shared_ptr<const Channel> channel_;
 };
+
+// `localize --scenario FILE [--channel LEVEL]`: the scenario file, its level replaced by `channel` when given
+// (`channel_field` names that option in the error for an unknown level).
+SceneMultipath load_scene_multipath(const std::string& scenario_file, const std::optional<std::string>& channel,
+                                    const std::string& channel_field);
 
 }  // namespace rfidray::io

@@ -12,7 +12,6 @@
 #include "io/antenna_file.h"
 #include "io/checked_yaml.h"
 #include "io/readings_csv.h"
-#include "io/scenario_yaml.h"
 #include "io/scene_multipath.h"
 #include "localization/methods.h"
 #include "python/bindings/bindings.h"
@@ -108,11 +107,7 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
   // The known scene (io/scene_multipath.h), as `rfidray localize --scenario [--channel]`.
   if (channel && !scenario_file) throw field_error("channel", "needs scenario");
   std::optional<io::SceneMultipath> scene;
-  if (scenario_file) {
-    Scenario scenario = io::load_scenario(*scenario_file);
-    if (channel) scenario.channel = parse_channel_level(*channel, "channel");
-    scene.emplace(scenario);
-  }
+  if (scenario_file) scene = io::load_scene_multipath(*scenario_file, channel, "channel");
 
   std::map<std::string, Vec3> truth;
   const bool have_truth = !truth_arg.is_none();
