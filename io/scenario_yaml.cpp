@@ -691,20 +691,13 @@ Scenario parse_scenario(const std::string& text, const std::string& source) {
   }
   // Phase ripples (core/phase_pattern.h) are hardware: drawn once per element from the scenario file's seed and
   // the element's index, so `simulate --seed` redraws the noise, not the tags.
-  for (size_t i = 0; i < s.tags.size(); ++i) {
-    PhasePattern& p = s.tags[i].tag.phase_pattern;
-    if (p.ripple_rms_rad > 0.0) {
-      Rng rng = make_stream(s.seed, {0x7269706c65ULL, 1, i});
-      draw_phase_ripple(p, p.ripple_rms_rad, p.ripple_scale_rad, p.ripple_spread, rng);
-    }
-  }
-  for (size_t a = 0; a < s.antennas.size(); ++a) {
-    PhasePattern& p = s.antennas[a].reader.phase_pattern;
-    if (p.ripple_rms_rad > 0.0) {
-      Rng rng = make_stream(s.seed, {0x7269706c65ULL, 0, a});
-      draw_phase_ripple(p, p.ripple_rms_rad, p.ripple_scale_rad, p.ripple_spread, rng);
-    }
-  }
+  auto draw_ripple = [&](PhasePattern& p, uint64_t kind, uint64_t index) {
+    if (!(p.ripple_rms_rad > 0.0)) return;
+    Rng rng = make_stream(s.seed, {0x7269706c65ULL, kind, index});
+    draw_phase_ripple(p, p.ripple_rms_rad, p.ripple_scale_rad, p.ripple_spread, rng);
+  };
+  for (size_t a = 0; a < s.antennas.size(); ++a) draw_ripple(s.antennas[a].reader.phase_pattern, 0, a);
+  for (size_t i = 0; i < s.tags.size(); ++i) draw_ripple(s.tags[i].tag.phase_pattern, 1, i);
   top.finish();
   return s;
 }
