@@ -30,6 +30,7 @@ struct LocalizeState {
   std::string channel;
   bool fold_pi = false;
   double max_residual_rad = loc::LocalizeOptions{}.max_residual_rad;
+  double max_uncertainty_m = loc::LocalizeOptions{}.max_uncertainty_m;
   // Unset: loc::default_systematic_phase_rad (0.1 rad with an antenna file, 0.2 without).
   double systematic_phase_rad = std::numeric_limits<double>::quiet_NaN();
   bool height_known = false;
@@ -62,6 +63,7 @@ int run_localize(const LocalizeState& s) {
   if (!(s.max_range_m > 0.0) || !std::isfinite(s.max_range_m)) throw field_error("--max-range", "must be a finite number > 0");
   if (!(s.stride_m > 0.0) || !std::isfinite(s.stride_m)) throw field_error("--stride", "must be a finite number > 0");
   if (!(s.max_residual_rad > 0.0) || !std::isfinite(s.max_residual_rad)) throw field_error("--max-residual-rad", "must be a finite number > 0");
+  if (!(s.max_uncertainty_m > 0.0) || !std::isfinite(s.max_uncertainty_m)) throw field_error("--max-uncertainty-m", "must be a finite number > 0");
   if (s.systematic_phase_rad_given &&
       (!(s.systematic_phase_rad >= 0.0) || !std::isfinite(s.systematic_phase_rad)))
     throw field_error("--systematic-phase-rad", "must be a finite number >= 0");
@@ -99,6 +101,7 @@ int run_localize(const LocalizeState& s) {
     o.calibration = calibration;
     o.fold_pi = s.fold_pi;
     o.max_residual_rad = s.max_residual_rad;
+    o.max_uncertainty_m = s.max_uncertainty_m;
     o.systematic_phase_rad = systematic_phase_rad;
     if (scene) o.multipath_phase_rad = scene->allowance_for(tag);
     const auto t = truth.find(tag.tag);
@@ -232,6 +235,10 @@ std::function<int()> setup_localize(CLI::App& app) {
   sub->add_flag("--fold-pi", state->fold_pi, "the reader reports phase modulo pi: fit twice the phase");
   sub->add_option("--max-residual-rad", state->max_residual_rad,
                   "status ok needs the robust sigma of the wrapped-phase residuals below this (rad)")
+      ->capture_default_str();
+  sub->add_option("--max-uncertainty-m", state->max_uncertainty_m,
+                  "status ok needs the 95 % radius uncertainty_m at most this (m): the largest region the "
+                  "application accepts")
       ->capture_default_str();
   CLI::Option* systematic = sub->add_option(
       "--systematic-phase-rad", state->systematic_phase_rad,

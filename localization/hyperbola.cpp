@@ -1,6 +1,7 @@
 #include "localization/hyperbola.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 
 #include "core/units.h"
@@ -61,10 +62,10 @@ PlaneSection sample_section(const Hyperbola& h, double height_m, int rays, doubl
   PlaneSection s;
   s.rays = rays;
   s.height_m = height_m;
+  s.f1 = h.f1;
   s.points.resize(2 * rays);
-  s.valid.assign(2 * rays, 0);
-  s.x_m.setZero(2 * rays);
-  s.y_m.setZero(2 * rays);
+  s.packed.assign(2 * rays, -1);
+  std::vector<char> valid(2 * rays, 0);
   for (int i = 0; i < rays; ++i) {
     const double psi = kTwoPi * i / rays;
     const Eigen::Vector2d e(std::cos(psi), std::sin(psi));  // once for both slots
@@ -72,12 +73,29 @@ PlaneSection sample_section(const Hyperbola& h, double height_m, int rays, doubl
       Vec3 p;
       if (point_on_unit_ray(h, height_m, e, slot, p) && (p - h.f2).norm() <= max_range_m) {
         s.points[2 * i + slot] = p;
-        s.valid[2 * i + slot] = 1;
-        s.x_m[2 * i + slot] = p.x();
-        s.y_m[2 * i + slot] = p.y();
+        valid[2 * i + slot] = 1;
       }
     }
   }
+  const double c1 = height_m - h.f1.z();
+  std::vector<double> x, y, r1;
+  for (int slot = 0; slot < 2; ++slot)
+    for (int i = 0; i < rays; ++i) {
+      const int a = 2 * i + slot;
+      if (!valid[a]) continue;
+      const Vec3& p = s.points[a];
+      s.packed[a] = static_cast<int>(x.size());
+      s.sample_of.push_back(a);
+      s.next_is_ray_after.push_back(i + 1 < rays && valid[a + 2]);
+      x.push_back(p.x()), y.push_back(p.y());
+      // The same expression intersect_in_plane evaluates for another conic with this F1 (bitwise equal).
+      r1.push_back(std::sqrt((p.x() - h.f1.x()) * (p.x() - h.f1.x()) + (p.y() - h.f1.y()) * (p.y() - h.f1.y()) +
+                             c1 * c1));
+    }
+  const Eigen::Index m = static_cast<Eigen::Index>(x.size());
+  s.x_m = Eigen::Map<const Eigen::ArrayXd>(x.data(), m);
+  s.y_m = Eigen::Map<const Eigen::ArrayXd>(y.data(), m);
+  s.r1_m = Eigen::Map<const Eigen::ArrayXd>(r1.data(), m);
   return s;
 }
 
@@ -104,55 +122,68 @@ bool polish_2d(const Hyperbola& h1, const Hyperbola& h2, Vec3& x) {
 std::vector<Vec3> intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyperbola& h2) {
   std::vector<Vec3> out;
   const int n = s1.rays;
-  // h2's residual at every sample of the section, in packets (the bulk of the method's time: every pair of
-  // conics); entries of invalid samples are computed from (0, 0) and never read.
+  // h2's residual at every valid sample of the section, in packets (the bulk of the method's time: every pair
+  // of conics). Conics of one unwrapped segment share F1 (its first antenna position), and then the distance
+  // to it is the section's own (one square root per sample instead of two).
   thread_local Eigen::ArrayXd f;
   const double c2 = s1.height_m - h2.f2.z(), c1 = s1.height_m - h2.f1.z();
-  f = ((s1.x_m - h2.f2.x()).square() + (s1.y_m - h2.f2.y()).square() + c2 * c2).sqrt() -
-      ((s1.x_m - h2.f1.x()).square() + (s1.y_m - h2.f1.y()).square() + c1 * c1).sqrt() - h2.delta_m;
+  if (h2.f1 == s1.f1)
+    f = ((s1.x_m - h2.f2.x()).square() + (s1.y_m - h2.f2.y()).square() + c2 * c2).sqrt() - s1.r1_m - h2.delta_m;
+  else
+    f = ((s1.x_m - h2.f2.x()).square() + (s1.y_m - h2.f2.y()).square() + c2 * c2).sqrt() -
+        ((s1.x_m - h2.f1.x()).square() + (s1.y_m - h2.f1.y()).square() + c1 * c1).sqrt() - h2.delta_m;
+  // Sign changes between neighbouring rays of a slot, then the track's wrap from the last ray to the first;
+  // refined in the order of the first sample (ray, then slot), which fixes the order of the points.
+  thread_local std::vector<int> brackets;
+  brackets.clear();
+  const Eigen::Index m = f.size();
+  for (Eigen::Index k = 0; k + 1 < m; ++k)
+    if (s1.next_is_ray_after[k] && (f[k] > 0.0) != (f[k + 1] > 0.0)) brackets.push_back(s1.sample_of[k]);
+  for (int slot = 0; slot < 2; ++slot) {
+    const int pa = s1.packed[2 * (n - 1) + slot], pb = s1.packed[slot];
+    if (pa >= 0 && pb >= 0 && (f[pa] > 0.0) != (f[pb] > 0.0)) brackets.push_back(2 * (n - 1) + slot);
+  }
+  std::sort(brackets.begin(), brackets.end());
   const double dpsi = kTwoPi / n;
-  for (int i = 0; i < n; ++i) {
-    const int j = (i + 1) % n;
-    for (int slot = 0; slot < 2; ++slot) {
-      const int a = 2 * i + slot, b = 2 * j + slot;
-      if (!s1.valid[a] || !s1.valid[b]) continue;
-      if ((f[a] > 0.0) == (f[b] > 0.0)) continue;
-      // Far from the foci the section is nearly radial from F1, so one ray step may span metres of it:
-      // a bracketing search on ψ is still valid along the continuous root track; a bracket across a track
-      // break (slot swap) converges to the break and is rejected by the polish below. The Illinois variant
-      // of regula falsi (Dowell & Jarratt 1971) keeps the bracket and converges superlinearly: ~6 ray
-      // evaluations to 1e-12 instead of bisection's 40; on a break it degrades to bracket shrinking.
-      double lo = kTwoPi * i / n, hi = lo + dpsi, flo = f[a], fhi = f[b];
-      Vec3 p = s1.points[a];
-      bool ok = true;
-      int kept_side = 0;
-      for (int it = 0; it < 40 && hi - lo > 1e-15; ++it) {
-        double mid = (lo * fhi - hi * flo) / (fhi - flo);
-        if (!(mid > lo && mid < hi)) mid = 0.5 * (lo + hi);
-        Vec3 pm;
-        if (!point_on_ray(h1, s1.height_m, mid, slot, pm)) {
-          ok = false;
-          break;
-        }
-        const double fm = residual(h2, pm);
-        p = pm;
-        if (std::abs(fm) < 1e-13) break;
-        if ((fm > 0.0) == (flo > 0.0)) {
-          lo = mid, flo = fm;
-          if (kept_side == -1) fhi *= 0.5;  // the same end kept twice: halve its value (Illinois)
-          kept_side = -1;
-        } else {
-          hi = mid, fhi = fm;
-          if (kept_side == 1) flo *= 0.5;
-          kept_side = 1;
-        }
+  for (const int a : brackets) {
+    const int i = a / 2, slot = a % 2;
+    const int b = 2 * ((i + 1) % n) + slot;
+    const int pa = s1.packed[a], pb = s1.packed[b];
+    // Far from the foci the section is nearly radial from F1, so one ray step may span metres of it:
+    // a bracketing search on ψ is still valid along the continuous root track; a bracket across a track
+    // break (slot swap) converges to the break and is rejected by the polish below. The Illinois variant
+    // of regula falsi (Dowell & Jarratt 1971) keeps the bracket and converges superlinearly: ~6 ray
+    // evaluations to 1e-12 instead of bisection's 40; on a break it degrades to bracket shrinking.
+    double lo = kTwoPi * i / n, hi = lo + dpsi, flo = f[pa], fhi = f[pb];
+    Vec3 p = s1.points[a];
+    bool ok = true;
+    int kept_side = 0;
+    for (int it = 0; it < 40 && hi - lo > 1e-15; ++it) {
+      double mid = (lo * fhi - hi * flo) / (fhi - flo);
+      if (!(mid > lo && mid < hi)) mid = 0.5 * (lo + hi);
+      Vec3 pm;
+      if (!point_on_ray(h1, s1.height_m, mid, slot, pm)) {
+        ok = false;
+        break;
       }
-      if (!ok) continue;
-      if (!polish_2d(h1, h2, p)) continue;
-      bool duplicate = false;
-      for (const Vec3& q : out) duplicate |= (q - p).norm() < 1e-6;
-      if (!duplicate) out.push_back(p);
+      const double fm = residual(h2, pm);
+      p = pm;
+      if (std::abs(fm) < 1e-13) break;
+      if ((fm > 0.0) == (flo > 0.0)) {
+        lo = mid, flo = fm;
+        if (kept_side == -1) fhi *= 0.5;  // the same end kept twice: halve its value (Illinois)
+        kept_side = -1;
+      } else {
+        hi = mid, fhi = fm;
+        if (kept_side == 1) flo *= 0.5;
+        kept_side = 1;
+      }
     }
+    if (!ok) continue;
+    if (!polish_2d(h1, h2, p)) continue;
+    bool duplicate = false;
+    for (const Vec3& q : out) duplicate |= (q - p).norm() < 1e-6;
+    if (!duplicate) out.push_back(p);
   }
   return out;
 }

@@ -31,12 +31,20 @@ Vec3 gradient(const Hyperbola& h, const Vec3& x);
 bool point_on_ray(const Hyperbola& h, double height_m, double psi_rad, int slot, Vec3& out);
 
 // The section sampled on `rays` equally spaced rays, points beyond max_range_m of F2 marked invalid.
+// The valid samples are also kept packed, slot by slot in ray order (x, y and their distance to the conic's
+// F1), so that another conic's residual is evaluated only where the section exists (often under half of the
+// 2 × rays samples) and its sign changes are found in one pass over consecutive entries.
 struct PlaneSection {
   int rays = 0;
   double height_m = 0.0;
+  Vec3 f1 = Vec3::Zero();    // the sampled conic's F1
   std::vector<Vec3> points;  // rays × 2, row-major [ray][slot]
-  std::vector<char> valid;
-  Eigen::ArrayXd x_m, y_m;   // the points' x and y (0 where invalid), for vectorised residuals
+  std::vector<int> packed;   // per sample: its index in x_m/y_m/r1_m, −1 where invalid
+  std::vector<int> sample_of;       // per packed entry: its sample index (2 · ray + slot)
+  std::vector<char> next_is_ray_after;  // per packed entry: the next entry is the same slot on the next ray
+  Eigen::ArrayXd x_m, y_m;   // the valid points' x and y, packed
+  Eigen::ArrayXd r1_m;       // the valid points' distance to f1, packed
+  bool valid(int sample) const { return packed[sample] >= 0; }
 };
 PlaneSection sample_section(const Hyperbola& h, double height_m, int rays, double max_range_m);
 

@@ -75,7 +75,8 @@ std::vector<io::ReadingRow> rows_from(const pyb::dict& columns, size_t file) {
 pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std::string& method,
                        bool height_known, const std::string& mirror_prior, double frequency_hz, double max_range_m,
                        double stride_m, std::optional<std::string> antenna_file, bool fold_pi,
-                       double max_residual_rad, std::optional<double> systematic_phase_rad_given,
+                       double max_residual_rad, double max_uncertainty_m,
+                       std::optional<double> systematic_phase_rad_given,
                        std::optional<std::string> scenario_file, std::optional<std::string> channel) {
   // The checks and options of `rfidray localize` (cli/cmd_localize.cpp), with the keyword names of this API.
   std::vector<loc::Method> methods;
@@ -97,6 +98,7 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
   positive(max_range_m, "max_range_m");
   positive(stride_m, "stride_m");
   positive(max_residual_rad, "max_residual_rad");
+  positive(max_uncertainty_m, "max_uncertainty_m");
   const double systematic_phase_rad = systematic_phase_rad_given
                                           ? *systematic_phase_rad_given
                                           : loc::default_systematic_phase_rad(antenna_file.has_value());
@@ -148,6 +150,7 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
       o.calibration = calibration;
       o.fold_pi = fold_pi;
       o.max_residual_rad = max_residual_rad;
+      o.max_uncertainty_m = max_uncertainty_m;
       o.systematic_phase_rad = systematic_phase_rad;
       if (scene) o.multipath_phase_rad = scene->allowance_for(tag);
       const auto t = truth.find(tag.tag);
@@ -196,7 +199,7 @@ void bind_localize(pyb::module_& m) {
   m.def("_localize", &run_localize, pyb::arg("files"), pyb::arg("truth"), pyb::arg("method"),
         pyb::arg("height_known"), pyb::arg("mirror_prior"), pyb::arg("frequency_hz"), pyb::arg("max_range_m"),
         pyb::arg("stride_m"), pyb::arg("antenna_file"), pyb::arg("fold_pi"), pyb::arg("max_residual_rad"),
-        pyb::arg("systematic_phase_rad"), pyb::arg("scenario"), pyb::arg("channel"));
+        pyb::arg("max_uncertainty_m"), pyb::arg("systematic_phase_rad"), pyb::arg("scenario"), pyb::arg("channel"));
 }
 
 }  // namespace rfidray::py

@@ -167,7 +167,7 @@ def localize(readings: ReadingsLike, *, method: str = "all",
              height_known: bool = False, mirror_prior: str = "none", frequency_hz: float = 865.7e6,
              max_range_m: float = 10.0, stride_m: float = 0.10,
              antenna_file: Union[None, str, os.PathLike] = None, fold_pi: bool = False,
-             max_residual_rad: float = 0.25,
+             max_residual_rad: float = 0.25, max_uncertainty_m: float = 0.15,
              systematic_phase_rad: Optional[float] = None,
              scenario: Union[None, str, os.PathLike] = None, channel: Optional[str] = None) -> List[Dict[str, Any]]:
     """Locates every tag as ``rfidray localize`` does.
@@ -176,7 +176,8 @@ def localize(readings: ReadingsLike, *, method: str = "all",
     per file, antenna and carrier). ``method``: 'hyperbolic' | 'nlls' | 'sar' | 'all'. ``truth``: a tags CSV,
     a dict name → (x, y, z) or a tags array (``Simulation.tags``); it adds ``error_m`` and is needed by
     ``height_known`` and ``mirror_prior='truth'``. ``systematic_phase_rad``: None takes the command's default
-    (0.1 rad with ``antenna_file``, 0.2 without). ``scenario`` (a scenario file) and ``channel`` (a level): the
+    (0.1 rad with ``antenna_file``, 0.2 without). ``max_residual_rad`` and ``max_uncertainty_m``: the gates of
+    status 'ok' (``--max-residual-rad``, ``--max-uncertainty-m``). ``scenario`` (a scenario file) and ``channel`` (a level): the
     known scene whose extra paths bound the bias (``localize --scenario --channel``; README "Known scene"),
     reported as ``multipath_phase_rad``. Returns one dict per (tag, method) with the keys of
     ``localize --json``: name, method, status ('ok' | 'failed'), reason, detail, x, y, z, error_m,
@@ -191,4 +192,4 @@ def localize(readings: ReadingsLike, *, method: str = "all",
         truth = {str(k): [float(x) for x in v] for k, v in truth.items()}
     return _localize(_reading_files(readings), truth, method, height_known, mirror_prior, frequency_hz,
                      max_range_m, stride_m, None if antenna_file is None else os.fspath(antenna_file), fold_pi,
-                     max_residual_rad, systematic_phase_rad, None if scenario is None else os.fspath(scenario), channel)
+                     max_residual_rad, max_uncertainty_m, systematic_phase_rad, None if scenario is None else os.fspath(scenario), channel)

@@ -149,6 +149,35 @@ TEST(LocalizeCli, EndToEndRecoversTagsAndIgnoresDistColumn) {
   EXPECT_EQ(without_times(j), without_times(nlohmann::json::parse(scrambled)));
 }
 
+TEST(LocalizeCli, MaxUncertaintyIsTheLargestRegionAccepted) {
+  const fs::path d = temp_dir();
+  write_scenario(d / "r.csv", d / "t.csv", false);
+  int status = 0;
+  const std::string base = (d / "r.csv").string() + " --truth " + (d / "t.csv").string() + " --height-known --method nlls --json";
+  const nlohmann::json j = nlohmann::json::parse(run(base, status));
+  ASSERT_EQ(status, 0);
+  double smallest = 1.0;
+  for (const auto& r : j["results"]) {
+    ASSERT_EQ(r["status"], "ok") << r.dump();
+    smallest = std::min(smallest, r["uncertainty_m"].get<double>());
+  }
+  // A limit below every radius fails every result, and the reason says by how much.
+  std::ostringstream limit;
+  limit << smallest / 2.0;
+  const nlohmann::json tight = nlohmann::json::parse(run(base + " --max-uncertainty-m " + limit.str(), status));
+  ASSERT_EQ(status, 0);
+  for (const auto& r : tight["results"]) {
+    EXPECT_EQ(r["status"], "failed") << r.dump();
+    EXPECT_NE(r["detail"].get<std::string>().find("position uncertainty"), std::string::npos) << r.dump();
+    EXPECT_TRUE(r["uncertainty_m"].is_null()) << r.dump();
+  }
+  for (const char* bad : {"0", "-1", "nan", "inf"}) {
+    const std::string out = run(base + " --max-uncertainty-m " + bad, status);
+    EXPECT_EQ(status, 2) << bad;
+    EXPECT_NE(out.find("--max-uncertainty-m"), std::string::npos) << out;
+  }
+}
+
 TEST(LocalizeCli, MalformedCsvExitsNonZeroWithLine) {
   const fs::path p = temp_dir() / "broken.csv";
   write(p, kHeader + "\n0,0,0,0,0,0,0,1,t,1,0.5,-50\n0,0,0,0,0,0,0,1,t,1,zero,-50\n");

@@ -34,7 +34,7 @@ TEST(Hyperbola, SectionOfPlaneAboveFociSatisfies3dLocus) {
   const PlaneSection s = sample_section(hyp, 2.05, 720, 20.0);
   int n = 0;
   for (size_t i = 0; i < s.points.size(); ++i)
-    if (s.valid[i]) {
+    if (s.valid(static_cast<int>(i))) {
       ++n;
       EXPECT_NEAR(s.points[i].z(), 2.05, 0);
       EXPECT_NEAR(residual(hyp, s.points[i]), 0.0, 1e-8);
@@ -60,6 +60,34 @@ TEST(Hyperbola, IntersectionOfTwoConicsThroughATagContainsTagAndMirror) {
   }
   EXPECT_TRUE(found_tag);
   EXPECT_TRUE(found_mirror);
+}
+
+TEST(Hyperbola, ConicsOfDifferentSegmentsMeetAtTheTagToo) {
+  // The section keeps its distances to its own F1 and reuses them for conics with the same F1 (one unwrapped
+  // segment); conics of another segment have another F1 and take both distances afresh. Both must give the
+  // tag, and the shared case the same points as computing both distances.
+  const Vec3 tag(2.3, 0.7, 2.05);
+  const Vec3 p0(-1, -2, 1.68), p1(-1, 0, 1.68), q0(-0.8, -1.5, 1.3), q1(-0.7, 1.8, 1.3);
+  auto conic = [&](const Vec3& f1, const Vec3& f2) {
+    return Hyperbola{f1, f2, (tag - f2).norm() - (tag - f1).norm(), 0.0};
+  };
+  const Hyperbola a = conic(p0, p1), b = conic(q0, q1), a2 = conic(p0, q1);
+  const PlaneSection s = sample_section(a, tag.z(), 720, 20.0);
+  auto has_tag = [&](const std::vector<Vec3>& pts) {
+    bool found = false;
+    for (const Vec3& p : pts) found |= (p - tag).norm() < 1e-7;
+    return found;
+  };
+  EXPECT_TRUE(has_tag(intersect_in_plane(a, s, b)));  // different F1
+  const std::vector<Vec3> shared = intersect_in_plane(a, s, a2);  // same F1
+  EXPECT_TRUE(has_tag(shared));
+  // The same conic with a copy of F1 that differs in the last bit takes the unshared branch.
+  Hyperbola a2_moved = a2;
+  a2_moved.f1.x() = std::nextafter(a2.f1.x(), 0.0);
+  a2_moved.delta_m = (tag - a2_moved.f2).norm() - (tag - a2_moved.f1).norm();
+  const std::vector<Vec3> unshared = intersect_in_plane(a, s, a2_moved);
+  ASSERT_EQ(shared.size(), unshared.size());
+  for (size_t i = 0; i < shared.size(); ++i) EXPECT_LT((shared[i] - unshared[i]).norm(), 1e-9);
 }
 
 TEST(Hyperbola, ThreeHyperboloidsMeetAtTheTag) {

@@ -97,6 +97,21 @@ def test_localize_takes_a_simulation(paper_run):
     assert ok and all(r["uncertainty_m"] > 0 and r["error_m"] is not None for r in ok)
 
 
+def test_localize_gates_match_the_command(paper_run):
+    out, _ = paper_run
+    csv_file = out / "mobile.csv"
+    args = ("--method", "nlls", "--height-known", "--mirror-prior", "truth", "--json", "--max-uncertainty-m", "0.1",
+            "--max-residual-rad", "0.3")
+    expected = json.loads(run_cli("localize", csv_file, "--truth", out / "tags.csv", *args).stdout)["results"]
+    got = rfidray.localize(csv_file, method="nlls", truth=out / "tags.csv", height_known=True, mirror_prior="truth",
+                           max_uncertainty_m=0.1, max_residual_rad=0.3)
+    assert {g["status"] for g in got} == {"ok", "failed"}  # the gate decides some, not all
+    assert [g["status"] for g in got] == [e["status"] for e in expected]
+    assert [g["detail"] for g in got] == [e.get("detail") for e in expected]
+    with pytest.raises(rfidray.InputError, match="max_uncertainty_m"):
+        rfidray.localize(csv_file, method="nlls", max_uncertainty_m=float("nan"))
+
+
 def test_localize_with_the_known_scene_matches_the_command(paper_run):
     out, _ = paper_run
     csv_file = out / "mobile.csv"
