@@ -70,6 +70,13 @@ int run_calibrate(const CalibrateState& s) {
                      {"residual_rms_rad", c.residual_rms_rad},
                      {"reads_used", c.reads_used},
                      {"tags_used", c.tags_used}};
+    nlohmann::json cov = nlohmann::json::array();
+    for (int i = 0; i < loc::kGeometryTerms; ++i) {
+      std::vector<double> row(loc::kGeometryTerms);
+      for (int k = 0; k < loc::kGeometryTerms; ++k) row[k] = c.geometry_covariance(i, k);
+      cov.push_back(row);
+    }
+    j["geometry_covariance"] = cov;  // rows and columns: dx, dy, dz, az, el, az2, az_el, el2
     std::cout << j.dump(2) << "\n";
   } else {
     std::cout << "antenna " << c.antenna << ": " << c.tags_used << " tag runs, " << c.reads_used

@@ -1,5 +1,6 @@
 #include "io/antenna_file.h"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 
 #include "io/checked_yaml.h"
@@ -59,6 +60,27 @@ loc::AntennaCalibration parse_node(const YAML::Node& root, const std::string& so
   };
   pattern("pattern_rad", c.pattern_rad, true);
   pattern("pattern_sd_rad", c.pattern_sd_rad, false);
+  if (auto n = m.get("geometry_covariance")) {
+    // kGeometryTerms rows of kGeometryTerms numbers, symmetric, positive semi-definite.
+    const char* key = "geometry_covariance";
+    if (!n->IsSequence() || n->size() != loc::kGeometryTerms)
+      throw src.error(*n, key, "must be " + std::to_string(loc::kGeometryTerms) + " rows of " +
+                                   std::to_string(loc::kGeometryTerms) + " numbers (dx, dy, dz, az, el, az2, az_el, el2)");
+    for (int i = 0; i < loc::kGeometryTerms; ++i) {
+      const std::string row = std::string(key) + "[" + std::to_string(i) + "]";
+      const std::vector<double> v = src.numbers((*n)[i], row);
+      if (v.size() != loc::kGeometryTerms)
+        throw src.error((*n)[i], row, "needs " + std::to_string(loc::kGeometryTerms) + " numbers");
+      for (int j = 0; j < loc::kGeometryTerms; ++j) c.geometry_covariance(i, j) = v[j];
+    }
+    const loc::GeometryCovariance& g = c.geometry_covariance;
+    const double scale = g.diagonal().cwiseAbs().maxCoeff();
+    if (!((g - g.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * scale))
+      throw src.error(*n, key, "must be symmetric");
+    const Eigen::SelfAdjointEigenSolver<loc::GeometryCovariance> eig(g);
+    if (eig.eigenvalues().minCoeff() < -1e-8 * scale)  // the file's 10 digits round it
+      throw src.error(*n, key, "must be positive semi-definite (smallest eigenvalue " + num(eig.eigenvalues().minCoeff()) + ")");
+  }
   c.residual_rms_rad = m.non_negative({"residual_rms_rad"}, 0.0);
   auto count = [&](const char* key) {
     auto n = m.get(key);
@@ -104,6 +126,14 @@ void write_antenna_file(std::ostream& out, const loc::AntennaCalibration& c) {
   out << "]\n";
   out << "pattern_rad: " << arr(c.pattern_rad) << "\n";
   out << "pattern_sd_rad: " << arr(c.pattern_sd_rad) << "\n";
+  if (!c.geometry_covariance.isZero(0.0)) {
+    out << "geometry_covariance:   # rows and columns: dx, dy, dz (m), az, el, az2, az_el, el2 (rad)\n";
+    for (int i = 0; i < loc::kGeometryTerms; ++i) {
+      std::vector<double> row(loc::kGeometryTerms);
+      for (int j = 0; j < loc::kGeometryTerms; ++j) row[j] = c.geometry_covariance(i, j);
+      out << "  - " << list(row) << "\n";
+    }
+  }
   out << "residual_rms_rad: " << num(c.residual_rms_rad) << "\n";
   out << "reads_used: " << c.reads_used << "\n";
   out << "tags_used: " << c.tags_used << "\n";

@@ -1,7 +1,7 @@
 #pragma once
 // The antenna file: one AntennaCalibration (localization/antenna_calibration.h) as YAML, written by
 // `rfidray calibrate` and read by `rfidray localize --antenna-file`. Layout (all keys required except the
-// *_sd_* ones, which default to 0; unknown keys are rejected; numbers must be finite):
+// *_sd_* ones, which default to 0, and geometry_covariance; unknown keys are rejected; numbers must be finite):
 //   antenna: a0
 //   phase_centre_offset_m: [x, y, z]          # antenna frame, boresight = +X
 //   phase_centre_offset_sd_m: [x, y, z]
@@ -11,6 +11,8 @@
 //   pattern_terms: [az, el, az2, az_el, el2]  # must be exactly these (the basis of the coefficients)
 //   pattern_rad: [b0, b1, b2, b3, b4]
 //   pattern_sd_rad: [...]
+//   geometry_covariance: [[8 numbers] × 8]    # optional: covariance of dx, dy, dz (m), az, el, az2, az_el,
+//                                             # el2 (rad); symmetric, positive semi-definite
 //   residual_rms_rad: r
 //   reads_used: n
 //   tags_used: n

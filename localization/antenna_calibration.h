@@ -8,7 +8,11 @@
 // where (az, el) is the direction of T seen from P' in the antenna frame (az = atan2(y, x), el = atan2(z,
 // hypot(x, y)), radians), pattern = Σ_t coefficient_t · basis_t(az, el) over kPatternTerms (no constant:
 // a constant is one more per-tag offset ν), c_f the reader chain's offset of carrier f relative to the first
-// carrier (c_{f0} = 0). Standard uncertainties (sd) are 1-σ from the calibration fit.
+// carrier (c_{f0} = 0). Standard uncertainties (sd) are 1-σ from the calibration fit; `geometry_covariance`
+// is the fit's covariance of the 3 + 5 parameters that bend a tag's phase along the aperture (the phase-centre
+// offset and the pattern: strongly correlated, both curve the wavefront), which localization propagates into
+// each tag's uncertainty (joint_fit.h).
+#include <Eigen/Core>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -31,6 +35,10 @@ inline std::array<double, kPatternTerms> pattern_basis(double az_rad, double el_
   return {az, el_rad, az * az, az * el_rad, el_rad * el_rad};
 }
 inline const char* const kPatternTermNames[kPatternTerms] = {"az", "el", "az2", "az_el", "el2"};
+// The parameters of geometry_covariance: phase-centre offset x, y, z (m, antenna frame), then the pattern terms.
+inline constexpr int kGeometryTerms = 3 + kPatternTerms;
+inline const char* const kGeometryTermNames[kGeometryTerms] = {"dx", "dy", "dz", "az", "el", "az2", "az_el", "el2"};
+using GeometryCovariance = Eigen::Matrix<double, kGeometryTerms, kGeometryTerms>;
 
 struct AntennaCalibration {
   std::string antenna;                        // antenna name as in the readings' `antenna` column
@@ -41,6 +49,9 @@ struct AntennaCalibration {
   std::vector<double> carrier_offsets_sd_rad;
   std::array<double, kPatternTerms> pattern_rad{};     // coefficients of pattern_basis
   std::array<double, kPatternTerms> pattern_sd_rad{};
+  // Covariance of (offset, pattern) in m², m·rad, rad²; all zero when unknown (files written before it:
+  // geometry_covariance_or_sd() then takes the sd's as uncorrelated).
+  GeometryCovariance geometry_covariance = GeometryCovariance::Zero();
   double residual_rms_rad = 0.0;  // RMS wrapped residual of the fit (per stop mean)
   int reads_used = 0;
   int tags_used = 0;              // tag × run pairs (each with its own nuisance offset)
@@ -55,6 +66,13 @@ struct AntennaCalibration {
   // World position of the phase centre for an antenna reference pose.
   Vec3 phase_centre(const Vec3& antenna_m, const Quat& orientation) const {
     return antenna_m + orientation * phase_centre_offset_m;
+  }
+  GeometryCovariance geometry_covariance_or_sd() const {
+    if (!geometry_covariance.isZero(0.0)) return geometry_covariance;
+    GeometryCovariance c = GeometryCovariance::Zero();
+    for (int a = 0; a < 3; ++a) c(a, a) = phase_centre_offset_sd_m[a] * phase_centre_offset_sd_m[a];
+    for (int t = 0; t < kPatternTerms; ++t) c(3 + t, 3 + t) = pattern_sd_rad[t] * pattern_sd_rad[t];
+    return c;
   }
   double pattern_phase_rad(double az_rad, double el_rad) const {
     const auto b = pattern_basis(az_rad, el_rad);

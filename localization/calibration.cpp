@@ -233,6 +233,18 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
     out.pattern_rad[t] = theta[layout.pattern(t)];
     out.pattern_sd_rad[t] = sd[layout.pattern(t)];
   }
+  // The geometry block of the covariance (offset, pattern), fixed parameters at 0.
+  auto geometry_index = [&](int param) {
+    if (param < 3) return param;
+    for (int t = 0; t < kPatternTerms; ++t)
+      if (param == layout.pattern(t)) return 3 + t;
+    return -1;
+  };
+  for (int a = 0; a < nf; ++a)
+    for (int b = 0; b < nf; ++b) {
+      const int ga = geometry_index(free_params[a]), gb = geometry_index(free_params[b]);
+      if (ga >= 0 && gb >= 0) out.geometry_covariance(ga, gb) = 0.5 * (cov(a, b) + cov(b, a));
+    }
   return out;
 }
 

@@ -210,6 +210,17 @@ JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOpt
     const double t2 = static_cast<double>(d) * (blocks - 1) / (blocks - d) * f_95(d, blocks - d);
     if (cov_jk.allFinite()) radius2 = std::max(radius2, t2 * lambda_max(cov_jk));
   }
+  // The calibration's own uncertainty (its covariance Σ_β of phase centre and pattern) moves the estimate by
+  // δu = −(JᵀJ)⁻¹ Jᵀ K δβ (K = ∂r/∂β): an independent error, so its covariance G Σ_β Gᵀ adds to the region's.
+  if (options.calibration) {
+    const Eigen::MatrixXd K = model.calibration_jacobian(fit.position, &fit.mask);
+    const Eigen::MatrixXd G = lu.solve(J.transpose() * K);
+    const Eigen::MatrixXd cov_cal = G * options.calibration->geometry_covariance_or_sd() * G.transpose();
+    if (cov_cal.allFinite()) {
+      fit.calibration_radius_m = std::sqrt(chi2_95(d) * std::max(0.0, lambda_max(cov_cal)));
+      radius2 += fit.calibration_radius_m * fit.calibration_radius_m;
+    }
+  }
   fit.radius_m = std::sqrt(radius2);
   // Model-error allowance: an unmodelled smooth phase error ε of RMS σ_sys over the N inlier stops
   // (multipath off nearby objects, pattern residue) that happens to lie in the span of J shifts the estimate

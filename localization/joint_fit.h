@@ -13,7 +13,9 @@
 //     summed to the first non-positive lag (n / n_eff);
 //   Cov_JK = (B−1)/B Σ_b (p_b − p̄)(p_b − p̄)ᵀ, p_b re-fitted without the b-th of B contiguous aperture
 //     blocks (delete-one-block jackknife).
-//   radius = max( sqrt(χ²_{d,0.95} λ_max(Cov_LS)), sqrt(T²_{d,B−1,0.95} λ_max(Cov_JK)) )
+//   Cov_cal = G Σ_β Gᵀ, G = (JᵀWJ)⁻¹ JᵀW K, K = ∂φ/∂β: the antenna calibration's covariance Σ_β of its
+//     phase centre and pattern (antenna_calibration.h) carried to the position (with a calibration only);
+//   radius = sqrt( max( χ²_{d,0.95} λ_max(Cov_LS), T²_{d,B−1,0.95} λ_max(Cov_JK) ) + χ²_{d,0.95} λ_max(Cov_cal) )
 //            + σ_sys sqrt(N λ_max((J_uᵀJ_u)⁻¹))   (bias bound of an unmodelled smooth phase error of RMS
 //              σ_sys = the largest of options.systematic_phase_rad, the fit's smooth misfit and the known
 //              scene's multipath allowance at the estimate (multipath_allowance.h): an error the fit absorbs
@@ -54,6 +56,7 @@ struct JointFit {
   double residual_rad = 0.0;       // robust σ of the unweighted wrapped residuals (inliers)
   double smooth_residual_rad = 0.0;  // RMS of their smooth part: √(lag-1 autocovariance in time order, ≥ 0)
   double multipath_phase_rad = std::numeric_limits<double>::quiet_NaN();  // known-scene allowance at position
+  double calibration_radius_m = 0.0;  // sqrt(χ²_{d,0.95} λ_max(Cov_cal)); 0 without a calibration
   double radius_m = 0.0;
   double predicted_std_m = 0.0;    // sqrt(trace Cov_LS)
 };

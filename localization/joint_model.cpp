@@ -1,6 +1,7 @@
 #include "localization/joint_model.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -96,8 +97,28 @@ struct JointModel::Scratch {
   Eigen::ArrayXf reduced, cos_a, sin_a;
   std::vector<std::complex<double>> z;
   std::vector<double> theta;
-  std::vector<Vec3> dtheta;
+  std::vector<Vec3> dtheta, draw_dx;
 };
+
+namespace {
+// The pattern phase's gradient with respect to the direction vector d (antenna frame, from the phase centre
+// to the tag): ∂az/∂d = (−d_y, d_x, 0)/ρ², ∂el/∂d = (−d_z d_x/ρ, −d_z d_y/ρ, ρ)/|d|² (ρ = hypot(d_x, d_y)),
+// and the basis derivatives ∂/∂az = (1, 0, 2az, el, 0) (0 where az is clamped), ∂/∂el = (0, 1, 0, az, 2el).
+Vec3 pattern_gradient_local(const AntennaCalibration& c, const Vec3& d) {
+  const double rho2 = d.x() * d.x() + d.y() * d.y(), rho = std::sqrt(rho2), r2 = d.squaredNorm();
+  const double az = std::atan2(d.y(), d.x()), el = std::atan2(d.z(), rho);
+  const bool clamped = std::abs(az) > kHalfPiRad;
+  const double azc = std::clamp(az, -kHalfPiRad, kHalfPiRad);
+  const std::array<double, kPatternTerms> d_az{clamped ? 0.0 : 1.0, 0.0, clamped ? 0.0 : 2.0 * azc,
+                                               clamped ? 0.0 : el, 0.0};
+  const std::array<double, kPatternTerms> d_el{0.0, 1.0, 0.0, azc, 2.0 * el};
+  double dp_daz = 0.0, dp_del = 0.0;
+  for (int t = 0; t < kPatternTerms; ++t) dp_daz += c.pattern_rad[t] * d_az[t], dp_del += c.pattern_rad[t] * d_el[t];
+  const Vec3 daz_dd = rho2 > 0.0 ? Vec3(-d.y() / rho2, d.x() / rho2, 0.0) : Vec3::Zero();
+  const Vec3 del_dd = rho > 0.0 ? Vec3(Vec3(-d.z() * d.x() / rho, -d.z() * d.y() / rho, rho) / r2) : Vec3::Zero();
+  return dp_daz * daz_dd + dp_del * del_dd;
+}
+}  // namespace
 
 double JointModel::phasors(const Vec3& x, const std::vector<double>* mask, Scratch& s) const {
   const int n = point_count();
@@ -106,7 +127,7 @@ double JointModel::phasors(const Vec3& x, const std::vector<double>* mask, Scrat
   s.dz = x.z() - antenna_z_;
   s.range = (s.dx.square() + s.dy.square() + s.dz.square()).sqrt();
   s.raw = phase_rad_ - k_rad_m_ * s.range;
-  if (any_pattern_)  // the pattern's gradient is left out of J: it is smooth and small next to k R
+  if (any_pattern_)
     for (int i = 0; i < n; ++i) {
       const JointPoint& p = points_[i];
       if (!p.calibration) continue;
@@ -162,8 +183,9 @@ void JointModel::evaluate(const Vec3& x, Eigen::VectorXd& r, Eigen::MatrixXd* J,
   phasors(x, mask, s);
   r.setZero(n);
   if (J) J->setZero(n, m);
-  // θ_g = arg Z_g. Its exact gradient: dθ = Im(dZ / Z) with dZ = Σ w_j j e^{jρ_j} dρ_j, dρ_j = −k_j u_j dx, so
-  // ∂θ_g/∂x = −Σ_j w_j Re(e^{jρ_j} Z̄_g) k_j u_j / |Z_g|² (the weighted mean of −k u when the phasors agree).
+  // θ_g = arg Z_g. Its exact gradient: dθ = Im(dZ / Z) with dZ = Σ w_j j e^{jρ_j} dρ_j, dρ_j = ∂raw_j/∂x dx
+  // (−k_j u_j, and the pattern's gradient with a calibration), so ∂θ_g/∂x = Σ_j w_j Re(e^{jρ_j} Z̄_g)
+  // ∂raw_j/∂x / |Z_g|² (the weighted mean of ∂raw/∂x when the phasors agree).
   // The exact gradient gives Gauss–Newton its quadratic convergence near the optimum.
   s.theta.resize(groups_);
   for (int g = 0; g < groups_; ++g) s.theta[g] = std::arg(s.z[g]);
@@ -171,14 +193,25 @@ void JointModel::evaluate(const Vec3& x, Eigen::VectorXd& r, Eigen::MatrixXd* J,
     const double d = s.range[i];
     return d > 0.0 ? Vec3(s.dx[i] / d, s.dy[i] / d, s.dz[i] / d) : Vec3::Zero();
   };
+  // ∂raw_i/∂x = −k u_i − fold ∂pattern_i/∂x (the pattern's gradient in world axes: q ∇_d pattern).
+  auto draw_dx = [&](int i) {
+    Vec3 g = -k_rad_m_[i] * unit(i);
+    const JointPoint& p = points_[i];
+    if (p.calibration && s.range[i] > 0.0)
+      g -= fold_ * (p.orientation *
+                    pattern_gradient_local(*p.calibration, p.orientation.conjugate() * Vec3(s.dx[i], s.dy[i], s.dz[i])));
+    return g;
+  };
   if (J) {
+    s.draw_dx.resize(n);
     s.dtheta.assign(groups_, Vec3::Zero());
     for (int i = 0; i < n; ++i) {
       const double w = s.w[i];
       if (w <= 0.0) continue;
+      s.draw_dx[i] = any_pattern_ ? draw_dx(i) : Vec3(-k_rad_m_[i] * unit(i));
       const std::complex<double>& zg = s.z[group_of_[i]];
       const double re = s.cos_a[i] * zg.real() + s.sin_a[i] * zg.imag();  // Re(e^{jρ} Z̄_g)
-      s.dtheta[group_of_[i]] -= (w * re * k_rad_m_[i]) * unit(i);
+      s.dtheta[group_of_[i]] += (w * re) * s.draw_dx[i];
     }
     for (int g = 0; g < groups_; ++g) {
       const double z2 = std::norm(s.z[g]);
@@ -192,11 +225,43 @@ void JointModel::evaluate(const Vec3& x, Eigen::VectorXd& r, Eigen::MatrixXd* J,
     const double sw = std::sqrt(w);
     r[i] = sw * wrap_near_zero(s.raw[i] - s.theta[g]);
     if (J) {
-      // ∂e/∂x = −k u − ∂θ_g/∂x.
-      const Vec3 gvec = -k_rad_m_[i] * unit(i) - s.dtheta[g];
+      // ∂e/∂x = ∂raw/∂x − ∂θ_g/∂x.
+      const Vec3 gvec = s.draw_dx[i] - s.dtheta[g];
       for (int c = 0; c < m; ++c) (*J)(i, c) = sw * gvec[c];
     }
   }
+}
+
+Eigen::MatrixXd JointModel::calibration_jacobian(const Vec3& x, const std::vector<double>* mask) const {
+  const int n = point_count();
+  thread_local Scratch s;
+  phasors(x, mask, s);
+  using Row = Eigen::Matrix<double, 1, kGeometryTerms>;
+  // ∂raw_i/∂β, raw = φ − k R − fold·pattern(az, el). In the antenna frame the direction to x is
+  // d = q⁻¹(x − P) − δ, so ∂d/∂δ = −I: ∂R/∂δ = −d̂ᵀ and ∂pattern/∂δ = −∂pattern/∂d; ∂pattern/∂β_t =
+  // basis_t(az, el).
+  std::vector<Row> draw(n, Row::Zero());
+  std::vector<Row> dtheta(groups_, Row::Zero());
+  for (int i = 0; i < n; ++i) {
+    const JointPoint& p = points_[i];
+    if (!p.calibration || s.w[i] <= 0.0 || !(s.range[i] > 0.0)) continue;
+    const Vec3 d = p.orientation.conjugate() * Vec3(s.dx[i], s.dy[i], s.dz[i]);
+    const auto basis = pattern_basis(std::atan2(d.y(), d.x()), std::atan2(d.z(), std::hypot(d.x(), d.y())));
+    const Vec3 d_offset = k_rad_m_[i] * d / s.range[i] + fold_ * pattern_gradient_local(*p.calibration, d);
+    for (int a = 0; a < 3; ++a) draw[i][a] = d_offset[a];
+    for (int t = 0; t < kPatternTerms; ++t) draw[i][3 + t] = -fold_ * basis[t];
+    // θ_g = arg Z_g moves with the raw phases as in evaluate(): ∂θ_g = Σ_j w_j Re(e^{jρ_j} Z̄_g) ∂raw_j / |Z_g|².
+    const std::complex<double>& zg = s.z[group_of_[i]];
+    dtheta[group_of_[i]] += (s.w[i] * (s.cos_a[i] * zg.real() + s.sin_a[i] * zg.imag())) * draw[i];
+  }
+  for (int g = 0; g < groups_; ++g) {
+    const double z2 = std::norm(s.z[g]);
+    dtheta[g] = z2 > 0.0 ? Row(dtheta[g] / z2) : Row::Zero();
+  }
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, kGeometryTerms);
+  for (int i = 0; i < n; ++i)
+    if (points_[i].calibration && s.w[i] > 0.0) K.row(i) = std::sqrt(s.w[i]) * (draw[i] - dtheta[group_of_[i]]);
+  return K;
 }
 
 double JointModel::cost(const Vec3& x, const std::vector<double>* mask) const {

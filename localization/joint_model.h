@@ -67,6 +67,10 @@ class JointModel {
   // Weighted wrapped residuals r_i = √w_i e_i (0 for masked-out points) and optionally J (n × dof).
   void evaluate(const Vec3& x, Eigen::VectorXd& r, Eigen::MatrixXd* J, const std::vector<double>* mask = nullptr) const;
   double cost(const Vec3& x, const std::vector<double>* mask = nullptr) const;  // Σ w e²
+  // ∂r/∂β (n × kGeometryTerms) of the weighted residuals of evaluate() with respect to the calibration's
+  // phase-centre offset and pattern coefficients β (antenna_calibration.h), the group offsets re-optimised
+  // as in J; rows of points without a calibration are 0. Used to propagate the calibration's covariance.
+  Eigen::MatrixXd calibration_jacobian(const Vec3& x, const std::vector<double>* mask = nullptr) const;
   // Unweighted wrapped residuals e_i (rad).
   std::vector<double> wrapped_residuals(const Vec3& x) const;
 

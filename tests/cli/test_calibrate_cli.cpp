@@ -84,6 +84,14 @@ TEST(CalibrateCli, WritesAnAntennaFileThatLocalizeUses) {
   EXPECT_LT(c.phase_centre_offset_sd_m.x(), 0.03);
   EXPECT_NEAR(c.carrier_offsets_rad[1], 1.1, 3.0 * c.carrier_offsets_sd_rad[1]);
   EXPECT_LT(c.carrier_offsets_sd_rad[1], 0.1);
+  // The file and the JSON carry the covariance of the offset and the pattern; its diagonal is the sd's, and
+  // the planar fit's offset x and az² curvature are correlated (both bend the wavefront).
+  ASSERT_EQ(j["geometry_covariance"].size(), 8u);
+  EXPECT_NEAR(c.geometry_covariance(0, 0), std::pow(c.phase_centre_offset_sd_m.x(), 2), 1e-9 * c.geometry_covariance(0, 0));
+  EXPECT_NEAR(c.geometry_covariance(5, 5), std::pow(c.pattern_sd_rad[2], 2), 1e-9 * c.geometry_covariance(5, 5));
+  EXPECT_NEAR(j["geometry_covariance"][0][5].get<double>(), c.geometry_covariance(0, 5), 1e-9 * std::abs(c.geometry_covariance(0, 5)));
+  EXPECT_GT(std::abs(c.geometry_covariance(0, 5)) / std::sqrt(c.geometry_covariance(0, 0) * c.geometry_covariance(5, 5)), 0.3);
+  EXPECT_EQ(c.geometry_covariance(2, 2), 0.0);  // z is not fitted with --height-known
 
   // Localize another run with and without the antenna file.
   write_run(d / "run.csv", d / "run_truth.csv", 99, 0.65);

@@ -47,6 +47,64 @@ TEST(AntennaFile, RoundTrip) {
   EXPECT_EQ(again.str(), out.str());
 }
 
+TEST(AntennaFile, GeometryCovarianceRoundTripsAndIsChecked) {
+  loc::AntennaCalibration e = example();
+  // A covariance with correlations (offset x against the az² curvature, as a calibration finds).
+  Eigen::Matrix<double, loc::kGeometryTerms, loc::kGeometryTerms> a;
+  for (int i = 0; i < loc::kGeometryTerms; ++i)
+    for (int j = 0; j < loc::kGeometryTerms; ++j) a(i, j) = 0.01 * std::sin(1.0 + i * 3.0 + j * 7.0);
+  e.geometry_covariance = a * a.transpose();
+  std::ostringstream out;
+  write_antenna_file(out, e);
+  const std::string text = out.str();
+  const loc::AntennaCalibration c = parse_antenna_yaml(text, "a.yaml");
+  EXPECT_TRUE(c.geometry_covariance.isApprox(e.geometry_covariance, 1e-9));
+  EXPECT_TRUE(c.geometry_covariance_or_sd().isApprox(e.geometry_covariance, 1e-9));
+  // Without it, the sd's are taken as uncorrelated.
+  const loc::AntennaCalibration plain = example();
+  EXPECT_DOUBLE_EQ(plain.geometry_covariance_or_sd()(0, 0), 0.004 * 0.004);
+  EXPECT_DOUBLE_EQ(plain.geometry_covariance_or_sd()(5, 5), 0.03 * 0.03);
+  EXPECT_EQ(plain.geometry_covariance_or_sd()(0, 5), 0.0);
+  std::ostringstream plain_out;
+  write_antenna_file(plain_out, plain);
+  EXPECT_EQ(plain_out.str().find("geometry_covariance"), std::string::npos);
+  // Malformed: the error names the file, the line and the field.
+  const size_t at = text.find("geometry_covariance:");
+  ASSERT_NE(at, std::string::npos);
+  const size_t row = text.find("  - [", at);
+  const size_t row_end = text.find('\n', row);
+  auto with_row = [&](const std::string& replacement) {
+    return text.substr(0, row) + replacement + text.substr(row_end);
+  };
+  auto error = [](const std::string& t) {
+    try {
+      parse_antenna_yaml(t, "ant.yaml");
+    } catch (const InputError& err) {
+      return std::string(err.what());
+    }
+    return std::string("(no error)");
+  };
+  const std::string short_row = error(with_row("  - [1, 2, 3]"));
+  EXPECT_NE(short_row.find("ant.yaml:"), std::string::npos) << short_row;
+  EXPECT_NE(short_row.find("geometry_covariance[0]"), std::string::npos) << short_row;
+  EXPECT_NE(short_row.find("needs 8 numbers"), std::string::npos) << short_row;
+  // Row 0 changed: no longer symmetric.
+  std::string asym = "  - [";
+  for (int j = 0; j < loc::kGeometryTerms; ++j) asym += (j ? ", " : "") + std::to_string(j == 3 ? 0.5 : e.geometry_covariance(0, j));
+  EXPECT_NE(error(with_row(asym + "]")).find("must be symmetric"), std::string::npos) << error(with_row(asym + "]"));
+  // Symmetric but indefinite: a negative variance.
+  loc::AntennaCalibration neg = e;
+  neg.geometry_covariance(2, 2) = -1.0;
+  std::ostringstream neg_out;
+  write_antenna_file(neg_out, neg);
+  const std::string indefinite = error(neg_out.str());
+  EXPECT_NE(indefinite.find("positive semi-definite"), std::string::npos) << indefinite;
+  EXPECT_NE(error(with_row("  - [1, 2, nan, 4, 5, 6, 7, 8]")).find("geometry_covariance[0][2]"), std::string::npos);
+  std::string seven_rows = text;
+  seven_rows.erase(row, row_end - row + 1);
+  EXPECT_NE(error(seven_rows).find("must be 8 rows"), std::string::npos) << error(seven_rows);
+}
+
 std::string error_of(const std::string& text) {
   try {
     parse_antenna_yaml(text, "ant.yaml");

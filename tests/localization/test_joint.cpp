@@ -2,6 +2,8 @@
 // (hardware_reads.h), and the calibration from reference tags.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
 #include <complex>
 #include <iostream>
@@ -13,6 +15,7 @@
 #include "localization/multipath_allowance.h"
 #include "localization/antenna_calibration.h"
 #include "localization/calibration.h"
+#include "localization/joint_fit.h"
 #include "localization/joint_model.h"
 #include "localization/methods.h"
 #include "localization/synthetic.h"
@@ -115,7 +118,7 @@ TEST(LocalizeJointModel, EvaluationMatchesTheDefinitionInDoublePrecision) {
         const double expected = w > 0.0 ? std::sqrt(w) * wrap_to_pi(raw[i] - std::arg(z[p.offset_group])) : 0.0;
         ASSERT_NEAR(r[i], expected, 1e-6 * std::sqrt(p.weight)) << "point " << i;
       }
-      if (calibrated) continue;  // J leaves the pattern's gradient out (joint_model.h)
+      // J is exact with a calibration too (the pattern's gradient included).
       const double h = 1e-4;
       for (int c = 0; c < 2; ++c) {
         Vec3 step = Vec3::Zero();
@@ -350,6 +353,105 @@ TEST(MultipathAllowance, RmsOfTheRoundTripPhaseAboutItsMean) {
   EXPECT_EQ(multipath_phase_rms_rad({}), 0.0);
   const std::vector<std::complex<double>> dark{1.0, 0.0, 1.0};
   EXPECT_TRUE(std::isinf(multipath_phase_rms_rad(dark)));
+}
+
+// ∂r/∂β of the calibration's phase centre and pattern: central differences of the residuals of models built
+// with the perturbed calibration (3-D, a rotated antenna, every pattern term non-zero, tag off the plane so
+// that the elevation terms matter). The analytic derivative is exact, so only the differencing error remains.
+TEST(LocalizeJointModel, CalibrationJacobianIsTheDerivativeOfTheResiduals) {
+  Hardware hw;
+  hw.truth = testing::example_hardware();
+  hw.truth.pattern_rad = {0.2, -0.3, 0.6, 0.25, -0.4};
+  hw.reads_per_stop = 2;
+  const Vec3 tag(0.5, 0.7, 0.45);
+  const TagReads reads = testing::hardware_reads("t", tag, kStage, hw, 3);
+  AntennaCalibration cal = hw.truth;
+  cal.phase_centre_offset_m = Vec3(0.03, 0.01, 0.02);
+  JointModelOptions mo;
+  mo.calibration = &cal;
+  const JointModel model(reads, mo, false, 0.0);
+  const Vec3 at = tag + Vec3(0.004, -0.003, 0.002);
+  const Eigen::MatrixXd K = model.calibration_jacobian(at);
+  ASSERT_EQ(K.rows(), model.point_count());
+  ASSERT_EQ(K.cols(), kGeometryTerms);
+  for (int b = 0; b < kGeometryTerms; ++b) {
+    const double h = b < 3 ? 1e-4 : 1e-3;  // the phasors are summed from single-precision cos/sin (1e-7 rad)
+    auto residuals = [&](double step) {
+      AntennaCalibration c = cal;
+      if (b < 3) c.phase_centre_offset_m[b] += step;
+      else c.pattern_rad[b - 3] += step;
+      JointModelOptions o = mo;
+      o.calibration = &c;
+      Eigen::VectorXd r;
+      JointModel(reads, o, false, 0.0).evaluate(at, r, nullptr);
+      return r;
+    };
+    const Eigen::VectorXd plus = residuals(h), minus = residuals(-h);
+    double scale = 0.0, worst = 0.0;
+    for (int i = 0; i < model.point_count(); ++i) {
+      const double sw = std::sqrt(model.points()[i].weight);
+      const double fd = sw * wrap_to_pi((plus[i] - minus[i]) / sw) / (2.0 * h);
+      scale = std::max(scale, std::abs(fd));
+      worst = std::max(worst, std::abs(fd - K(i, b)));
+    }
+    EXPECT_GT(scale, 0.0) << kGeometryTermNames[b];
+    EXPECT_LT(worst, 1e-4 * scale) << kGeometryTermNames[b];
+  }
+}
+
+// The calibration's covariance reaches the position: the radius it adds is that of G Σ Gᵀ, G the position's
+// response to the calibration. G is measured here by least-squares re-fits (joint_lm: the fit whose covariance
+// this is) of noise-free reads with the calibration moved by ±ε along each parameter; the fit's own
+// linearisation must give the same radius.
+TEST(LocalizeUncertainty, CalibrationCovarianceIsCarriedToThePosition) {
+  Hardware hw;
+  hw.truth = testing::example_hardware();
+  hw.noise_rad = 0.0;
+  hw.reads_per_stop = 1;
+  const Vec3 tag(0.45, 0.75, 0.0);
+  const TagReads reads = testing::hardware_reads("t", tag, kStage, hw, 5);
+  // A covariance like a calibration's: the offset along boresight and the az² curvature nearly cancel.
+  AntennaCalibration cal = hw.truth;
+  cal.geometry_covariance.setZero();
+  const double sx = 0.02, sy = 0.012, s_az = 0.35, s_az2 = 0.25;
+  cal.geometry_covariance(0, 0) = sx * sx, cal.geometry_covariance(5, 5) = s_az2 * s_az2;
+  cal.geometry_covariance(0, 5) = cal.geometry_covariance(5, 0) = -0.9 * sx * s_az2;
+  cal.geometry_covariance(1, 1) = sy * sy, cal.geometry_covariance(3, 3) = s_az * s_az;
+  cal.geometry_covariance(1, 3) = cal.geometry_covariance(3, 1) = 0.9 * sy * s_az;
+  LocalizeOptions o = stage_options(0.0);
+  o.calibration = cal;
+  const JointModel model = make_joint_model(reads, o);
+  const JointFit fit = fit_joint(model, tag, o);
+  ASSERT_LT((fit.position - tag).norm(), 1e-6);
+  Eigen::MatrixXd G(2, kGeometryTerms);
+  for (int b = 0; b < kGeometryTerms; ++b) {
+    // Steps that move the position by ~0.1 mm, three orders above joint_lm's 0.1 µm step tolerance.
+    const double eps = b < 3 ? 2e-3 : 2e-2;
+    Vec3 moved[2];
+    for (int side = 0; side < 2; ++side) {
+      LocalizeOptions ob = o;
+      if (b < 3) ob.calibration->phase_centre_offset_m[b] += side ? eps : -eps;
+      else ob.calibration->pattern_rad[b - 3] += side ? eps : -eps;
+      moved[side] = joint_lm(make_joint_model(reads, ob), tag, 200).position;
+    }
+    G.col(b) = (moved[1] - moved[0]).head<2>() / (2.0 * eps);
+  }
+  const Eigen::Matrix2d cov = G * cal.geometry_covariance * G.transpose();
+  const double expected = std::sqrt(5.991464547 * Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues().maxCoeff());
+  EXPECT_GT(expected, 1e-3);  // the case matters: millimetres at least
+  EXPECT_NEAR(fit.calibration_radius_m, expected, 1e-3 * expected);
+  // Uncorrelated sd's alone (a file without the covariance) would state a far larger region: the correlation is
+  // what keeps it honest and small.
+  AntennaCalibration diagonal = cal;
+  diagonal.geometry_covariance.setZero();
+  diagonal.phase_centre_offset_sd_m = Vec3(sx, sy, 0.0);
+  diagonal.pattern_sd_rad = {s_az, 0.0, s_az2, 0.0, 0.0};
+  LocalizeOptions od = o;
+  od.calibration = diagonal;
+  EXPECT_GT(fit_joint(make_joint_model(reads, od), tag, od).calibration_radius_m, 2.0 * fit.calibration_radius_m);
+  // Without a calibration there is nothing to carry.
+  LocalizeOptions none = stage_options(0.0);
+  EXPECT_EQ(fit_joint(make_joint_model(reads, none), tag, none).calibration_radius_m, 0.0);
 }
 
 // --- Calibration ---
