@@ -11,6 +11,7 @@
 #include "io/antenna_file.h"
 #include "io/atomic_file.h"
 #include "io/readings_csv.h"
+#include "io/reference_tags.h"
 #include "localization/calibration.h"
 
 namespace rfidray::cli {
@@ -34,23 +35,9 @@ int run_calibrate(const CalibrateState& s) {
     if (comma == std::string::npos || comma == 0 || comma + 1 == pair.size() || pair.find(',', comma + 1) != std::string::npos)
       throw field_error("--pair", "must be READINGS.csv,TRUTH.csv (got '" + pair + "')");
     const std::string readings = pair.substr(0, comma), truth_file = pair.substr(comma + 1);
-    const auto truth = io::read_truth_csv(truth_file);
-    auto tags = io::group_by_tag({io::read_readings_csv(readings)}, 865.7e6);
-    io::label_groups_by_antenna(tags);
-    for (const loc::TagReads& t : tags) {
-      const auto it = truth.find(t.tag);
-      if (it == truth.end()) continue;  // a tag without a known position is no reference
-      for (const auto& g : t.groups) antennas.insert(g.antenna);
-      samples.push_back({t, it->second});
-    }
+    io::add_reference_tags(io::read_readings_csv(readings), io::read_truth_csv(truth_file), samples, antennas);
   }
-  std::string antenna = s.antenna;
-  if (antenna.empty()) {
-    if (antennas.size() != 1)
-      throw field_error("--antenna", "the readings hold " + std::to_string(antennas.size()) +
-                                         " antennas: name the one to calibrate");
-    antenna = *antennas.begin();
-  }
+  const std::string antenna = io::antenna_to_calibrate(s.antenna, antennas, "--antenna");
   loc::CalibrationOptions o;
   o.planar = s.height_known;
   o.fold_pi = s.fold_pi;

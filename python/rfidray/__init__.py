@@ -22,9 +22,9 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from ._rfidray import Channel, Endpoint, InputError, Path, Scene
-from ._rfidray import _load_readings, _localize, _simulate
+from ._rfidray import _calibrate, _load_readings, _localize, _simulate
 
-__all__ = ["Channel", "Endpoint", "InputError", "Path", "Scene", "Simulation", "READINGS_COLUMNS",
+__all__ = ["Channel", "Endpoint", "InputError", "Path", "Scene", "Simulation", "READINGS_COLUMNS", "calibrate",
            "load_readings", "localize", "readings_dtype", "simulate"]
 
 # The readings CSV's columns (io/readings_csv.h), in file order.
@@ -184,12 +184,40 @@ def localize(readings: ReadingsLike, *, method: str = "all",
     uncertainty_m (95 % radius), residual_rad, multipath_phase_rad, mirror_resolved_by, reads; None where the JSON
     has null.
     """
-    if isinstance(truth, np.ndarray):
-        truth = {str(t["name"]): (float(t["x"]), float(t["y"]), float(t["z"])) for t in truth}
-    elif isinstance(truth, os.PathLike):
-        truth = os.fspath(truth)
-    elif truth is not None and not isinstance(truth, str):
-        truth = {str(k): [float(x) for x in v] for k, v in truth.items()}
-    return _localize(_reading_files(readings), truth, method, height_known, mirror_prior, frequency_hz,
+    return _localize(_reading_files(readings), _truth_arg(truth), method, height_known, mirror_prior, frequency_hz,
                      max_range_m, stride_m, None if antenna_file is None else os.fspath(antenna_file), fold_pi,
                      max_residual_rad, max_uncertainty_m, systematic_phase_rad, None if scenario is None else os.fspath(scenario), channel)
+
+
+TruthLike = Union[str, os.PathLike, Mapping[str, Iterable[float]], np.ndarray]
+
+
+def _truth_arg(truth: Optional[TruthLike]) -> Any:
+    if isinstance(truth, np.ndarray):
+        return {str(t["name"]): (float(t["x"]), float(t["y"]), float(t["z"])) for t in truth}
+    if isinstance(truth, os.PathLike):
+        return os.fspath(truth)
+    if truth is not None and not isinstance(truth, str):
+        return {str(k): [float(x) for x in v] for k, v in truth.items()}
+    return truth
+
+
+def calibrate(references: Sequence[Any], *, antenna: Optional[str] = None, height_known: bool = False,
+              fold_pi: bool = False, output: Union[None, str, os.PathLike] = None) -> Dict[str, Any]:
+    """Fits an antenna calibration from reference tags at known positions, as ``rfidray calibrate``.
+
+    ``references``: (readings, truth) pairs, one per run — readings as ``localize`` takes them (a CSV path, a
+    readings array, a :class:`Simulation`, or a list of these), truth a tags CSV, a dict name → (x, y, z) or a
+    tags array (``Simulation.tags``); tags the truth does not know are skipped. ``antenna``: the one to
+    calibrate (default: the only one that read a reference). ``height_known`` and ``fold_pi`` as the command's
+    options. ``output``: also write the antenna file there (``localize(antenna_file=…)``, ``simulate``'s
+    ``antenna_file:``). Returns the keys of ``calibrate --json`` (without ``output``) with NumPy arrays;
+    ``geometry_covariance`` is 8 × 8 over dx, dy, dz (m), az, el, az2, az_el, el2 (rad).
+    """
+    pairs = []
+    for item in references:
+        if not isinstance(item, (tuple, list)) or len(item) != 2:
+            raise InputError("references: each item must be a (readings, truth) pair")
+        pairs.append((_reading_files(item[0]), _truth_arg(item[1])))
+    return _calibrate(pairs, antenna or "", height_known, fold_pi, None if output is None else os.fspath(output))
+

@@ -81,6 +81,8 @@ def _simulate(path: Optional[str], text: Optional[str], source: str, seed: Optio
 def _load_readings(path: str) -> Dict[str, Any]: ...
 def _localize(files: List[Dict[str, Any]], truth: Union[None, str, Dict[str, List[float]]], method: str,
               height_known: bool, mirror_prior: str, frequency_hz: float, max_range_m: float, stride_m: float,
-              antenna_file: Optional[str], fold_pi: bool, max_residual_rad: float,
+              antenna_file: Optional[str], fold_pi: bool, max_residual_rad: float, max_uncertainty_m: float,
               systematic_phase_rad: Optional[float], scenario: Optional[str],
               channel: Optional[str]) -> List[Dict[str, Any]]: ...
+def _calibrate(references: List[Tuple[List[Dict[str, Any]], Union[str, Dict[str, List[float]]]]], antenna: str,
+               height_known: bool, fold_pi: bool, output: Optional[str]) -> Dict[str, Any]: ...

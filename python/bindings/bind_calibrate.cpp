@@ -1,0 +1,75 @@
+// calibrate(): an antenna calibration from reference tags, as `rfidray calibrate` (io/reference_tags.h,
+// loc::calibrate_antenna), with readings and truth passed as localize() takes them (readings_arg.h).
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+#include <set>
+
+#include "core/error.h"
+#include "io/antenna_file.h"
+#include "io/atomic_file.h"
+#include "io/reference_tags.h"
+#include "localization/calibration.h"
+#include "python/bindings/bindings.h"
+#include "python/bindings/readings_arg.h"
+
+namespace rfidray::py {
+namespace {
+
+// references: a list of (files, truth) — files a list of column dicts (one per readings file), truth as
+// truth_from takes it.
+pyb::dict run_calibrate(const pyb::list& references, const std::string& antenna_requested, bool height_known,
+                        bool fold_pi, std::optional<std::string> output) {
+  std::vector<loc::CalibrationSample> samples;
+  std::set<std::string> antennas;
+  size_t file = 0;
+  for (size_t k = 0; k < references.size(); ++k) {
+    const pyb::tuple pair = references[k].cast<pyb::tuple>();
+    if (pair.size() != 2) throw InputError("references[" + std::to_string(k) + "]: needs (readings, truth)");
+    if (pair[1].is_none()) throw InputError("references[" + std::to_string(k) + "]: truth is None");
+    const std::map<std::string, Vec3> truth = truth_from(pair[1]);
+    for (auto f : pair[0].cast<pyb::list>()) io::add_reference_tags(rows_from(f.cast<pyb::dict>(), file++), truth, samples, antennas);
+  }
+  const std::string antenna = io::antenna_to_calibrate(antenna_requested, antennas, "antenna");
+  loc::CalibrationOptions o;
+  o.planar = height_known;
+  o.fold_pi = fold_pi;
+  loc::AntennaCalibration c;
+  {
+    pyb::gil_scoped_release release;
+    c = loc::calibrate_antenna(samples, antenna, o);
+  }
+  if (output) {
+    io::check_output_path(*output, "antenna file");
+    io::write_file_atomic(*output, [&](std::ostream& out) { io::write_antenna_file(out, c); }, "antenna file");
+  }
+  // The keys of `rfidray calibrate --json` (without output).
+  auto vec = [](const Vec3& v) { return pyb::array_t<double>(3, v.data()); };
+  pyb::dict d;
+  d["antenna"] = c.antenna;
+  d["phase_centre_offset_m"] = vec(c.phase_centre_offset_m);
+  d["phase_centre_offset_sd_m"] = vec(c.phase_centre_offset_sd_m);
+  d["frequencies_hz"] = pyb::array_t<double>(c.frequencies_hz.size(), c.frequencies_hz.data());
+  d["carrier_offsets_rad"] = pyb::array_t<double>(c.carrier_offsets_rad.size(), c.carrier_offsets_rad.data());
+  d["carrier_offsets_sd_rad"] = pyb::array_t<double>(c.carrier_offsets_sd_rad.size(), c.carrier_offsets_sd_rad.data());
+  d["pattern_rad"] = pyb::array_t<double>(c.pattern_rad.size(), c.pattern_rad.data());
+  d["pattern_sd_rad"] = pyb::array_t<double>(c.pattern_sd_rad.size(), c.pattern_sd_rad.data());
+  pyb::array_t<double> cov({loc::kGeometryTerms, loc::kGeometryTerms});
+  for (int i = 0; i < loc::kGeometryTerms; ++i)
+    for (int j = 0; j < loc::kGeometryTerms; ++j) cov.mutable_at(i, j) = c.geometry_covariance(i, j);
+  d["geometry_covariance"] = cov;
+  d["residual_rms_rad"] = c.residual_rms_rad;
+  d["reads_used"] = c.reads_used;
+  d["tags_used"] = c.tags_used;
+  return d;
+}
+
+}  // namespace
+
+void bind_calibrate(pyb::module_& m) {
+  m.def("_calibrate", &run_calibrate, pyb::arg("references"), pyb::arg("antenna"), pyb::arg("height_known"),
+        pyb::arg("fold_pi"), pyb::arg("output"));
+}
+
+}  // namespace rfidray::py
