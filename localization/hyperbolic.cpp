@@ -3,7 +3,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <cstdint>
+#include <unordered_map>
 #include <sstream>
 #include <tuple>
 #include <vector>
@@ -78,7 +79,17 @@ std::vector<Intersection> intersect_conics(const std::vector<Hyperbola>& conics,
 namespace {
 
 using Key = std::tuple<long, long, long>;
-using CellGrid = std::map<Key, std::vector<int>>;
+struct KeyHash {
+  size_t operator()(const Key& k) const {
+    // Large odd multipliers (as in spatial hashing, Teschner et al. 2003), mixed once more.
+    const uint64_t h = static_cast<uint64_t>(std::get<0>(k)) * 73856093u ^ static_cast<uint64_t>(std::get<1>(k)) * 19349663u ^
+                       static_cast<uint64_t>(std::get<2>(k)) * 83492791u;
+    return static_cast<size_t>(h ^ (h >> 29));
+  }
+};
+// Hashed: the mode search looks cells up many times per step. Nothing depends on its iteration order (the
+// seeds are sorted by score, then key).
+using CellGrid = std::unordered_map<Key, std::vector<int>, KeyHash>;
 
 Key cell_key(const Vec3& p, double cell) {
   return Key{static_cast<long>(std::floor(p.x() / cell)), static_cast<long>(std::floor(p.y() / cell)),
@@ -107,7 +118,10 @@ long z_span(const CellGrid& grid) {
 }
 
 // The mode at one bandwidth h from x.
-Vec3 shift_at(const std::vector<Intersection>& set, const CellGrid& grid, double cell, Vec3 x, double h, long z_cells) {
+// `known`: modes already reached at this h; a path that comes within `capture_m` of one ends there (it is that
+// mode's basin: the rest of the iterations would only converge onto it).
+Vec3 shift_at(const std::vector<Intersection>& set, const CellGrid& grid, double cell, Vec3 x, double h, long z_cells,
+              const std::vector<Vec3>* known = nullptr, double capture_m = 0.0) {
   thread_local std::vector<Vec3> offsets;
   thread_local std::vector<double> exponent, quality;
   thread_local Eigen::ArrayXd weights;
@@ -163,6 +177,9 @@ Vec3 shift_at(const std::vector<Intersection>& set, const CellGrid& grid, double
     }
     x += step;
     if (step.norm() < 1e-6) break;  // 1 µm: far below the cluster spread; the joint fit polishes the point
+    if (known)
+      for (const Vec3& m : *known)
+        if ((x - m).norm() < capture_m) return m;
   }
   return x;
 }
@@ -226,7 +243,7 @@ std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, doubl
     if (known) continue;
     // Seeds of one cluster reach the same mode at h; refining it again (deterministic from there) would
     // only give the same point, which the distinctness test drops.
-    const Vec3 at_h = shift_at(set, grid, cell, start, bandwidth_m, z_cells);
+    const Vec3 at_h = shift_at(set, grid, cell, start, bandwidth_m, z_cells, &modes_at_h, 1e-3 * bandwidth_m);
     bool reached = false;
     for (const Vec3& m : modes_at_h) reached |= (m - at_h).norm() < 1e-5;
     if (reached) continue;

@@ -89,6 +89,8 @@ JointModel::JointModel(const TagReads& tag, const JointModelOptions& options, bo
     k_rad_m_[i] = p.k_rad_m, phase_rad_[i] = p.phase_rad, weight_[i] = p.weight;
     group_of_[i] = p.offset_group;
     any_pattern_ = any_pattern_ || p.calibration != nullptr;
+    if (runs_.empty() || runs_.back().group != p.offset_group) runs_.push_back({i, 0, p.offset_group});
+    ++runs_.back().size;
   }
 }
 
@@ -144,13 +146,14 @@ double JointModel::phasors(const Vec3& x, const std::vector<double>* mask, Scrat
   s.reduced = (s.raw - kTwoPi * ((s.raw * (1.0 / kTwoPi) + kRoundMagic) - kRoundMagic)).cast<float>();
   s.cos_a = s.reduced.cos();
   s.sin_a = s.reduced.sin();
+  // Z_g summed over each run of consecutive points of one group, in packets (masked points weigh 0).
   s.z.assign(groups_, 0.0);
   double total_w = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const double w = s.w[i];
-    if (w <= 0.0) continue;
-    s.z[group_of_[i]] += std::complex<double>(w * s.cos_a[i], w * s.sin_a[i]);
-    total_w += w;
+  for (const GroupRun& run : runs_) {
+    const auto w = s.w.segment(run.begin, run.size);
+    s.z[run.group] += std::complex<double>((w * s.cos_a.segment(run.begin, run.size).cast<double>()).sum(),
+                                           (w * s.sin_a.segment(run.begin, run.size).cast<double>()).sum());
+    total_w += w.sum();
   }
   return total_w;
 }

@@ -79,6 +79,10 @@ class JointModel {
   // The same points as arrays for the vectorised evaluation.
   Eigen::ArrayXd antenna_x_, antenna_y_, antenna_z_, k_rad_m_, phase_rad_, weight_;
   std::vector<int> group_of_;
+  struct GroupRun {
+    int begin, size, group;
+  };
+  std::vector<GroupRun> runs_;  // maximal runs of consecutive points of one offset group
   bool any_pattern_ = false;
   int groups_ = 0, reads_ = 0;
   bool fixed_z_ = false, carrier_calibrated_ = false;

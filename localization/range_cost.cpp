@@ -10,7 +10,7 @@ namespace rfidray::loc {
 RangeCost::RangeCost(const PreparedTag& prep, bool fixed_z, double z_m) : prep_(prep), fixed_z_(fixed_z), z_m_(z_m) {
   for (const auto& s : prep.segments) {
     n_ += static_cast<int>(s.range_m.size());
-    std::vector<Stop> stops;
+    std::vector<double> x, y, z, reads, means;
     size_t start = 0;
     while (start < s.range_m.size()) {
       size_t end = start + 1;
@@ -19,10 +19,13 @@ RangeCost::RangeCost(const PreparedTag& prep, bool fixed_z, double z_m) : prep_(
       for (size_t k = start; k < end; ++k) mean += s.range_m[k];
       mean /= static_cast<double>(end - start);
       for (size_t k = start; k < end; ++k) within_stop_scatter_m2_ += (s.range_m[k] - mean) * (s.range_m[k] - mean);
-      stops.push_back({s.antenna_m[start], static_cast<double>(end - start), mean});
+      x.push_back(s.antenna_m[start].x()), y.push_back(s.antenna_m[start].y()), z.push_back(s.antenna_m[start].z());
+      reads.push_back(static_cast<double>(end - start)), means.push_back(mean);
       start = end;
     }
-    stops_.push_back(std::move(stops));
+    const Eigen::Index m = static_cast<Eigen::Index>(x.size());
+    using Map = Eigen::Map<const Eigen::ArrayXd>;
+    stops_.push_back({Map(x.data(), m), Map(y.data(), m), Map(z.data(), m), Map(reads.data(), m), Map(means.data(), m)});
   }
 }
 
@@ -70,12 +73,11 @@ double RangeCost::ssr(const Vec3& x) const {
   // Per segment Σ e² − (Σ e)² / m over its stops, e = m̄_s − D_s (see stops_).
   double total = within_stop_scatter_m2_;
   for (size_t g = 0; g < stops_.size(); ++g) {
-    double sum = 0.0, sum2 = 0.0;
-    for (const Stop& stop : stops_[g]) {
-      const double e = stop.mean_range_m - (x - stop.antenna_m).norm();
-      sum += stop.reads * e;
-      sum2 += stop.reads * e * e;
-    }
+    const Stops& st = stops_[g];
+    // In packets: the square roots are most of the cost (per-thread buffer: the grid calls this in parallel).
+    thread_local Eigen::ArrayXd e;
+    e = st.mean_range_m - ((x.x() - st.x_m).square() + (x.y() - st.y_m).square() + (x.z() - st.z_m).square()).sqrt();
+    const double sum = (st.reads * e).sum(), sum2 = (st.reads * e.square()).sum();
     total += sum2 - sum * sum / static_cast<double>(prep_.segments[g].range_m.size());
   }
   return std::max(total, 0.0);

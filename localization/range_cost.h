@@ -35,11 +35,11 @@ class RangeCost {
   // Stop-and-go data: consecutive reads of a segment at the same antenna position are one stop. ssr() sums
   // per stop: Σ_k (m_k − D − c)² = W_s + n_s (m̄_s − D − c)² (W_s the stop's own scatter), exact, and a stop
   // of a real reader holds ~100 reads.
-  struct Stop {
-    Vec3 antenna_m;
-    double reads, mean_range_m;
+  // Per segment, its stops as arrays (the coarse grid of NLLS evaluates ssr at up to 20 000 points).
+  struct Stops {
+    Eigen::ArrayXd x_m, y_m, z_m, reads, mean_range_m;
   };
-  std::vector<std::vector<Stop>> stops_;  // per segment
+  std::vector<Stops> stops_;  // per segment
   double within_stop_scatter_m2_ = 0.0;
 };
 
