@@ -66,9 +66,17 @@ PlaneSection sample_section(const Hyperbola& h, double height_m, int rays, doubl
   s.points.resize(2 * rays);
   s.packed.assign(2 * rays, -1);
   std::vector<char> valid(2 * rays, 0);
+  // The ray directions, shared by every section of this many rays (the same cos/sin values as computed here).
+  thread_local std::vector<Eigen::Vector2d> directions;
+  if (static_cast<int>(directions.size()) != rays) {
+    directions.resize(rays);
+    for (int i = 0; i < rays; ++i) {
+      const double psi = kTwoPi * i / rays;
+      directions[i] = Eigen::Vector2d(std::cos(psi), std::sin(psi));
+    }
+  }
   for (int i = 0; i < rays; ++i) {
-    const double psi = kTwoPi * i / rays;
-    const Eigen::Vector2d e(std::cos(psi), std::sin(psi));  // once for both slots
+    const Eigen::Vector2d& e = directions[i];
     for (int slot = 0; slot < 2; ++slot) {
       Vec3 p;
       if (point_on_unit_ray(h, height_m, e, slot, p) && (p - h.f2).norm() <= max_range_m) {
@@ -207,12 +215,13 @@ bool intersect_3d(const Hyperbola& a, const Hyperbola& b, const Hyperbola& c, co
   return std::abs(residual(a, x)) < 1e-7 && std::abs(residual(b, x)) < 1e-7 && std::abs(residual(c, x)) < 1e-7;
 }
 
-double intersection_quality(const std::vector<Vec3>& gradients, bool planar) {
+double intersection_quality(const Vec3* gradients, int count, bool planar) {
   const int dim = planar ? 2 : 3;
-  Eigen::MatrixXd J(gradients.size(), dim);
-  for (size_t i = 0; i < gradients.size(); ++i) J.row(i) = gradients[i].head(dim).transpose();
-  const Eigen::MatrixXd A = J.transpose() * J;
-  Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;  // on the stack
+  Small J(count, dim);
+  for (int i = 0; i < count; ++i) J.row(i) = gradients[i].head(dim).transpose();
+  const Small A = J.transpose() * J;
+  Eigen::FullPivLU<Small> lu(A);
   if (!lu.isInvertible()) return 0.0;
   const double tr = lu.inverse().trace();
   return tr > 0.0 ? 1.0 / std::sqrt(tr) : 0.0;

@@ -57,6 +57,10 @@ bool intersect_3d(const Hyperbola& a, const Hyperbola& b, const Hyperbola& c, co
 
 // Quality of an intersection: 1 / GDOP = 1 / sqrt(trace((JᵀJ)⁻¹)), J = the loci gradients (rows) in the
 // unknown coordinates (xy in 2-D). A range error σ moves the point by about σ·GDOP, so larger is better.
-double intersection_quality(const std::vector<Vec3>& gradients, bool planar);
+// `count` ≤ 3 gradients (no allocation: called for every intersection).
+double intersection_quality(const Vec3* gradients, int count, bool planar);
+inline double intersection_quality(const std::vector<Vec3>& gradients, bool planar) {
+  return intersection_quality(gradients.data(), static_cast<int>(gradients.size()), planar);
+}
 
 }  // namespace rfidray::loc

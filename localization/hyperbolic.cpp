@@ -46,7 +46,8 @@ std::vector<Intersection> intersect_conics(const std::vector<Hyperbola>& conics,
     for (int a = 0; a < b; ++a) {   // every previous one
       for (const Vec3& p2 : intersect_in_plane(conics[b], sections[b], conics[a])) {
         Vec3 p = p2;
-        std::vector<Vec3> grads{gradient(conics[a], p), gradient(conics[b], p)};
+        Vec3 grads[3] = {gradient(conics[a], p), gradient(conics[b], p), Vec3::Zero()};
+        int gradient_count = 2;
         if (!options.height_known) {
           // 3-D: add a third conic from 8 evenly spread earlier anchors, the one with the best geometry.
           int best_c = -1;
@@ -54,20 +55,20 @@ std::vector<Intersection> intersect_conics(const std::vector<Hyperbola>& conics,
           for (int t = 0; t < 8 && b > 2; ++t) {
             const int c = (t * (b - 1)) / 7;
             if (c == a || c == b) continue;
-            std::vector<Vec3> g3 = grads;
-            g3.push_back(gradient(conics[c], p));
-            const double q = intersection_quality(g3, false);
+            const Vec3 g3[3] = {grads[0], grads[1], gradient(conics[c], p)};
+            const double q = intersection_quality(g3, 3, false);
             if (q > best_q) best_q = q, best_c = c;
           }
           if (best_c < 0) continue;
           Vec3 x;
           if (!intersect_3d(conics[a], conics[b], conics[best_c], p, x)) continue;
           p = x;
-          grads = {gradient(conics[a], p), gradient(conics[b], p), gradient(conics[best_c], p)};
+          grads[0] = gradient(conics[a], p), grads[1] = gradient(conics[b], p), grads[2] = gradient(conics[best_c], p);
+          gradient_count = 3;
         }
         if ((p - conics[a].f2).norm() > options.max_range_m || (p - conics[b].f2).norm() > options.max_range_m)
           continue;
-        const double q = intersection_quality(grads, options.height_known);
+        const double q = intersection_quality(grads, gradient_count, options.height_known);
         if (q <= 0.0) continue;
         out.push_back(Intersection{p, q, conics[b].phase_distance_m, a, b});
       }
