@@ -60,12 +60,21 @@ bool point_on_ray(const Hyperbola& h, double height_m, double psi_rad, int slot,
 
 PlaneSection sample_section(const Hyperbola& h, double height_m, int rays, double max_range_m) {
   PlaneSection s;
+  sample_section(h, height_m, rays, max_range_m, s);
+  return s;
+}
+
+void sample_section(const Hyperbola& h, double height_m, int rays, double max_range_m, PlaneSection& s) {
   s.rays = rays;
   s.height_m = height_m;
   s.f1 = h.f1;
   s.points.resize(2 * rays);
   s.packed.assign(2 * rays, -1);
-  std::vector<char> valid(2 * rays, 0);
+  s.sample_of.clear();
+  s.next_is_ray_after.clear();
+  s.x_m.clear(), s.y_m.clear(), s.r1_m.clear();
+  thread_local std::vector<char> valid;
+  valid.assign(2 * rays, 0);
   // The ray directions, shared by every section of this many rays (the same cos/sin values as computed here).
   thread_local std::vector<Eigen::Vector2d> directions;
   if (static_cast<int>(directions.size()) != rays) {
@@ -86,25 +95,19 @@ PlaneSection sample_section(const Hyperbola& h, double height_m, int rays, doubl
     }
   }
   const double c1 = height_m - h.f1.z();
-  std::vector<double> x, y, r1;
   for (int slot = 0; slot < 2; ++slot)
     for (int i = 0; i < rays; ++i) {
       const int a = 2 * i + slot;
       if (!valid[a]) continue;
       const Vec3& p = s.points[a];
-      s.packed[a] = static_cast<int>(x.size());
+      s.packed[a] = static_cast<int>(s.x_m.size());
       s.sample_of.push_back(a);
       s.next_is_ray_after.push_back(i + 1 < rays && valid[a + 2]);
-      x.push_back(p.x()), y.push_back(p.y());
+      s.x_m.push_back(p.x()), s.y_m.push_back(p.y());
       // The same expression intersect_in_plane evaluates for another conic with this F1 (bitwise equal).
-      r1.push_back(std::sqrt((p.x() - h.f1.x()) * (p.x() - h.f1.x()) + (p.y() - h.f1.y()) * (p.y() - h.f1.y()) +
-                             c1 * c1));
+      s.r1_m.push_back(std::sqrt((p.x() - h.f1.x()) * (p.x() - h.f1.x()) + (p.y() - h.f1.y()) * (p.y() - h.f1.y()) +
+                                 c1 * c1));
     }
-  const Eigen::Index m = static_cast<Eigen::Index>(x.size());
-  s.x_m = Eigen::Map<const Eigen::ArrayXd>(x.data(), m);
-  s.y_m = Eigen::Map<const Eigen::ArrayXd>(y.data(), m);
-  s.r1_m = Eigen::Map<const Eigen::ArrayXd>(r1.data(), m);
-  return s;
 }
 
 namespace {
@@ -135,16 +138,17 @@ std::vector<Vec3> intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1
   // to it is the section's own (one square root per sample instead of two).
   thread_local Eigen::ArrayXd f;
   const double c2 = s1.height_m - h2.f2.z(), c1 = s1.height_m - h2.f1.z();
+  const Eigen::Index m = static_cast<Eigen::Index>(s1.x_m.size());
+  const Eigen::Map<const Eigen::ArrayXd> x(s1.x_m.data(), m), y(s1.y_m.data(), m), r1(s1.r1_m.data(), m);
   if (h2.f1 == s1.f1)
-    f = ((s1.x_m - h2.f2.x()).square() + (s1.y_m - h2.f2.y()).square() + c2 * c2).sqrt() - s1.r1_m - h2.delta_m;
+    f = ((x - h2.f2.x()).square() + (y - h2.f2.y()).square() + c2 * c2).sqrt() - r1 - h2.delta_m;
   else
-    f = ((s1.x_m - h2.f2.x()).square() + (s1.y_m - h2.f2.y()).square() + c2 * c2).sqrt() -
-        ((s1.x_m - h2.f1.x()).square() + (s1.y_m - h2.f1.y()).square() + c1 * c1).sqrt() - h2.delta_m;
+    f = ((x - h2.f2.x()).square() + (y - h2.f2.y()).square() + c2 * c2).sqrt() -
+        ((x - h2.f1.x()).square() + (y - h2.f1.y()).square() + c1 * c1).sqrt() - h2.delta_m;
   // Sign changes between neighbouring rays of a slot, then the track's wrap from the last ray to the first;
   // refined in the order of the first sample (ray, then slot), which fixes the order of the points.
   thread_local std::vector<int> brackets;
   brackets.clear();
-  const Eigen::Index m = f.size();
   for (Eigen::Index k = 0; k + 1 < m; ++k)
     if (s1.next_is_ray_after[k] && (f[k] > 0.0) != (f[k + 1] > 0.0)) brackets.push_back(s1.sample_of[k]);
   for (int slot = 0; slot < 2; ++slot) {

@@ -42,11 +42,13 @@ struct PlaneSection {
   std::vector<int> packed;   // per sample: its index in x_m/y_m/r1_m, −1 where invalid
   std::vector<int> sample_of;       // per packed entry: its sample index (2 · ray + slot)
   std::vector<char> next_is_ray_after;  // per packed entry: the next entry is the same slot on the next ray
-  Eigen::ArrayXd x_m, y_m;   // the valid points' x and y, packed
-  Eigen::ArrayXd r1_m;       // the valid points' distance to f1, packed
+  std::vector<double> x_m, y_m;  // the valid points' x and y, packed
+  std::vector<double> r1_m;       // the valid points' distance to f1, packed
   bool valid(int sample) const { return packed[sample] >= 0; }
 };
 PlaneSection sample_section(const Hyperbola& h, double height_m, int rays, double max_range_m);
+// The same into `out`, reusing its storage (the method samples ~60 sections per tag).
+void sample_section(const Hyperbola& h, double height_m, int rays, double max_range_m, PlaneSection& out);
 
 // All intersections of two plane sections (sign changes of h2's residual along h1's section, refined by
 // regula falsi (Illinois) on the ray angle and polished by Newton on both loci). Exact to ~1e-9 m.

@@ -40,8 +40,11 @@ std::vector<Intersection> intersect_conics(const std::vector<Hyperbola>& conics,
   constexpr int kRays = 720;
   std::vector<Intersection> out;
   const int n = static_cast<int>(conics.size());
-  std::vector<PlaneSection> sections(n);
-  for (int i = 0; i < n; ++i) sections[i] = sample_section(conics[i], plane_height_m, kRays, options.max_range_m);
+  // Kept per thread from tag to tag: ~60 sections of ~35 kB each, which freed and allocated again per tag
+  // cost page faults (glibc returns the freed top of the heap to the system).
+  thread_local std::vector<PlaneSection> sections;
+  if (static_cast<int>(sections.size()) < n) sections.resize(n);
+  for (int i = 0; i < n; ++i) sample_section(conics[i], plane_height_m, kRays, options.max_range_m, sections[i]);
   for (int b = 1; b < n; ++b) {     // the new conic
     for (int a = 0; a < b; ++a) {   // every previous one
       for (const Vec3& p2 : intersect_in_plane(conics[b], sections[b], conics[a])) {
