@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <cstdint>
 #include <unordered_map>
 #include <sstream>
@@ -272,41 +273,81 @@ LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& o
   }
   const TagReads& reads = options.calibration ? shifted : tag;
   PreparedTag prep;
-  if (auto fail = prepare(reads, options, prep)) return *fail;
-  double plane_z = options.tag_height_m;
-  if (!options.height_known) {
-    plane_z = 0.0;
-    for (const Vec3& p : prep.positions) plane_z += p.z();
-    plane_z /= static_cast<double>(prep.positions.size());
-  }
-  double stride = 0.0;
-  const std::vector<Hyperbola> conics = build_conics(prep, options, &stride);
-  const int need = options.height_known ? 3 : 4;  // ≥ 2 (2-D) / 3 (3-D) conics plus one to cross-check
-  if (static_cast<int>(conics.size()) < need) {
-    std::ostringstream why;
-    why << conics.size() << " conics at stride " << stride << " m, need " << need;
-    LocalizeResult r = LocalizeResult::failure(FailReason::kApertureTooShort, why.str());
-    r.reads_used = prep.usable_reads;
-    return r;
-  }
-  const std::vector<Intersection> set = intersect_conics(conics, options, plane_z);
-  std::vector<Vec3> modes = intersection_modes(set, options.cluster_bandwidth_m, 5);
-  // Every intersection lies in the plane z = tag height; the weighted means of the mode search only round off.
-  if (options.height_known)
-    for (Vec3& m : modes) m.z() = options.tag_height_m;
-  if (modes.empty()) {
-    LocalizeResult r = LocalizeResult::failure(FailReason::kNoConvergence,
-                                               std::to_string(conics.size()) + " conics have no intersection in range");
-    r.reads_used = prep.usable_reads;
-    return r;
+  std::vector<Intersection> set;
+  std::vector<Vec3> modes;
+  // The paper's pipeline on `r`: unwrap, conics, their intersections, the cluster modes.
+  auto intersect = [&](const TagReads& r) -> std::optional<LocalizeResult> {
+    prep = PreparedTag{};
+    if (auto fail = prepare(r, options, prep)) return *fail;
+    double plane_z = options.tag_height_m;
+    if (!options.height_known) {
+      plane_z = 0.0;
+      for (const Vec3& p : prep.positions) plane_z += p.z();
+      plane_z /= static_cast<double>(prep.positions.size());
+    }
+    double stride = 0.0;
+    const std::vector<Hyperbola> conics = build_conics(prep, options, &stride);
+    const int need = options.height_known ? 3 : 4;  // ≥ 2 (2-D) / 3 (3-D) conics plus one to cross-check
+    if (static_cast<int>(conics.size()) < need) {
+      std::ostringstream why;
+      why << conics.size() << " conics at stride " << stride << " m, need " << need;
+      LocalizeResult f = LocalizeResult::failure(FailReason::kApertureTooShort, why.str());
+      f.reads_used = prep.usable_reads;
+      return f;
+    }
+    set = intersect_conics(conics, options, plane_z);
+    modes = intersection_modes(set, options.cluster_bandwidth_m, 5);
+    // Every intersection lies in the plane z = tag height; the weighted means of the mode search only round off.
+    if (options.height_known)
+      for (Vec3& m : modes) m.z() = options.tag_height_m;
+    if (modes.empty()) {
+      LocalizeResult f = LocalizeResult::failure(FailReason::kNoConvergence,
+                                                 std::to_string(conics.size()) + " conics have no intersection in range");
+      f.reads_used = prep.usable_reads;
+      return f;
+    }
+    return std::nullopt;
+  };
+  auto best_mode = [&]() {
+    RangeCost c(prep, options.height_known, options.tag_height_m);
+    double best = std::numeric_limits<double>::infinity();
+    Vec3 at = modes.front();
+    for (const Vec3& m : modes) {
+      const double v = c.ssr(m);
+      if (v < best) best = v, at = m;
+    }
+    return at;
+  };
+  if (auto fail = intersect(reads)) return *fail;
+  // A calibrated phase pattern bends every read's phase by pattern(direction to the tag): unknown before the
+  // tag is, so it is removed at the first estimate and the conics are intersected once more.
+  const bool has_pattern = options.calibration && !options.fold_pi &&
+                           std::any_of(options.calibration->pattern_rad.begin(), options.calibration->pattern_rad.end(),
+                                       [](double c) { return c != 0.0; });
+  // The direction error of the first estimate leaves part of the pattern in (a 7 cm error left 3 cm), so this
+  // is repeated from each new estimate until it moves less than 1 mm (at most 4 times).
+  TagReads corrected;
+  if (has_pattern) {
+    Vec3 at = best_mode();
+    for (int pass = 0; pass < 4; ++pass) {
+      corrected = reads;
+      for (ReadGroup& g : corrected.groups)
+        if (options.calibration->antenna.empty() || options.calibration->antenna == g.antenna)
+          for (PhaseRead& r : g.reads) {
+            double az, el;
+            direction_in_frame(r.antenna_m, r.antenna_orientation, at, az, el);
+            r.phase_rad -= options.calibration->pattern_phase_rad(az, el);
+          }
+      if (auto fail = intersect(corrected)) return *fail;
+      const Vec3 next = best_mode();
+      const double moved_m = (next - at).norm();
+      at = next;
+      if (moved_m < 1e-3) break;
+    }
   }
   RangeCost cost(prep, options.height_known, options.tag_height_m);
   LocalizeResult result;
-  double best = std::numeric_limits<double>::infinity();
-  for (const Vec3& m : modes) {
-    const double s = cost.ssr(m);
-    if (s < best) best = s, result.position = m;
-  }
+  result.position = best_mode();
   result.ok = true;
   const Vec3 own = result.position;
   finish_unwrapped(result, prep, cost, options);
