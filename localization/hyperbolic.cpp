@@ -3,11 +3,11 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <cstdint>
-#include <unordered_map>
+#include <optional>
 #include <sstream>
 #include <tuple>
+#include <unordered_map>
 #include <vector>
 
 #include "localization/finish.h"
@@ -262,8 +262,8 @@ std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, doubl
 }
 
 LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& options) {
-  // With a calibration the conics start at the phase centre (the pattern needs the unknown direction: it
-  // enters through the joint model of the uncertainty only).
+  // With a calibration the conics start at the phase centre; its pattern needs the unknown direction and is
+  // removed below, from the estimate.
   TagReads shifted;
   if (options.calibration) {
     shifted = tag;
@@ -319,13 +319,13 @@ LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& o
     return at;
   };
   if (auto fail = intersect(reads)) return *fail;
-  // A calibrated phase pattern bends every read's phase by pattern(direction to the tag): unknown before the
-  // tag is, so it is removed at the first estimate and the conics are intersected once more.
+  // A calibrated phase pattern bends every read's phase by pattern(direction to the tag), unknown before the
+  // tag is: it is removed at the estimate and the conics intersected again, from each new estimate until it
+  // moves less than 1 mm (at most 4 times: the direction error of the first estimate leaves part of the
+  // pattern in, a 7 cm error left 3 cm).
   const bool has_pattern = options.calibration && !options.fold_pi &&
                            std::any_of(options.calibration->pattern_rad.begin(), options.calibration->pattern_rad.end(),
                                        [](double c) { return c != 0.0; });
-  // The direction error of the first estimate leaves part of the pattern in (a 7 cm error left 3 cm), so this
-  // is repeated from each new estimate until it moves less than 1 mm (at most 4 times).
   TagReads corrected;
   if (has_pattern) {
     Vec3 at = best_mode();
