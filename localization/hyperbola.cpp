@@ -22,40 +22,59 @@ Vec3 gradient(const Hyperbola& h, const Vec3& x) {
 }
 
 namespace {
-// The ray of direction e = (cos ψ, sin ψ) (see point_on_ray).
-bool point_on_unit_ray(const Hyperbola& h, double height_m, const Eigen::Vector2d& e, int slot, Vec3& out) {
-  const Eigen::Vector2d delta = (h.f2 - h.f1).head<2>();
-  const double c1 = height_m - h.f1.z(), c2 = height_m - h.f2.z();
-  const double D = h.delta_m;
-  const double ed = e.dot(delta);
-  const double K = delta.squaredNorm() + c2 * c2 - c1 * c1 - D * D;
-  const double a = 4.0 * (ed * ed - D * D);
-  const double b = -4.0 * K * ed;
-  const double c = K * K - 4.0 * D * D * c1 * c1;
-  double rho;
-  if (std::abs(a) < 1e-14 * (std::abs(b) + std::abs(c) + 1e-300)) {
-    if (slot != 0 || b == 0.0) return false;
-    rho = -c / b;
-  } else {
-    double disc = b * b - 4.0 * a * c;
-    if (disc < 0.0) {
-      if (disc > -1e-12 * b * b) disc = 0.0;  // tangent ray: keep the double root
-      else return false;
-    }
-    const double s = std::sqrt(disc);
-    rho = slot == 0 ? (-b - s) / (2.0 * a) : (-b + s) / (2.0 * a);
+// The section's constants along rays from F1 in the plane z = height_m (see point_on_ray).
+struct RayQuadratic {
+  RayQuadratic(const Hyperbola& h, double height_m) : f1(h.f1), height_m(height_m), delta((h.f2 - h.f1).head<2>()) {
+    const double c1 = height_m - h.f1.z(), c2 = height_m - h.f2.z();
+    D = h.delta_m;
+    K = delta.squaredNorm() + c2 * c2 - c1 * c1 - D * D;
+    c = K * K - 4.0 * D * D * c1 * c1;
   }
-  if (!(rho >= 0.0) || !std::isfinite(rho)) return false;
-  // Sheet condition: Δ (K − 2ρ e·δ) ≥ 0 (tolerance: the squaring's rounding).
-  const double side = K - 2.0 * rho * ed;
-  if (D * side < -1e-9 * (std::abs(K) + 1.0)) return false;
-  out = Vec3(h.f1.x() + rho * e.x(), h.f1.y() + rho * e.y(), height_m);
-  return true;
-}
+  // Both roots ρ (slot 0: −√, slot 1: +√) on the ray of direction e = (cos ψ, sin ψ); valid[slot] says which
+  // lie on the conic's sheet in front of F1.
+  void points(const Eigen::Vector2d& e, Vec3 out[2], bool valid[2]) const {
+    valid[0] = valid[1] = false;
+    const double ed = e.dot(delta);
+    const double a = 4.0 * (ed * ed - D * D);
+    const double b = -4.0 * K * ed;
+    double rho[2];
+    int slots = 2;
+    if (std::abs(a) < 1e-14 * (std::abs(b) + std::abs(c) + 1e-300)) {
+      if (b == 0.0) return;
+      rho[0] = -c / b;
+      slots = 1;
+    } else {
+      double disc = b * b - 4.0 * a * c;
+      if (disc < 0.0) {
+        if (disc > -1e-12 * b * b) disc = 0.0;  // tangent ray: keep the double root
+        else return;
+      }
+      const double s = std::sqrt(disc);
+      rho[0] = (-b - s) / (2.0 * a), rho[1] = (-b + s) / (2.0 * a);
+    }
+    for (int slot = 0; slot < slots; ++slot) {
+      const double r = rho[slot];
+      if (!(r >= 0.0) || !std::isfinite(r)) continue;
+      // Sheet condition: Δ (K − 2ρ e·δ) ≥ 0 (tolerance: the squaring's rounding).
+      const double side = K - 2.0 * r * ed;
+      if (D * side < -1e-9 * (std::abs(K) + 1.0)) continue;
+      out[slot] = Vec3(f1.x() + r * e.x(), f1.y() + r * e.y(), height_m);
+      valid[slot] = true;
+    }
+  }
+  Vec3 f1;
+  double height_m;
+  Eigen::Vector2d delta;
+  double D, K, c;
+};
 }  // namespace
 
 bool point_on_ray(const Hyperbola& h, double height_m, double psi_rad, int slot, Vec3& out) {
-  return point_on_unit_ray(h, height_m, Eigen::Vector2d(std::cos(psi_rad), std::sin(psi_rad)), slot, out);
+  Vec3 p[2];
+  bool valid[2];
+  RayQuadratic(h, height_m).points(Eigen::Vector2d(std::cos(psi_rad), std::sin(psi_rad)), p, valid);
+  if (valid[slot]) out = p[slot];
+  return valid[slot];
 }
 
 PlaneSection sample_section(const Hyperbola& h, double height_m, int rays, double max_range_m) {
@@ -84,15 +103,16 @@ void sample_section(const Hyperbola& h, double height_m, int rays, double max_ra
       directions[i] = Eigen::Vector2d(std::cos(psi), std::sin(psi));
     }
   }
+  const RayQuadratic quadratic(h, height_m);
   for (int i = 0; i < rays; ++i) {
-    const Eigen::Vector2d& e = directions[i];
-    for (int slot = 0; slot < 2; ++slot) {
-      Vec3 p;
-      if (point_on_unit_ray(h, height_m, e, slot, p) && (p - h.f2).norm() <= max_range_m) {
-        s.points[2 * i + slot] = p;
+    Vec3 p[2];
+    bool on[2];
+    quadratic.points(directions[i], p, on);
+    for (int slot = 0; slot < 2; ++slot)
+      if (on[slot] && (p[slot] - h.f2).norm() <= max_range_m) {
+        s.points[2 * i + slot] = p[slot];
         valid[2 * i + slot] = 1;
       }
-    }
   }
   const double c1 = height_m - h.f1.z();
   for (int slot = 0; slot < 2; ++slot)
@@ -157,6 +177,7 @@ std::vector<Vec3> intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1
   }
   std::sort(brackets.begin(), brackets.end());
   const double dpsi = kTwoPi / n;
+  const RayQuadratic quadratic(h1, s1.height_m);
   for (const int a : brackets) {
     const int i = a / 2, slot = a % 2;
     const int b = 2 * ((i + 1) % n) + slot;
@@ -173,11 +194,14 @@ std::vector<Vec3> intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1
     for (int it = 0; it < 40 && hi - lo > 1e-15; ++it) {
       double mid = (lo * fhi - hi * flo) / (fhi - flo);
       if (!(mid > lo && mid < hi)) mid = 0.5 * (lo + hi);
-      Vec3 pm;
-      if (!point_on_ray(h1, s1.height_m, mid, slot, pm)) {
+      Vec3 on_ray[2];
+      bool valid[2];
+      quadratic.points(Eigen::Vector2d(std::cos(mid), std::sin(mid)), on_ray, valid);
+      if (!valid[slot]) {
         ok = false;
         break;
       }
+      const Vec3& pm = on_ray[slot];
       const double fm = residual(h2, pm);
       p = pm;
       if (std::abs(fm) < 1e-13) break;

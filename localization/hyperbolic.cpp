@@ -7,7 +7,6 @@
 #include <optional>
 #include <sstream>
 #include <tuple>
-#include <unordered_map>
 #include <vector>
 
 #include "localization/finish.h"
@@ -84,28 +83,86 @@ std::vector<Intersection> intersect_conics(const std::vector<Hyperbola>& conics,
 namespace {
 
 using Key = std::tuple<long, long, long>;
-struct KeyHash {
-  size_t operator()(const Key& k) const {
+
+// The intersections binned in cubic cells of side `cell`: each cell's points stored contiguously (x, y, z,
+// quality arrays; within a cell in their order in the set), cells found through an open-addressing table
+// (linear probing, load ≤ 1/2). The mode search looks up up to 7 × 7 cells per step, most of them empty: a
+// probe here is one multiply and a compare, where std::unordered_map divided by a prime and followed a list.
+class CellIndex {
+ public:
+  CellIndex(const std::vector<Intersection>& set, double cell) : cell_(cell) {
+    size_t capacity = 16;
+    while (capacity < 2 * set.size()) capacity *= 2;
+    slot_.assign(capacity, -1);
+    mask_ = capacity - 1;
+    std::vector<int> cell_of(set.size());
+    std::vector<int> count;
+    for (size_t i = 0; i < set.size(); ++i) {
+      const Key k = key(set[i].point);
+      size_t s = hash(k) & mask_;
+      while (slot_[s] >= 0 && keys_[slot_[s]] != k) s = (s + 1) & mask_;
+      if (slot_[s] < 0) {
+        slot_[s] = static_cast<int>(keys_.size());
+        keys_.push_back(k);
+        count.push_back(0);
+      }
+      cell_of[i] = slot_[s];
+      ++count[slot_[s]];
+    }
+    start_.assign(keys_.size() + 1, 0);
+    for (size_t c = 0; c < keys_.size(); ++c) start_[c + 1] = start_[c] + count[c];
+    std::vector<int> next(start_.begin(), start_.end() - 1);
+    x_.resize(set.size()), y_.resize(set.size()), z_.resize(set.size()), q_.resize(set.size());
+    for (size_t i = 0; i < set.size(); ++i) {
+      const int at = next[cell_of[i]]++;
+      x_[at] = set[i].point.x(), y_[at] = set[i].point.y(), z_[at] = set[i].point.z(), q_[at] = set[i].quality;
+    }
+  }
+
+  double cell() const { return cell_; }
+  Key key(const Vec3& p) const {
+    return Key{static_cast<long>(std::floor(p.x() / cell_)), static_cast<long>(std::floor(p.y() / cell_)),
+               static_cast<long>(std::floor(p.z() / cell_))};
+  }
+  // The cell with key k, or −1 when no point lies in it.
+  int find(const Key& k) const {
+    for (size_t s = hash(k) & mask_;; s = (s + 1) & mask_) {
+      const int c = slot_[s];
+      if (c < 0 || keys_[c] == k) return c;
+    }
+  }
+  int cells() const { return static_cast<int>(keys_.size()); }
+  int points() const { return start_.empty() ? 0 : start_.back(); }
+  const Key& cell_key(int c) const { return keys_[c]; }
+  // Cell c's points: positions [begin(c), end(c)) of the arrays below.
+  int begin(int c) const { return start_[c]; }
+  int end(int c) const { return start_[c + 1]; }
+  double x(int k) const { return x_[k]; }
+  double y(int k) const { return y_[k]; }
+  double z(int k) const { return z_[k]; }
+  double quality(int k) const { return q_[k]; }
+  // How many cells the occupied cells span in z (0 when the set is planar: no z neighbours to visit).
+  long z_span() const {
+    if (keys_.empty()) return 0;
+    long lo = std::get<2>(keys_.front()), hi = lo;
+    for (const Key& k : keys_) lo = std::min(lo, std::get<2>(k)), hi = std::max(hi, std::get<2>(k));
+    return hi - lo;
+  }
+
+ private:
+  static size_t hash(const Key& k) {
     // Large odd multipliers (as in spatial hashing, Teschner et al. 2003), mixed once more.
     const uint64_t h = static_cast<uint64_t>(std::get<0>(k)) * 73856093u ^ static_cast<uint64_t>(std::get<1>(k)) * 19349663u ^
                        static_cast<uint64_t>(std::get<2>(k)) * 83492791u;
     return static_cast<size_t>(h ^ (h >> 29));
   }
+  double cell_;
+  std::vector<int> slot_;
+  size_t mask_ = 0;
+  std::vector<Key> keys_;
+  std::vector<int> start_;
+  std::vector<double> x_, y_, z_, q_;
 };
-// Hashed: the mode search looks cells up many times per step. Nothing depends on its iteration order (the
-// seeds are sorted by score, then key).
-using CellGrid = std::unordered_map<Key, std::vector<int>, KeyHash>;
-
-Key cell_key(const Vec3& p, double cell) {
-  return Key{static_cast<long>(std::floor(p.x() / cell)), static_cast<long>(std::floor(p.y() / cell)),
-             static_cast<long>(std::floor(p.z() / cell))};
-}
-
-CellGrid make_cells(const std::vector<Intersection>& set, double cell) {
-  CellGrid grid;
-  for (int i = 0; i < static_cast<int>(set.size()); ++i) grid[cell_key(set[i].point, cell)].push_back(i);
-  return grid;
-}
 
 // Mode of the quality-weighted Gaussian kernel density f(x) = Σ q_i exp(−|x_i − x|² / 2h²) at bandwidth h,
 // then h/2 and h/4 (each from the last). The plain mean-shift step (Σ q K x_i / Σ q K − x) converges
@@ -114,48 +171,47 @@ CellGrid make_cells(const std::vector<Intersection>& set, double cell) {
 // gradient g = Σ q K (x_i − x) / h², Hessian H = Σ q K ((x_i − x)(x_i − x)ᵀ / h⁴ − I / h²) — converges
 // quadratically to the same mode; it is taken where H is negative definite and the step stays within h,
 // the mean-shift step (always uphill) otherwise.
-// z_span: how many cells the occupied cells span in z (0 when the set is planar: no z neighbours to visit).
-long z_span(const CellGrid& grid) {
-  if (grid.empty()) return 0;
-  long lo = std::get<2>(grid.begin()->first), hi = lo;
-  for (const auto& [k, idx] : grid) lo = std::min(lo, std::get<2>(k)), hi = std::max(hi, std::get<2>(k));
-  return hi - lo;
-}
 
 // The mode at one bandwidth h from x.
 // `known`: modes already reached at this h; a path that comes within `capture_m` of one ends there (it is that
 // mode's basin: the rest of the iterations would only converge onto it).
-Vec3 shift_at(const std::vector<Intersection>& set, const CellGrid& grid, double cell, Vec3 x, double h, long z_cells,
-              const std::vector<Vec3>* known = nullptr, double capture_m = 0.0) {
+Vec3 shift_at(const CellIndex& grid, Vec3 x, double h, long z_cells, const std::vector<Vec3>* known = nullptr,
+              double capture_m = 0.0) {
+  // Sized once for every point of the set: the gather below writes without a capacity check per point.
   thread_local std::vector<Vec3> offsets;
-  thread_local std::vector<double> exponent, quality;
-  thread_local Eigen::ArrayXd weights;
+  thread_local std::vector<double> exponent, quality, w_buffer;
+  const size_t capacity = static_cast<size_t>(grid.points());
+  if (offsets.size() < capacity)
+    offsets.resize(capacity), exponent.resize(capacity), quality.resize(capacity), w_buffer.resize(capacity);
+  const double cut2 = 9.0 * h * h;
   for (int it = 0; it < 30; ++it) {
-    const Key c = cell_key(x, cell);
-    const long reach = static_cast<long>(std::ceil(3.0 * h / cell));
+    const Key c = grid.key(x);
+    const long reach = static_cast<long>(std::ceil(3.0 * h / grid.cell()));
     const long reach_z = std::min(reach, z_cells);
     // Gather the kernel's support first, then its weights in one vectorised exp (a libm call per point
     // was most of this function's time).
-    offsets.clear();
-    exponent.clear();
-    quality.clear();
+    Eigen::Index m = 0;
+    Vec3* off = offsets.data();
+    double* ex = exponent.data();
+    double* q = quality.data();
     for (long dx = -reach; dx <= reach; ++dx)
       for (long dy = -reach; dy <= reach; ++dy)
         for (long dz = -reach_z; dz <= reach_z; ++dz) {
-          auto found = grid.find({std::get<0>(c) + dx, std::get<1>(c) + dy, std::get<2>(c) + dz});
-          if (found == grid.end()) continue;
-          for (int i : found->second) {
+          const int found = grid.find({std::get<0>(c) + dx, std::get<1>(c) + dy, std::get<2>(c) + dz});
+          if (found < 0) continue;
+          for (int k = grid.begin(found); k < grid.end(found); ++k) {
             // The kernel is cut at 3h (what `reach` visits): beyond it exp(−4.5) ≈ 1 % adds nothing but cost
             // and makes the sum depend on the cell boundaries.
-            const Vec3 d = set[i].point - x;
+            const Vec3 d = Vec3(grid.x(k), grid.y(k), grid.z(k)) - x;
             const double d2 = d.squaredNorm();
-            if (d2 > 9.0 * h * h) continue;
-            offsets.push_back(d);
-            exponent.push_back(-0.5 * d2 / (h * h));
-            quality.push_back(set[i].quality);
+            if (d2 > cut2) continue;
+            off[m] = d;
+            ex[m] = -0.5 * d2 / (h * h);
+            q[m] = grid.quality(k);
+            ++m;
           }
         }
-    const Eigen::Index m = static_cast<Eigen::Index>(offsets.size());
+    Eigen::Map<Eigen::ArrayXd> weights(w_buffer.data(), m);
     weights = Eigen::Map<const Eigen::ArrayXd>(quality.data(), m) * Eigen::Map<const Eigen::ArrayXd>(exponent.data(), m).exp();
     // Plain scalar sums (Σw, Σw d, Σw d dᵀ): as Eigen temporaries they were kept on the stack and every
     // iteration waited on the store of the one before.
@@ -181,7 +237,8 @@ Vec3 shift_at(const std::vector<Intersection>& set, const CellGrid& grid, double
       if (newton.allFinite() && newton.norm() <= h) step = newton;
     }
     x += step;
-    if (step.norm() < 1e-6) break;  // 1 µm: far below the cluster spread; the joint fit polishes the point
+    // 10 µm: far below the cluster spread (and a Newton step of 10 µm leaves ~1e-12 m: convergence is quadratic).
+    if (step.norm() < 1e-6) break;
     if (known)
       for (const Vec3& m : *known)
         if ((x - m).norm() < capture_m) return m;
@@ -190,56 +247,63 @@ Vec3 shift_at(const std::vector<Intersection>& set, const CellGrid& grid, double
 }
 
 // The mode at h, then refined at h/2 and h/4.
-Vec3 refine_mode(const std::vector<Intersection>& set, const CellGrid& grid, double cell, Vec3 x, double bandwidth_m,
-                 long z_cells) {
-  for (double h : {bandwidth_m / 2.0, bandwidth_m / 4.0}) x = shift_at(set, grid, cell, x, h, z_cells);
+Vec3 refine_mode(const CellIndex& grid, Vec3 x, double bandwidth_m, long z_cells) {
+  for (double h : {bandwidth_m / 2.0, bandwidth_m / 4.0}) x = shift_at(grid, x, h, z_cells);
   return x;
 }
 
-Vec3 shift_to_mode(const std::vector<Intersection>& set, const CellGrid& grid, double cell, Vec3 x, double bandwidth_m,
-                   long z_cells) {
-  return refine_mode(set, grid, cell, shift_at(set, grid, cell, x, bandwidth_m, z_cells), bandwidth_m, z_cells);
+Vec3 shift_to_mode(const CellIndex& grid, Vec3 x, double bandwidth_m, long z_cells) {
+  return refine_mode(grid, shift_at(grid, x, bandwidth_m, z_cells), bandwidth_m, z_cells);
 }
 
 }  // namespace
 
 Vec3 intersection_mode_near(const std::vector<Intersection>& set, const Vec3& start, double bandwidth_m) {
-  const CellGrid grid = make_cells(set, bandwidth_m);
-  return shift_to_mode(set, grid, bandwidth_m, start, bandwidth_m, z_span(grid));
+  const CellIndex grid(set, bandwidth_m);
+  return shift_to_mode(grid, start, bandwidth_m, grid.z_span());
 }
 
 std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, double bandwidth_m, int max_modes) {
   std::vector<Vec3> modes;
   if (set.empty()) return modes;
   const double cell = bandwidth_m;
-  CellGrid grid = make_cells(set, cell);
-  const long z_cells = z_span(grid);
-  // Kernel-density score of each occupied cell: quality summed over the 3×3×3 neighbourhood.
-  std::vector<std::pair<double, Key>> scored;
-  for (const auto& [k, idx] : grid) {
+  const CellIndex grid(set, cell);
+  const long z_cells = grid.z_span();
+  const long reach_z = std::min(1L, z_cells);
+  // Kernel-density score of each occupied cell: quality summed over the 3×3×3 neighbourhood (3×3 when planar).
+  struct Scored {
+    double score;
+    Key key;
+    int cell;
+  };
+  std::vector<Scored> scored;
+  scored.reserve(grid.cells());
+  for (int c = 0; c < grid.cells(); ++c) {
+    const Key& k = grid.cell_key(c);
     double s = 0.0;
     for (long dx = -1; dx <= 1; ++dx)
       for (long dy = -1; dy <= 1; ++dy)
-        for (long dz = -1; dz <= 1; ++dz) {
-          auto it = grid.find({std::get<0>(k) + dx, std::get<1>(k) + dy, std::get<2>(k) + dz});
-          if (it != grid.end())
-            for (int i : it->second) s += set[i].quality;
+        for (long dz = -reach_z; dz <= reach_z; ++dz) {
+          const int n = grid.find({std::get<0>(k) + dx, std::get<1>(k) + dy, std::get<2>(k) + dz});
+          if (n >= 0)
+            for (int i = grid.begin(n); i < grid.end(n); ++i) s += grid.quality(i);
         }
-    scored.emplace_back(s, k);
+    scored.push_back(Scored{s, k, c});
   }
-  std::sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) {
-    return a.first != b.first ? a.first > b.first : a.second < b.second;
+  std::sort(scored.begin(), scored.end(), [](const Scored& a, const Scored& b) {
+    return a.score != b.score ? a.score > b.score : a.key < b.key;
   });
   std::vector<Vec3> modes_at_h;
-  for (const auto& [score, k] : scored) {
+  for (const auto& [score, k, c] : scored) {
     if (static_cast<int>(modes.size()) >= max_modes) break;
     // Seeds are the dense cells: a cell with under a tenth of the densest one's intersection weight holds the
     // scatter of near-parallel conics, not a cluster (the mirror and grating-lobe clusters are as dense as
     // the true one, so they are still seeded).
-    if (score < 0.1 * scored.front().first) break;
+    if (score < 0.1 * scored.front().score) break;
     Vec3 start = Vec3::Zero();
     double w = 0.0;
-    for (int i : grid[k]) start += set[i].quality * set[i].point, w += set[i].quality;
+    for (int i = grid.begin(c); i < grid.end(c); ++i)
+      start += grid.quality(i) * Vec3(grid.x(i), grid.y(i), grid.z(i)), w += grid.quality(i);
     start /= w;
     // A start within one bandwidth of a mode already found lies in its basin: shifting it again would only
     // find that mode (the distinctness test below needs 2 bandwidths).
@@ -248,12 +312,12 @@ std::vector<Vec3> intersection_modes(const std::vector<Intersection>& set, doubl
     if (known) continue;
     // Seeds of one cluster reach the same mode at h; refining it again (deterministic from there) would
     // only give the same point, which the distinctness test drops.
-    const Vec3 at_h = shift_at(set, grid, cell, start, bandwidth_m, z_cells, &modes_at_h, 1e-3 * bandwidth_m);
+    const Vec3 at_h = shift_at(grid, start, bandwidth_m, z_cells, &modes_at_h, 1e-3 * bandwidth_m);
     bool reached = false;
     for (const Vec3& m : modes_at_h) reached |= (m - at_h).norm() < 1e-5;
     if (reached) continue;
     modes_at_h.push_back(at_h);
-    const Vec3 x = refine_mode(set, grid, cell, at_h, bandwidth_m, z_cells);
+    const Vec3 x = refine_mode(grid, at_h, bandwidth_m, z_cells);
     bool distinct = true;
     for (const Vec3& m : modes) distinct &= (m - x).norm() > 2.0 * bandwidth_m;
     if (distinct) modes.push_back(x);
