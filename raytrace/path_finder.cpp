@@ -202,7 +202,7 @@ void PathFinder::check_link(const Endpoint& antenna, const Endpoint& tag, double
 
 void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
                        const PoseCandidates& candidates, std::vector<TracedPath>& out) const {
-  trace_impl(antenna, tag, frequency_hz, candidates, -1, out);
+  trace_impl(antenna, tag, frequency_hz, candidates, -1, nullptr, out);
 }
 
 void PathFinder::trace_sum(const Endpoint& antenna, std::span<const Endpoint> tags, std::span<const uint32_t> which,
@@ -210,14 +210,33 @@ void PathFinder::trace_sum(const Endpoint& antenna, std::span<const Endpoint> ta
                            std::span<std::complex<double>> h) const {
   thread_local std::vector<TracedPath> tl_paths;  // per-thread scratch: no allocation once warm
   std::vector<TracedPath>& paths = tl_paths;
-  const auto sum = [&](uint32_t k, int hint) {
-    trace_impl(antenna, tags[k], frequency_hz, candidates, hint, paths);
+  const auto sum = [&](uint32_t k, int hint, const std::vector<uint32_t>* groups = nullptr) {
+    trace_impl(antenna, tags[k], frequency_hz, candidates, hint, groups, paths);
     std::complex<double> s{0.0, 0.0};
     for (const TracedPath& p : paths) s += p.contribution;
     h[k] = s;
   };
   if (options_.level != ChannelLevel::kLos || packet_width <= 1 || scene_->empty()) {
-    for (uint32_t k : which) sum(k, -1);
+    if (!includes(options_.level, ChannelLevel::kSingleBounce) || options_.candidates == CandidateMode::kExhaustive ||
+        !candidates.all || exact_groups_.empty()) {
+      for (uint32_t k : which) sum(k, -1);
+      return;
+    }
+    // The exact search, per block of 16 nearby tags (the callers pass them in Morton order): the groups
+    // that can matter for any tag of the block, found once, instead of every group for every link.
+    thread_local std::vector<uint32_t> tl_groups;
+    std::vector<uint32_t>& groups = tl_groups;
+    constexpr size_t kTagBlock = 16;
+    for (size_t i = 0; i < which.size(); i += kTagBlock) {
+      const size_t n = std::min(kTagBlock, which.size() - i);
+      Vec3 lo = tags[which[i]].pose.position, hi = lo;
+      for (size_t j = 1; j < n; ++j)
+        lo = lo.cwiseMin(tags[which[i + j]].pose.position), hi = hi.cwiseMax(tags[which[i + j]].pose.position);
+      // (A non-finite endpoint: every group; the link's own check then throws.)
+      const bool finite = lo.allFinite() && hi.allFinite() && antenna.pose.position.allFinite();
+      if (finite) exact_groups_near(antenna.pose.position, lo, hi, groups);
+      for (size_t j = 0; j < n; ++j) sum(which[i + j], -1, finite ? &groups : nullptr);
+    }
     return;
   }
   // Level los in packets: the visibility of up to 16 links per Embree call, then each link's path with its
@@ -269,7 +288,8 @@ bool PathFinder::direct_segment(const Vec3& a, const Vec3& t, Segment& s, double
 }
 
 void PathFinder::trace_impl(const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
-                            const PoseCandidates& candidates, int los_hint, std::vector<TracedPath>& out) const {
+                            const PoseCandidates& candidates, int los_hint,
+                            const std::vector<uint32_t>* exact_groups, std::vector<TracedPath>& out) const {
   out.clear();
   if (los_hint < 0) check_link(antenna, tag, frequency_hz);  // (trace_sum checked before its packet)
   direct_path(antenna, tag, frequency_hz, los_hint, out);
@@ -278,7 +298,7 @@ void PathFinder::trace_impl(const Endpoint& antenna, const Endpoint& tag, double
     if (options_.candidates == CandidateMode::kExhaustive)
       reflections_exhaustive(antenna, tag, frequency_hz, out);
     else
-      reflections_fast(antenna, tag, frequency_hz, candidates, out);
+      reflections_fast(antenna, tag, frequency_hz, candidates, exact_groups, out);
     std::sort(out.begin() + first, out.end(), [](const TracedPath& x, const TracedPath& y) {
       return std::tie(x.length_m, x.facet) < std::tie(y.length_m, y.facet);
     });
@@ -599,7 +619,7 @@ void PathFinder::build_full_rects() {
 }
 
 void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, double f,
-                                   std::vector<TracedPath>& out) const {
+                                   const std::vector<uint32_t>* groups, std::vector<TracedPath>& out) const {
   struct Candidate {
     uint32_t facet;
     Vec3 image, p;
@@ -623,7 +643,9 @@ void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, dou
   std::vector<Window>& windows = tl_windows;
   windows.clear();
   Vec3 image, p, image2, p2;
-  for (uint32_t gi = 0; gi < exact_groups_.size(); ++gi) {
+  const size_t group_count = groups ? groups->size() : exact_groups_.size();
+  for (size_t j = 0; j < group_count; ++j) {
+    const uint32_t gi = groups ? (*groups)[j] : static_cast<uint32_t>(j);
     const ExactGroup& g = exact_groups_[gi];
     // A plane n·x = c rejects the link (image_point) iff c is within eps of the band between n·a and n·t.
     // Every member inside the band (with a margin for rounding): nothing here.
@@ -718,10 +740,84 @@ void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, dou
     add_reflection(c.facet, c.image, c.p, ant, tag, f, /*check_leg1=*/true, out);
 }
 
+void PathFinder::exact_groups_near(const Vec3& a, const Vec3& lo, const Vec3& hi, std::vector<uint32_t>& out) const {
+  out.clear();
+  const double eps = options_.surface_epsilon_m;
+  constexpr double kRound = 1e-9;  // reflections_exact's
+  for (uint32_t gi = 0; gi < exact_groups_.size(); ++gi) {
+    const ExactGroup& g = exact_groups_[gi];
+    // Only axis-aligned groups are judged for the whole box (their n·x is one coordinate, exactly); any
+    // other is searched for every link. NaN anywhere makes every test below false: the group is kept.
+    if (g.axis_sign == 0) {
+      out.push_back(gi);
+      continue;
+    }
+    const int k = g.axis_k, u = g.axis_u, v = g.axis_v;
+    const double na = g.axis_sign * a[k];  // = g.normal.dot(a) bitwise: the other components are ±0
+    const double nt_lo = g.axis_sign > 0 ? lo[k] : -hi[k], nt_hi = g.axis_sign > 0 ? hi[k] : -lo[k];
+    // reflections_exact's first test with the extreme n·t of the box: its two sides are non-decreasing in n·t
+    // (rounding is monotone), so true at both ends means true for every tag of the box.
+    if (g.offset_lo_m > std::min(na, nt_hi) - eps + kRound && g.offset_hi_m < std::max(na, nt_lo) + eps - kRound)
+      continue;
+    // Otherwise only where every tag takes the axis-aligned window (both endpoints strictly on one side, far
+    // from a thin group): P = a + s (t − a), s = da / (da + dt), bounded over the box by its corners (N/D with
+    // D of one sign is monotone in N and in D), plus the largest window padding, 2 span |du| / |D| + 1e-7
+    // (|da − dt| ≤ |da + dt| on one side), plus a rounding margin far above the few roundings per link.
+    if (g.span_m > 1e-6) {
+      out.push_back(gi);
+      continue;
+    }
+    const double da = na - g.offset_lo_m;
+    const double dt_lo = nt_lo - g.offset_lo_m, dt_hi = nt_hi - g.offset_lo_m;
+    constexpr double kTiny = 1e-150;  // da · dt cannot underflow to 0
+    const bool one_side = (da > kTiny && dt_lo > kTiny) || (da < -kTiny && dt_hi < -kTiny);
+    if (!(one_side && std::abs(da) > 1e3 * g.span_m)) {
+      out.push_back(gi);
+      continue;
+    }
+    const double d_lo = da + dt_lo, d_hi = da + dt_hi;
+    const double d_min = std::min(std::abs(d_lo), std::abs(d_hi));
+    double region[2][2];  // [axis u, v][low, high]
+    for (int axis = 0; axis < 2; ++axis) {
+      const int c = axis == 0 ? u : v;
+      const double n_lo = lo[c] - a[c], n_hi = hi[c] - a[c];
+      const double q[4] = {da * n_lo / d_lo, da * n_lo / d_hi, da * n_hi / d_lo, da * n_hi / d_hi};
+      const double du_max = std::max(std::abs(n_lo), std::abs(n_hi));
+      const double margin = 2.0 * g.span_m * du_max / d_min + 1e-7 + 1e-9 + 1e-12 * (std::abs(a[c]) + du_max + 1.0);
+      region[axis][0] = a[c] + *std::min_element(q, q + 4) - margin;
+      region[axis][1] = a[c] + *std::max_element(q, q + 4) + margin;
+    }
+    // Off the grid on either axis for every tag: reflections_exact skips the group for each.
+    const double u1 = g.u0 + g.nu / g.inv_du, v1 = g.v0 + g.nv / g.inv_dv;
+    const auto beyond = [](double x, double end) { return x > end + 1e-9 * (std::abs(end) + 1.0); };
+    if (region[0][1] < g.u0 || region[1][1] < g.v0 || beyond(region[0][0], u1) || beyond(region[1][0], v1)) continue;
+    // Every occupancy bit under the region empty: no facet of the group is near any tag's reflection point.
+    const auto bit_cell = [](double x, double x0, double inv, int n) {
+      return static_cast<int>(std::clamp(std::floor((x - x0) * inv), 0.0, n - 1.0));
+    };
+    const int bu0 = bit_cell(region[0][0], g.u0, g.binv_du, g.bnu), bu1 = bit_cell(region[0][1], g.u0, g.binv_du, g.bnu);
+    const int bv0 = bit_cell(region[1][0], g.v0, g.binv_dv, g.bnv), bv1 = bit_cell(region[1][1], g.v0, g.binv_dv, g.bnv);
+    constexpr long kMaxScan = 4096;  // bits; a larger region is kept unscanned (it is seldom empty)
+    bool occupied = static_cast<long>(bu1 - bu0 + 1) * (bv1 - bv0 + 1) > kMaxScan;
+    for (int iv = bv0; iv <= bv1 && !occupied; ++iv) {
+      size_t first = g.first_bit + static_cast<size_t>(iv) * g.bnu + bu0;
+      const size_t last = g.first_bit + static_cast<size_t>(iv) * g.bnu + bu1;  // inclusive
+      while (first <= last && !occupied) {
+        const size_t word = first / 64, end = std::min(last, word * 64 + 63);
+        const int from = static_cast<int>(first % 64), count = static_cast<int>(end - first + 1);
+        const uint64_t mask = (count == 64 ? ~uint64_t{0} : ((uint64_t{1} << count) - 1)) << from;
+        occupied = (exact_bits_[word] & mask) != 0;
+        first = end + 1;
+      }
+    }
+    if (occupied) out.push_back(gi);
+  }
+}
+
 void PathFinder::reflections_fast(const Endpoint& ant, const Endpoint& tag, double f, const PoseCandidates& c,
-                                  std::vector<TracedPath>& out) const {
+                                  const std::vector<uint32_t>* exact_groups, std::vector<TracedPath>& out) const {
   if (c.all) {
-    reflections_exact(ant, tag, f, out);
+    reflections_exact(ant, tag, f, exact_groups, out);
   } else {
     for (uint32_t g : c.planes) try_plane(g, ant, tag, f, c, out);
   }

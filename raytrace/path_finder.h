@@ -160,7 +160,16 @@ class PathFinder {
   void build_exact_groups();
   // Marks facets whose triangles cover their bounding rectangle exactly (below: full_rect_).
   void build_full_rects();
-  void reflections_exact(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
+  // `groups`: the exact groups to search (ascending ids; null: every group), from exact_groups_near.
+  void reflections_exact(const Endpoint& a, const Endpoint& t, double f, const std::vector<uint32_t>* groups,
+                         std::vector<TracedPath>& out) const;
+  // The exact groups that can hold a reflection point of some link from `antenna` to a tag inside the box
+  // [tags_lo, tags_hi], ascending: every group except those where, for every tag of the box,
+  // reflections_exact's per-link tests provably reject the group (plane between the endpoints; or the
+  // window of reflection points off the group's grid or on empty occupancy bits only). Shared by the links
+  // of a block of nearby tags (trace_sum), it replaces the scan of every group per link.
+  void exact_groups_near(const Vec3& antenna, const Vec3& tags_lo, const Vec3& tags_hi,
+                         std::vector<uint32_t>& out) const;
 
   // Bit index of p's cell in g's grid, or SIZE_MAX when p is outside the grid.
   size_t cell_bit(const PlaneGroup& g, const Vec3& p) const;
@@ -169,13 +178,14 @@ class PathFinder {
   void mark_seen(const PlaneGroup& g, const Vec3& p, const Vec3& dir, double radius_m, PoseCandidates& out) const;
 
   // los_hint: −1 = trace the level-los visibility ray here, 0 = known clear, 1 = known blocked.
+  // exact_groups: as reflections_exact's `groups`.
   void trace_impl(const Endpoint& antenna, const Endpoint& tag, double frequency_hz, const PoseCandidates& candidates,
-                  int los_hint, std::vector<TracedPath>& out) const;
+                  int los_hint, const std::vector<uint32_t>* exact_groups, std::vector<TracedPath>& out) const;
   static void check_link(const Endpoint& antenna, const Endpoint& tag, double frequency_hz);
   void direct_path(const Endpoint& a, const Endpoint& t, double f, int los_hint, std::vector<TracedPath>& out) const;
   void reflections_exhaustive(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
   void reflections_fast(const Endpoint& a, const Endpoint& t, double f, const PoseCandidates& c,
-                        std::vector<TracedPath>& out) const;
+                        const std::vector<uint32_t>* exact_groups, std::vector<TracedPath>& out) const;
   void try_plane(uint32_t group, const Endpoint& a, const Endpoint& t, double f, const PoseCandidates& c,
                  std::vector<TracedPath>& out) const;
   // Shared tail of both modes: P on facet f is valid; checks leg 2 (and leg 1 if asked) and appends.

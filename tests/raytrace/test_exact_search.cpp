@@ -161,6 +161,75 @@ TEST(ExactSearch, TagsOnShelfSurfacesWithCulling) {
   EXPECT_GT(g_culled - culled_before, 100u) << "the covered rectangles culled (almost) nothing";
 }
 
+TEST(ExactSearch, BlocksOfNearbyTagsShareTheGroupSearch) {
+  // one_way searches the plane groups once per block of nearby tags (PathFinder::exact_groups_near) and
+  // skips, for the block's links, the groups it proves useless for every tag of the block. Tags in clusters
+  // (1 cm, 30 cm and 3 m across, some exactly on shelf tops and fronts or 1e-7 m off them, where a link's
+  // window is at its widest and a plane is within rounding of an endpoint), antennas in aisles, at shelf
+  // height and inside racks: every link's h must be the exhaustive search's (|Δh| ≤ 1e-12 |h|) and bitwise
+  // the per-link search's (every path kept: a missing weak reflection would show).
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  size_t links = 0, reflecting = 0;
+  for (int k = 0; k < 3; ++k) {
+    WarehouseParams p;
+    p.rows = 2 + k % 2, p.racks_per_row = 3, p.shelves = 3, p.tessellation = 1 + k % 2;
+    const auto meshes = generate_warehouse(p);
+    auto [lo, hi] = bounds_of(meshes);
+    lo += Vec3(0.05, 0.05, 0.05);
+    hi -= Vec3(0.05, 0.05, 0.05);
+    const auto scene = scene_of(meshes);
+    TraceOptions ref_o;
+    ref_o.candidates = CandidateMode::kExhaustive;
+    ref_o.drop_below_db = 400.0;
+    TraceOptions fast_o = ref_o;
+    fast_o.candidates = CandidateMode::kFast;
+    const RaytracedChannel reference(scene, ref_o), fast(scene, fast_o);
+    const double gap = 0.1;
+    std::vector<Endpoint> tags;
+    for (double size : {0.01, 0.3, 3.0})
+      for (int cluster = 0; cluster < 3; ++cluster) {
+        Vec3 centre(lo.x() + u(rng) * (hi.x() - lo.x()), lo.y() + u(rng) * (hi.y() - lo.y()), lo.z() + u(rng) * (hi.z() - lo.z()));
+        for (int j = 0; j < 20; ++j) {
+          Vec3 t = centre + size * Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+          if (j % 4 == 0) {  // on a shelf top (z exactly), or 1e-7 m above or below it
+            const int shelf = static_cast<int>(u(rng) * p.shelves);
+            t.z() = 0.15 + shelf * p.shelf_spacing_m + (j % 8 == 0 ? 0.0 : (j % 3 == 0 ? 1e-7 : -1e-7));
+          } else if (j % 4 == 1) {  // on a rack front (x exactly)
+            const int row = static_cast<int>(u(rng) * p.rows);
+            t.x() = row * (p.rack_depth_m + p.aisle_m) + p.aisle_m;
+          }
+          t = t.cwiseMax(lo).cwiseMin(hi);
+          tags.push_back(endpoint(t));
+        }
+      }
+    for (int i = 0; i < 6; ++i) {
+      const int aisle = static_cast<int>(u(rng) * (p.rows + 1));
+      const double ax = i == 5 ? lo.x() + u(rng) * (hi.x() - lo.x())  // anywhere, inside racks too
+                               : aisle * (p.rack_depth_m + p.aisle_m) + (0.2 + 0.6 * u(rng)) * p.aisle_m;
+      const double az = i % 3 == 0 ? 0.15 + p.shelf_spacing_m : 0.3 + 2.5 * u(rng);  // at a shelf top's height
+      const Endpoint a = endpoint(Vec3(ax, -0.5 + u(rng) * (p.racks_per_row * (p.rack_length_m + gap) + 1.0), az), i % 2 == 1);
+      std::vector<std::complex<double>> h(tags.size());
+      fast.one_way(a, tags, kF, h);
+      for (size_t j = 0; j < tags.size(); ++j) {
+        std::complex<double> want{0.0, 0.0}, per_link{0.0, 0.0};
+        size_t reflections = 0;
+        for (const Path& path : reference.paths(a, tags[j], kF)) {
+          want += path.contribution;
+          reflections += path.kind == PathKind::kReflection;
+        }
+        for (const Path& path : fast.paths(a, tags[j], kF)) per_link += path.contribution;
+        EXPECT_LE(std::abs(h[j] - want), 1e-12 * std::abs(want)) << "warehouse " << k << " antenna " << i << " tag " << j;
+        EXPECT_EQ(h[j], per_link) << "warehouse " << k << " antenna " << i << " tag " << j;
+        ++links;
+        reflecting += reflections > 0;
+      }
+    }
+  }
+  EXPECT_EQ(links, 3u * 6u * 180u);
+  EXPECT_GT(reflecting, links / 2);
+}
+
 TEST(ExactSearch, CullingRemovesRaysNotPaths) {
   // On a warehouse the culled search traces fewer Embree rays for the same channel, and counts what it culled;
   // off, it culls nothing (so this fails if the culling is switched off or stops culling).
