@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/units.h"
 
@@ -243,7 +244,27 @@ bool intersect_3d(const Hyperbola& a, const Hyperbola& b, const Hyperbola& c, co
   return std::abs(residual(a, x)) < 1e-7 && std::abs(residual(b, x)) < 1e-7 && std::abs(residual(c, x)) < 1e-7;
 }
 
+namespace {
+// The square case at a fixed size (the common ones: two conics in the plane, three in space): the same
+// decomposition as the general case below, without its run-time sizes (bitwise the same qualities on every
+// real and simulated set tried).
+template <int N>
+double square_quality(const Vec3* gradients) {
+  Eigen::Matrix<double, N, N> J;
+  for (int i = 0; i < N; ++i) J.row(i) = gradients[i].head<N>().transpose();
+  const Eigen::Matrix<double, N, N> A = J.transpose() * J;
+  Eigen::FullPivLU<Eigen::Matrix<double, N, N>> lu(A);
+  // Eigen's default threshold (ε · size), set explicitly: gcc 12 cannot see that the unset one is never read.
+  lu.setThreshold(std::numeric_limits<double>::epsilon() * N);
+  if (!lu.isInvertible()) return 0.0;
+  const double tr = lu.inverse().trace();
+  return tr > 0.0 ? 1.0 / std::sqrt(tr) : 0.0;
+}
+}  // namespace
+
 double intersection_quality(const Vec3* gradients, int count, bool planar) {
+  if (planar && count == 2) return square_quality<2>(gradients);
+  if (!planar && count == 3) return square_quality<3>(gradients);
   const int dim = planar ? 2 : 3;
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;  // on the stack
   Small J(count, dim);
