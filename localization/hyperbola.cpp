@@ -153,13 +153,22 @@ bool polish_2d(const Hyperbola& h1, const Hyperbola& h2, Vec3& x) {
 
 std::vector<Vec3> intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyperbola& h2) {
   std::vector<Vec3> out;
+  intersect_in_plane(h1, s1, h2, out);
+  return out;
+}
+
+void intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyperbola& h2, std::vector<Vec3>& out) {
+  out.clear();
   const int n = s1.rays;
   // h2's residual at every valid sample of the section, in packets (the bulk of the method's time: every pair
   // of conics). Conics of one unwrapped segment share F1 (its first antenna position), and then the distance
   // to it is the section's own (one square root per sample instead of two).
-  thread_local Eigen::ArrayXd f;
+  // (Into storage kept per thread at its largest size: an ArrayXd assigned a new size each call reallocated.)
+  thread_local std::vector<double> f_storage;
   const double c2 = s1.height_m - h2.f2.z(), c1 = s1.height_m - h2.f1.z();
   const Eigen::Index m = static_cast<Eigen::Index>(s1.x_m.size());
+  if (f_storage.size() < static_cast<size_t>(m)) f_storage.resize(m);
+  Eigen::Map<Eigen::ArrayXd> f(f_storage.data(), m);
   const Eigen::Map<const Eigen::ArrayXd> x(s1.x_m.data(), m), y(s1.y_m.data(), m), r1(s1.r1_m.data(), m);
   if (h2.f1 == s1.f1)
     f = ((x - h2.f2.x()).square() + (y - h2.f2.y()).square() + c2 * c2).sqrt() - r1 - h2.delta_m;
@@ -222,7 +231,6 @@ std::vector<Vec3> intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1
     for (const Vec3& q : out) duplicate |= (q - p).norm() < 1e-6;
     if (!duplicate) out.push_back(p);
   }
-  return out;
 }
 
 bool intersect_3d(const Hyperbola& a, const Hyperbola& b, const Hyperbola& c, const Vec3& seed, Vec3& out) {

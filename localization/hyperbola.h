@@ -53,6 +53,8 @@ void sample_section(const Hyperbola& h, double height_m, int rays, double max_ra
 // All intersections of two plane sections (sign changes of h2's residual along h1's section, refined by
 // regula falsi (Illinois) on the ray angle and polished by Newton on both loci). Exact to ~1e-9 m.
 std::vector<Vec3> intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyperbola& h2);
+// The same into `out` (cleared first; its storage reused across calls).
+void intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyperbola& h2, std::vector<Vec3>& out);
 
 // Intersection of three hyperboloids (3-D) by Gauss–Newton from `seed`; false if it does not converge.
 bool intersect_3d(const Hyperbola& a, const Hyperbola& b, const Hyperbola& c, const Vec3& seed, Vec3& out);

@@ -45,9 +45,11 @@ std::vector<Intersection> intersect_conics(const std::vector<Hyperbola>& conics,
   thread_local std::vector<PlaneSection> sections;
   if (static_cast<int>(sections.size()) < n) sections.resize(n);
   for (int i = 0; i < n; ++i) sample_section(conics[i], plane_height_m, kRays, options.max_range_m, sections[i]);
+  thread_local std::vector<Vec3> crossings;
   for (int b = 1; b < n; ++b) {     // the new conic
     for (int a = 0; a < b; ++a) {   // every previous one
-      for (const Vec3& p2 : intersect_in_plane(conics[b], sections[b], conics[a])) {
+      intersect_in_plane(conics[b], sections[b], conics[a], crossings);
+      for (const Vec3& p2 : crossings) {
         Vec3 p = p2;
         Vec3 grads[3] = {gradient(conics[a], p), gradient(conics[b], p), Vec3::Zero()};
         int gradient_count = 2;
