@@ -180,11 +180,10 @@ class CellIndex {
 Vec3 shift_at(const CellIndex& grid, Vec3 x, double h, long z_cells, const std::vector<Vec3>* known = nullptr,
               double capture_m = 0.0) {
   // Sized once for every point of the set: the gather below writes without a capacity check per point.
-  thread_local std::vector<Vec3> offsets;
-  thread_local std::vector<double> exponent, quality, w_buffer;
+  thread_local std::vector<double> offset_x, offset_y, offset_z, exponent, quality, w_buffer;
   const size_t capacity = static_cast<size_t>(grid.points());
-  if (offsets.size() < capacity)
-    offsets.resize(capacity), exponent.resize(capacity), quality.resize(capacity), w_buffer.resize(capacity);
+  if (offset_x.size() < capacity)
+    for (auto* v : {&offset_x, &offset_y, &offset_z, &exponent, &quality, &w_buffer}) v->resize(capacity);
   const double cut2 = 9.0 * h * h;
   for (int it = 0; it < 30; ++it) {
     const Key c = grid.key(x);
@@ -193,7 +192,9 @@ Vec3 shift_at(const CellIndex& grid, Vec3 x, double h, long z_cells, const std::
     // Gather the kernel's support first, then its weights in one vectorised exp (a libm call per point
     // was most of this function's time).
     Eigen::Index m = 0;
-    Vec3* off = offsets.data();
+    double* ox = offset_x.data();
+    double* oy = offset_y.data();
+    double* oz = offset_z.data();
     double* ex = exponent.data();
     double* q = quality.data();
     for (long dx = -reach; dx <= reach; ++dx)
@@ -207,7 +208,7 @@ Vec3 shift_at(const CellIndex& grid, Vec3 x, double h, long z_cells, const std::
             const Vec3 d = Vec3(grid.x(k), grid.y(k), grid.z(k)) - x;
             const double d2 = d.squaredNorm();
             if (d2 > cut2) continue;
-            off[m] = d;
+            ox[m] = d.x(), oy[m] = d.y(), oz[m] = d.z();
             ex[m] = -0.5 * d2 / (h * h);
             q[m] = grid.quality(k);
             ++m;
@@ -219,7 +220,7 @@ Vec3 shift_at(const CellIndex& grid, Vec3 x, double h, long z_cells, const std::
     // iteration waited on the store of the one before.
     double den = 0.0, nx = 0.0, ny = 0.0, nz = 0.0, sxx = 0.0, sxy = 0.0, sxz = 0.0, syy = 0.0, syz = 0.0, szz = 0.0;
     for (Eigen::Index k = 0; k < m; ++k) {
-      const double w = weights[k], ex = offsets[k].x(), ey = offsets[k].y(), ez = offsets[k].z();
+      const double w = weights[k], ex = ox[k], ey = oy[k], ez = oz[k];
       den += w;
       nx += w * ex, ny += w * ey, nz += w * ez;
       sxx += w * ex * ex, sxy += w * ex * ey, sxz += w * ex * ez;
