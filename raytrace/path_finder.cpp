@@ -639,9 +639,11 @@ void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, dou
     double pu0, pu1, pv0, pv1;  // where P can be, in (u, v)
     size_t bit;                 // the occupancy bit under the window's low corner (SIZE_MAX: test none)
   };
+  // Sized for every group once per thread; pass 1 fills it in place (a window is copied only when pass 2 keeps it).
   thread_local std::vector<Window> tl_windows;
   std::vector<Window>& windows = tl_windows;
-  windows.clear();
+  if (windows.size() < exact_groups_.size()) windows.resize(exact_groups_.size());
+  size_t window_count = 0;
   Vec3 image, p, image2, p2;
   const size_t group_count = groups ? groups->size() : exact_groups_.size();
   for (size_t j = 0; j < group_count; ++j) {
@@ -655,7 +657,8 @@ void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, dou
     // Otherwise, where any member's image point can be: between those of the extreme planes (padded by the
     // span, the most the plane's own offset moves P along an axis). Unknown if either extreme rejects the
     // link (some member may not): then every cell of the group.
-    Window w{gi, 0, g.nu - 1, 0, g.nv - 1, -INFINITY, INFINITY, -INFINITY, INFINITY, SIZE_MAX};
+    Window& w = windows[window_count];
+    w = Window{gi, 0, g.nu - 1, 0, g.nv - 1, -INFINITY, INFINITY, -INFINITY, INFINITY, SIZE_MAX};
     bool bounded = false;
     if (g.axis_sign != 0 && g.span_m <= 1e-6) {
       // Axis-aligned plane (the common case): P in (u, v) is a + s·(t − a), s = da/(da + dt), in a few
@@ -684,8 +687,7 @@ void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, dou
       const double ulo = (w.pu0 - g.u0) * g.inv_du, uhi = (w.pu1 - g.u0) * g.inv_du;
       const double vlo = (w.pv0 - g.v0) * g.inv_dv, vhi = (w.pv1 - g.v0) * g.inv_dv;
       if (!(uhi >= 0.0 && vhi >= 0.0 && ulo < g.nu && vlo < g.nv)) continue;  // off every facet
-      w.iu0 = static_cast<int>(std::max(ulo, 0.0)), w.iu1 = static_cast<int>(std::min(uhi, g.nu - 1.0));
-      w.iv0 = static_cast<int>(std::max(vlo, 0.0)), w.iv1 = static_cast<int>(std::min(vhi, g.nv - 1.0));
+      // (its cells, iu0 … iv1, only for the windows pass 2 keeps)
       // The occupancy bit under the window, when the window is within one bit (almost always).
       // (the window meets the grid, so clamping at 0 before truncating is the floor, clamped)
       const int bu0 = static_cast<int>(std::max((w.pu0 - g.u0) * g.binv_du, 0.0));
@@ -697,20 +699,30 @@ void PathFinder::reflections_exact(const Endpoint& ant, const Endpoint& tag, dou
         __builtin_prefetch(&exact_bits_[w.bit / 64]);
       }
     }
-    windows.push_back(w);
+    ++window_count;
   }
-  // Pass 2: drop windows on an empty bit; ask for the cell ranges of the others.
+  // Pass 2: drop windows on an empty bit; the cells of the others (a bounded window's, from its bounds), and
+  // ask for their ranges.
   size_t kept = 0;
-  for (const Window& w : windows) {
+  for (size_t i = 0; i < window_count; ++i) {
+    Window& w = windows[i];
     if (w.bit != SIZE_MAX && !((exact_bits_[w.bit / 64] >> (w.bit % 64)) & 1u)) continue;
     const ExactGroup& g = exact_groups_[w.group];
+    if (std::isfinite(w.pu0)) {
+      // (the window meets the grid: clamping at 0 before truncating is the floor, clamped)
+      const double ulo = (w.pu0 - g.u0) * g.inv_du, uhi = (w.pu1 - g.u0) * g.inv_du;
+      const double vlo = (w.pv0 - g.v0) * g.inv_dv, vhi = (w.pv1 - g.v0) * g.inv_dv;
+      w.iu0 = static_cast<int>(std::max(ulo, 0.0)), w.iu1 = static_cast<int>(std::min(uhi, g.nu - 1.0));
+      w.iv0 = static_cast<int>(std::max(vlo, 0.0)), w.iv1 = static_cast<int>(std::min(vhi, g.nv - 1.0));
+    }
     __builtin_prefetch(&cell_start_[g.first_cell + static_cast<size_t>(w.iv0) * g.nu + w.iu0]);
-    windows[kept++] = w;
+    if (kept != i) windows[kept] = w;
+    ++kept;
   }
-  windows.resize(kept);
   // Pass 3: the cells' facets, each with reflections_exhaustive's tests, in its order, on the facet's own plane
   // (bitwise copies of it).
-  for (const Window& w : windows) {
+  for (size_t i = 0; i < kept; ++i) {
+    const Window& w = windows[i];
     const ExactGroup& g = exact_groups_[w.group];
     for (int iv = w.iv0; iv <= w.iv1; ++iv)
       for (int iu = w.iu0; iu <= w.iu1; ++iu) {
