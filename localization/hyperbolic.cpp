@@ -173,7 +173,6 @@ class CellIndex {
 // gradient g = Σ q K (x_i − x) / h², Hessian H = Σ q K ((x_i − x)(x_i − x)ᵀ / h⁴ − I / h²) — converges
 // quadratically to the same mode; it is taken where H is negative definite and the step stays within h,
 // the mean-shift step (always uphill) otherwise.
-
 // The mode at one bandwidth h from x.
 // `known`: modes already reached at this h; a path that comes within `capture_m` of one ends there (it is that
 // mode's basin: the rest of the iterations would only converge onto it).
@@ -240,8 +239,7 @@ Vec3 shift_at(const CellIndex& grid, Vec3 x, double h, long z_cells, const std::
       if (newton.allFinite() && newton.norm() <= h) step = newton;
     }
     x += step;
-    // 10 µm: far below the cluster spread (and a Newton step of 10 µm leaves ~1e-12 m: convergence is quadratic).
-    if (step.norm() < 1e-6) break;
+    if (step.norm() < 1e-6) break;  // 1 µm: far below the cluster spread; the joint fit polishes the point
     if (known)
       for (const Vec3& m : *known)
         if ((x - m).norm() < capture_m) return m;
