@@ -38,9 +38,10 @@ std::array<double, 4> default_extent(const Planning& p) {
   auto extend = [&](const Vec3& v) {
     lo_x = std::min(lo_x, v.x()), hi_x = std::max(hi_x, v.x()), lo_y = std::min(lo_y, v.y()), hi_y = std::max(hi_y, v.y());
   };
-  if (p.scene && !p.scene->empty())
-    for (const TriangleMesh& m : p.scene->meshes())
-      for (const Vec3& v : m.vertices) extend(v);
+  if (p.scene && !p.scene->empty()) {
+    extend(p.scene->bounds_lo());
+    extend(p.scene->bounds_hi());
+  }
   if (!std::isfinite(lo_x))
     throw InputError("the scenario has no scene to take the plane's extent from: give --extent X0,Y0,X1,Y1");
   return {lo_x, lo_y, hi_x, hi_y};

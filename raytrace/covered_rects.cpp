@@ -61,9 +61,9 @@ float round_down(double x) {
 
 }  // namespace
 
-CoveredRects::CoveredRects(std::span<const TriangleMesh> meshes, const Vec3& origin) : origin_(origin) {
-  for (const TriangleMesh& m : meshes)
-    for (const Vec3& p : m.vertices) magnitude_m_ = std::max(magnitude_m_, (p - origin_).norm());
+CoveredRects::CoveredRects(std::span<const SceneMesh> meshes, const Vec3& origin) : origin_(origin) {
+  for (const SceneMesh& m : meshes)
+    for (size_t i = 0; i < m.vertex_count(); ++i) magnitude_m_ = std::max(magnitude_m_, m.local_vertex(i).norm());
   // The margin: 1e-5 of the scene's size, at least 0.1 mm (blocks() uses a rectangle only where its own
   // error bound, 1e-6 relative, is at most half of it). Larger margins lose the thin faces that block most
   // legs in the warehouses (3 cm shelf-plate fronts: with 1e-4, 3.4 of 18 candidates per link culled on w1m,
@@ -94,7 +94,7 @@ size_t CoveredRects::bytes() const {
   return n;
 }
 
-void CoveredRects::build_axis(std::span<const TriangleMesh> meshes, int k) {
+void CoveredRects::build_axis(std::span<const SceneMesh> meshes, int k) {
   AxisGrid& g = grids_[k];
   g.k = k, g.u = (k + 1) % 3, g.v = (k + 2) % 3;
   struct Tri {
@@ -104,14 +104,16 @@ void CoveredRects::build_axis(std::span<const TriangleMesh> meshes, int k) {
   std::vector<Tri> tris;
   double ulo = INFINITY, uhi = -INFINITY, vlo = INFINITY, vhi = -INFINITY;
   for (uint32_t mi = 0; mi < meshes.size(); ++mi) {
-    const TriangleMesh& m = meshes[mi];
+    const SceneMesh& m = meshes[mi];
     for (uint32_t ti = 0; ti < m.triangles.size(); ++ti) {
       const auto& t = m.triangles[ti];
-      const double c = m.vertices[t[0]][k];
-      if (m.vertices[t[1]][k] != c || m.vertices[t[2]][k] != c || !std::isfinite(c)) continue;
+      // Bitwise equal float coordinates: the plane Embree's triangles lie in (world c = origin + float).
+      const float ck = m.vertex_xyz[3 * t[0] + k];
+      if (m.vertex_xyz[3 * t[1] + k] != ck || m.vertex_xyz[3 * t[2] + k] != ck || !std::isfinite(ck)) continue;
+      const double c = origin_[k] + double(ck);
       tris.push_back({c, mi, ti});
       for (uint32_t vi : t) {
-        const double pu = m.vertices[vi][g.u] - origin_[g.u], pv = m.vertices[vi][g.v] - origin_[g.v];
+        const double pu = m.vertex_xyz[3 * vi + g.u], pv = m.vertex_xyz[3 * vi + g.v];
         ulo = std::min(ulo, pu), uhi = std::max(uhi, pu), vlo = std::min(vlo, pv), vhi = std::max(vhi, pv);
       }
     }
@@ -155,10 +157,10 @@ void CoveredRects::build_axis(std::span<const TriangleMesh> meshes, int k) {
     corner.resize(n);
     edges.clear();
     for (size_t i = 0; i < n; ++i) {
-      const TriangleMesh& mesh = meshes[tris[first + i].mesh];
+      const SceneMesh& mesh = meshes[tris[first + i].mesh];
       const auto& t = mesh.triangles[tris[first + i].tri];
       for (int j = 0; j < 3; ++j)
-        corner[i][j] = {mesh.vertices[t[j]][g.u] - origin_[g.u], mesh.vertices[t[j]][g.v] - origin_[g.v]};
+        corner[i][j] = {double(mesh.vertex_xyz[3 * t[j] + g.u]), double(mesh.vertex_xyz[3 * t[j] + g.v])};
       for (int j = 0; j < 3; ++j) {
         Uv a = corner[i][j], b = corner[i][(j + 1) % 3];
         if (std::tie(b.u, b.v) < std::tie(a.u, a.v)) std::swap(a, b);

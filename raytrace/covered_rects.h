@@ -37,7 +37,7 @@
 #include <vector>
 
 #include "core/geometry.h"
-#include "raytrace/triangle_mesh.h"
+#include "raytrace/scene_mesh.h"
 
 namespace rfidray {
 
@@ -47,8 +47,8 @@ inline thread_local uint64_t tl_segments_culled = 0;
 
 class CoveredRects {
  public:
-  // From the scene's meshes (world coordinates); `origin` is Embree's local origin (Scene::local_origin).
-  CoveredRects(std::span<const TriangleMesh> meshes, const Vec3& origin);
+  // From the scene's meshes (Scene::meshes(), float vertices about `origin` = Scene::local_origin).
+  CoveredRects(std::span<const SceneMesh> meshes, const Vec3& origin);
 
   // True only if EmbreeScene::occluded(o, d, tnear, tfar) is certain to be true (header comment); `d` unit.
   bool blocks(const Vec3& o, const Vec3& d, double tnear, double tfar) const;
@@ -77,7 +77,7 @@ class CoveredRects {
     std::vector<uint32_t> start; // CSR over cells (nu·nv + 1) into entries, entries ascending in c per cell
     std::vector<Entry> entries;
   };
-  void build_axis(std::span<const TriangleMesh> meshes, int k);
+  void build_axis(std::span<const SceneMesh> meshes, int k);
   bool blocks_axis(const AxisGrid& g, const Vec3& o, const Vec3& d, double ta, double tb, double slack) const;
 
   Vec3 origin_ = Vec3::Zero();

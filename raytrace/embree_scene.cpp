@@ -15,7 +15,7 @@ void check(RTCDevice device, const char* what) {
 
 }  // namespace
 
-EmbreeScene::EmbreeScene(std::span<const TriangleMesh> meshes, const std::string& config, const Vec3& origin)
+EmbreeScene::EmbreeScene(std::span<const SceneMesh> meshes, const std::string& config, const Vec3& origin)
     : origin_(origin) {
   device_ = rtcNewDevice(config.empty() ? nullptr : config.c_str());
   if (!device_) throw std::runtime_error("Embree: cannot create device (config '" + config + "')");
@@ -33,13 +33,20 @@ EmbreeScene::EmbreeScene(std::span<const TriangleMesh> meshes, const std::string
     rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
     for (size_t m = 0; m < meshes.size(); ++m) {
-      const TriangleMesh& mesh = meshes[m];
+      const SceneMesh& mesh = meshes[m];
       if (mesh.triangles.empty()) continue;
       RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                            3 * sizeof(float), mesh.vertices.size()));
-      // The index array is shared, not copied (12 bytes per triangle), when it has the spare element Embree's
-      // 16-byte loads may read past the last triangle (rtcSetSharedGeometryBuffer(3)); Scene provides it.
+      // Both arrays are shared, not copied (12 bytes per triangle each way on the parametric warehouses), when
+      // they have the spare element Embree's 16-byte loads may read past the end (rtcSetSharedGeometryBuffer(3));
+      // Scene provides it.
+      if (mesh.vertex_xyz.capacity() <= mesh.vertex_xyz.size()) {
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), mesh.vertex_count()));
+        std::copy(mesh.vertex_xyz.begin(), mesh.vertex_xyz.begin() + 3 * mesh.vertex_count(), v);
+      } else {
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.vertex_xyz.data(), 0,
+                                   3 * sizeof(float), mesh.vertex_count());
+      }
       if (mesh.triangles.capacity() <= mesh.triangles.size()) {
         auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                    3 * sizeof(uint32_t), mesh.triangles.size()));
@@ -50,9 +57,6 @@ EmbreeScene::EmbreeScene(std::span<const TriangleMesh> meshes, const std::string
                                    sizeof(mesh.triangles[0]), mesh.triangles.size());
       }
       check(device_, "geometry buffers");
-      // Vertices are copied: Embree wants float relative to the origin, the image method keeps doubles.
-      for (size_t i = 0; i < mesh.vertices.size(); ++i)
-        for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(mesh.vertices[i][k] - origin_[k]);
       rtcCommitGeometry(g);
       rtcAttachGeometryByID(scene_, g, static_cast<unsigned>(m));
       rtcReleaseGeometry(g);  // the scene holds the reference

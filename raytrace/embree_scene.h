@@ -14,8 +14,9 @@
 // and the rays (coherent short rays in an open scene: packets; long, mostly blocked rays in a big scene:
 // single rays), so the caller measures it (raytrace/raytraced_channel.h).
 //
-// Embree works in float: hit distances are good to ~1e-7 relative. The image method itself stays in double
-// (raytrace/path_finder.cpp); Embree only answers visibility and "which triangle is there".
+// Embree works in float: hit distances are good to ~1e-7 relative. The triangles are the Scene's own float
+// vertices (SceneMesh), which the image method reads too, widened to double; its arithmetic stays in double
+// (raytrace/path_finder.cpp), and Embree only answers visibility and "which triangle is there".
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
@@ -26,7 +27,7 @@
 #include <embree3/rtcore.h>
 
 #include "core/geometry.h"
-#include "raytrace/triangle_mesh.h"
+#include "raytrace/scene_mesh.h"
 
 namespace rfidray {
 
@@ -51,10 +52,12 @@ class EmbreeScene {
   // Embree stores float vertices relative to `origin` (Scene passes the bounding-box centre of scenes far from
   // the world origin, e.g. in UTM coordinates, so float precision is spent on the scene, not on its offset);
   // every query below takes world coordinates. Throws std::runtime_error if Embree reports an error.
-  // Each mesh's index array (`triangles`) is shared with Embree, not copied, when its capacity exceeds its size
-  // (Embree may read up to 16 bytes past the last triangle; Scene reserves that spare element): such meshes
-  // must then outlive this object with their `triangles` neither modified nor reallocated. Vertices are copied.
-  explicit EmbreeScene(std::span<const TriangleMesh> meshes, const std::string& config = "",
+  // Each mesh's vertex array (`vertex_xyz`, already about `origin`) is shared with Embree, not copied; so is its
+  // index array (`triangles`) when its capacity exceeds its size (Embree may read up to 16 bytes past the last
+  // triangle and the last vertex; Scene reserves those spare elements, and a vertex array without its spare
+  // float is copied). The meshes must then outlive this object with those arrays neither modified nor
+  // reallocated.
+  explicit EmbreeScene(std::span<const SceneMesh> meshes, const std::string& config = "",
                        const Vec3& origin = Vec3::Zero());
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;

@@ -14,12 +14,11 @@
 
 namespace rfidray {
 
-Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignment, const SceneOptions& options)
-    : meshes_(std::move(meshes)) {
+Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignment, const SceneOptions& options) {
   // Every vertex finite and within the coordinate range (meshes come from files, transforms, SDF poses).
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   size_t total_triangles = 0;
-  for (const TriangleMesh& m : meshes_) {
+  for (const TriangleMesh& m : meshes) {
     total_triangles += m.triangles.size();
     for (const Vec3& v : m.vertices) {
       if (!(limits::coordinate_ok(v.x()) && limits::coordinate_ok(v.y()) && limits::coordinate_ok(v.z())))
@@ -40,13 +39,13 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
     const Vec3 centre = 0.5 * (lo + hi);
     if (centre.cwiseAbs().maxCoeff() > kRecentreBeyondM) origin_ = centre;
   }
-  ResolvedMaterials resolved = resolve_materials(meshes_, assignment);
+  ResolvedMaterials resolved = resolve_materials(meshes, assignment);
   materials_ = std::move(resolved.materials);
   notes_ = std::move(resolved.notes);
   uint32_t offset = 0;
   triangle_mesh_.reserve(total_triangles);
-  for (size_t m = 0; m < meshes_.size(); ++m) {
-    const TriangleMesh& mesh = meshes_[m];
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    const TriangleMesh& mesh = meshes[m];
     triangle_offset_.push_back(offset);
     offset += static_cast<uint32_t>(mesh.triangles.size());
     triangle_mesh_.insert(triangle_mesh_.end(), mesh.triangles.size(), static_cast<uint32_t>(m));
@@ -56,15 +55,43 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
     for (size_t t = 0; t < mesh.triangles.size(); ++t)
       material_slot_[slot_offset_.back() + mesh.triangle_material[t]] = resolved.per_triangle[m][t];
   }
-  FacetSet fs = merge_facets(meshes_, resolved.per_triangle, triangle_offset_, options.facets, origin_);
+  // Every vertex rounded to float about the local origin before anything is derived from it: the facets'
+  // planes, bounds and flatness, the image method's corners and Embree's triangles are then one geometry
+  // (corners() computes origin_ + float the same way, so a facet's bounds are its corners' bounds bitwise).
+  // The float is computed once and kept: recomputing it from origin_ + float could round differently.
+  std::vector<std::vector<float>> vertex_xyz(meshes.size());
+  for (size_t mi = 0; mi < meshes.size(); ++mi) {
+    std::vector<float>& xyz = vertex_xyz[mi];
+    xyz.reserve(3 * meshes[mi].vertices.size() + 1);
+    for (Vec3& v : meshes[mi].vertices) {
+      for (int k = 0; k < 3; ++k) xyz.push_back(static_cast<float>(v[k] - origin_[k]));
+      v = origin_ + Vec3(double(xyz[xyz.size() - 3]), double(xyz[xyz.size() - 2]), double(xyz[xyz.size() - 1]));
+      bounds_lo_ = bounds_lo_.cwiseMin(v);
+      bounds_hi_ = bounds_hi_.cwiseMax(v);
+    }
+    xyz.push_back(0.0f);  // the spare float, inside the capacity
+    xyz.pop_back();
+  }
+  FacetSet fs = merge_facets(meshes, resolved.per_triangle, triangle_offset_, options.facets, origin_);
   facets_ = std::move(fs.facets);
   facet_of_triangle_ = std::move(fs.facet_of_triangle);
   for (Facet& f : facets_) f.triangles.shrink_to_fit();  // grown one push_back at a time: up to 2× capacity
-  // Embree shares each mesh's index array (raytrace/embree_scene.h): one spare element of capacity, zeroed.
-  for (TriangleMesh& m : meshes_) {
+  // The scene's own meshes: float vertices (shared with Embree), the index arrays moved over. Embree's 16-byte
+  // loads may read past the last vertex and the last triangle: one spare float and one spare (zeroed) triangle
+  // of capacity. Each mesh's doubles are freed as it is converted.
+  meshes_.reserve(meshes.size());
+  for (size_t mi = 0; mi < meshes.size(); ++mi) {
+    TriangleMesh& in = meshes[mi];
+    SceneMesh& m = meshes_.emplace_back();
+    m.name = std::move(in.name);
+    m.vertex_xyz = std::move(vertex_xyz[mi]);
+    std::vector<Vec3>().swap(in.vertices);
+    m.triangles = std::move(in.triangles);
     if (m.triangles.capacity() == m.triangles.size()) m.triangles.reserve(m.triangles.size() + 1);
     m.triangles.push_back({0, 0, 0});
     m.triangles.pop_back();
+    m.triangle_material = std::move(in.triangle_material);
+    m.material_names = std::move(in.material_names);
   }
   bvh_ = std::make_unique<EmbreeScene>(meshes_, options.embree_config, origin_);
   resolved.per_triangle = {};

@@ -10,6 +10,7 @@
 // top-level scene referencing this one as an instance; everything here is addressed by (geomID, primID),
 // which stays valid in that design.
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "raytrace/embree_scene.h"
 #include "raytrace/facet.h"
 #include "raytrace/material_map.h"
+#include "raytrace/scene_mesh.h"
 #include "raytrace/triangle_mesh.h"
 
 namespace rfidray {
@@ -30,19 +32,22 @@ struct SceneOptions {
 
 class Scene {
  public:
+  // Every vertex is first rounded to single precision about local_origin() (≤ 0.5 float ulp: 0.24 µm at 4 m
+  // from it, 3.8 µm at 64 m), so that facets, the image method and Embree all see the same triangles; the
+  // meshes' double vertices are not kept (SceneMesh). Antenna and tag positions stay double.
   Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignment, const SceneOptions& options = {});
 
-  const std::vector<TriangleMesh>& meshes() const { return meshes_; }
+  const std::vector<SceneMesh>& meshes() const { return meshes_; }
   const std::vector<RadioMaterial>& materials() const { return materials_; }
   const std::vector<Facet>& facets() const { return facets_; }
   const EmbreeScene& bvh() const { return *bvh_; }
   // Where the BVH and the vertex weld are centred: the bounding-box centre when the scene lies more than
-  // kRecentreBeyondM from the world origin (georeferenced meshes), else the origin itself (so scenes near the
-  // origin trace exactly as they always did). Queries always take world coordinates.
+  // kRecentreBeyondM from the world origin (georeferenced meshes), else the origin itself (scenes near it keep
+  // their world coordinates, rounded to float). Queries always take world coordinates.
   const Vec3& local_origin() const { return origin_; }
   static constexpr double kRecentreBeyondM = 1e4;
-  // Resident bytes per triangle of a built scene (meshes in double, facets, Embree BVH and its float vertex
-  // copy; the index arrays are shared with Embree): 124–180 measured on the parametric warehouses of 0.1–5 M
+  // Resident bytes per triangle of a built scene (meshes, facets, Embree's BVH; the float vertex and index
+  // arrays are shared with Embree): MEASURE measured on the parametric warehouses of 0.1–5 M
   // triangles (0.89 vertices per triangle; README, #13 memory), plus a few MB fixed. Kept at 330, the upper end
   // measured before, so that meshes with unshared vertices (up to 3 per triangle: ~76 bytes more) fit too;
   // it is the estimate checked against the memory budget before a scene is built.
@@ -50,6 +55,9 @@ class Scene {
   // Defaults applied and other remarks from material resolution, for the user.
   const std::vector<std::string>& notes() const { return notes_; }
 
+  // Axis-aligned bounds of every vertex, world coordinates; lo > hi when the scene has no vertices.
+  const Vec3& bounds_lo() const { return bounds_lo_; }
+  const Vec3& bounds_hi() const { return bounds_hi_; }
   size_t triangle_count() const { return facet_of_triangle_.size(); }
   bool empty() const { return triangle_count() == 0; }
   // Global triangle id of an Embree hit.
@@ -68,16 +76,18 @@ class Scene {
     const double len = n.norm();
     return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
   }
-  // The three corners of a triangle.
+  // The three corners of a triangle, world coordinates (local origin + the float vertex, in double).
   std::array<Vec3, 3> corners(uint32_t triangle) const {  // inline: the exact reflection search's inner loop
     const uint32_t mesh = triangle_mesh_[triangle];
-    const TriangleMesh& m = meshes_[mesh];
+    const SceneMesh& m = meshes_[mesh];
     const auto& tri = m.triangles[triangle - triangle_offset_[mesh]];
-    return {m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]};
+    return {origin_ + m.local_vertex(tri[0]), origin_ + m.local_vertex(tri[1]), origin_ + m.local_vertex(tri[2])};
   }
+  // Vertex i of mesh `mesh`, world coordinates.
+  Vec3 vertex(uint32_t mesh, size_t i) const { return origin_ + meshes_[mesh].local_vertex(i); }
 
  private:
-  std::vector<TriangleMesh> meshes_;
+  std::vector<SceneMesh> meshes_;
   std::vector<RadioMaterial> materials_;
   std::vector<uint32_t> triangle_offset_;       // per mesh
   std::vector<uint32_t> triangle_mesh_;         // global triangle → mesh
@@ -88,6 +98,7 @@ class Scene {
   std::vector<std::string> notes_;
   std::unique_ptr<EmbreeScene> bvh_;
   Vec3 origin_ = Vec3::Zero();
+  Vec3 bounds_lo_ = Vec3::Constant(std::numeric_limits<double>::infinity()), bounds_hi_ = -bounds_lo_;
 };
 
 // One line per scene material whose ITU-R P.2040 fit is extrapolated at this frequency (several are specified

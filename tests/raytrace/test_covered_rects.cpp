@@ -47,6 +47,20 @@ void expect_all_covered(const std::vector<TriangleMesh>& meshes, const CoveredRe
       }
 }
 
+// The scene's triangles as it holds them (float vertices about its local origin, widened to double): the
+// geometry Embree traces and CoveredRects is built from.
+std::vector<TriangleMesh> as_built(const Scene& scene) {
+  std::vector<TriangleMesh> out;
+  for (uint32_t g = 0; g < scene.meshes().size(); ++g) {
+    const SceneMesh& m = scene.meshes()[g];
+    TriangleMesh& t = out.emplace_back();
+    t.name = m.name;
+    for (size_t i = 0; i < m.vertex_count(); ++i) t.vertices.push_back(scene.vertex(g, i));
+    t.triangles = m.triangles;
+  }
+  return out;
+}
+
 TriangleMesh named_mesh(const std::string& name) {
   TriangleMesh m;
   m.name = name;
@@ -58,10 +72,10 @@ TEST(CoveredRects, EveryRectangleIsCovered) {
   for (int tess : {1, 2}) {
     WarehouseParams p;
     p.rows = 2, p.racks_per_row = 2, p.shelves = 3, p.tessellation = tess;
-    const auto meshes = generate_warehouse(p);
-    const CoveredRects cr(meshes, Vec3::Zero());
+    const Scene scene(generate_warehouse(p), MaterialAssignment{});
+    const CoveredRects cr(scene.meshes(), scene.local_origin());
     EXPECT_GT(cr.rect_count(), 50u);
-    expect_all_covered(meshes, cr, "warehouse tessellation " + std::to_string(tess));
+    expect_all_covered(as_built(scene), cr, "warehouse tessellation " + std::to_string(tess));
   }
 }
 
@@ -78,8 +92,9 @@ TEST(CoveredRects, NoneWhereCoverageIsUncertain) {
   TriangleMesh overlap = named_mesh("overlap");
   add_quad(overlap, Vec3(10, 0, 1), Vec3(2, 0, 0), Vec3(0, 2, 0), 0);
   add_quad(overlap, Vec3(11, 1, 1), Vec3(2, 0, 0), Vec3(0, 2, 0), 0);
-  const std::vector<TriangleMesh> meshes{holed, tj, overlap};
-  const CoveredRects cr(meshes, Vec3::Zero());
+  const Scene scene({holed, tj, overlap}, MaterialAssignment{});
+  const std::vector<TriangleMesh> meshes = as_built(scene);  // integer corners: the same as given
+  const CoveredRects cr(scene.meshes(), scene.local_origin());
   expect_all_covered(meshes, cr, "holes");
   for (const CoveredRects::Rect& r : cr.rects()) {
     ASSERT_EQ(r.axis, 2);
@@ -106,22 +121,20 @@ TEST(CoveredRects, NoneOnNoisyOrTiltedMeshes) {
   std::uniform_real_distribution<double> noise(-1e-4, 1e-4);
   for (TriangleMesh& m : noisy)
     for (Vec3& v : m.vertices) v += Vec3(noise(rng), noise(rng), noise(rng));
-  EXPECT_EQ(CoveredRects(noisy, Vec3::Zero()).rect_count(), 0u);
+  const Scene noisy_scene(noisy, MaterialAssignment{});
+  EXPECT_EQ(CoveredRects(noisy_scene.meshes(), noisy_scene.local_origin()).rect_count(), 0u);
   TriangleMesh box = named_mesh("tilted box");
   add_box(box, Vec3(-1, -1, -1), Vec3(1, 1, 1), 0, 2);
   const Eigen::Matrix3d rot = (Eigen::AngleAxisd(0.3, Vec3::UnitX()) * Eigen::AngleAxisd(0.2, Vec3::UnitY())).toRotationMatrix();
   for (Vec3& v : box.vertices) v = rot * v + Vec3(0, 0, 3);
-  EXPECT_EQ(CoveredRects(std::vector<TriangleMesh>{box}, Vec3::Zero()).rect_count(), 0u);
+  const Scene box_scene({box}, MaterialAssignment{});
+  EXPECT_EQ(CoveredRects(box_scene.meshes(), box_scene.local_origin()).rect_count(), 0u);
 }
 
 // blocks() ⇒ Embree occluded(), on `n` segments of each kind; returns how many blocks() decided.
 size_t expect_blocks_sound(const Scene& scene, const CoveredRects& cr, std::mt19937_64& rng, int n) {
   // Plain variables, not a structured binding: lambdas below capture them (clang 14 cannot capture bindings).
-  Vec3 lo = Vec3::Constant(1e30), hi = Vec3::Constant(-1e30);
-  for (const TriangleMesh& m : scene.meshes()) {
-    const auto [a, b] = m.bounds();
-    lo = lo.cwiseMin(a), hi = hi.cwiseMax(b);
-  }
+  const Vec3 lo = scene.bounds_lo(), hi = scene.bounds_hi();
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const auto inside = [&] { return Vec3(lo.x() + u(rng) * (hi.x() - lo.x()), lo.y() + u(rng) * (hi.y() - lo.y()),
                                         lo.z() + u(rng) * (hi.z() - lo.z())); };
@@ -183,11 +196,11 @@ TEST(CoveredRects, BlocksOnlyWhatEmbreeBlocks) {
     const CoveredRects cr(scene->meshes(), scene->local_origin());
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     size_t decided = 0;
-    for (const TriangleMesh& m : scene->meshes())
+    for (const SceneMesh& m : scene->meshes())
       for (size_t t = 0; t < m.triangles.size(); t += 3)
         for (int j = 0; j < 3; ++j) {
-          const Vec3& a = m.vertices[m.triangles[t][j]];
-          const Vec3& b = m.vertices[m.triangles[t][(j + 1) % 3]];
+          const Vec3 a = m.local_vertex(m.triangles[t][j]) + scene->local_origin();
+          const Vec3 b = m.local_vertex(m.triangles[t][(j + 1) % 3]) + scene->local_origin();
           for (const Vec3& q : {a, Vec3(0.5 * (a + b))}) {
             const Vec3 d = Vec3(u(rng), u(rng), u(rng)).normalized();
             const Vec3 o = q - 1.5 * d;

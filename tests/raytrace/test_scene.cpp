@@ -202,7 +202,7 @@ TEST(EmbreeScene, HitsMapBackToTrianglesFacetsAndMaterials) {
   EXPECT_EQ(scene.materials()[scene.material_of(scene.triangle_id(h.geom, h.prim))].name, "metal");
   const Facet& f = scene.facets()[scene.facet_of(scene.triangle_id(h.geom, h.prim))];
   EXPECT_NEAR(std::abs(f.normal.x()), 1.0, 1e-12);
-  EXPECT_NEAR(std::abs(f.offset_m), 2.95, 1e-12);
+  EXPECT_EQ(std::abs(f.offset_m), double(2.95f));  // the scene's geometry is float (Scene): exactly that float
   EXPECT_TRUE(scene.bvh().occluded(Vec3(-1, -3.0, 1.985), Vec3(1, 0, 0), 0.0, 4.0));
   EXPECT_FALSE(scene.bvh().occluded(Vec3(-1, -3.0, 1.985), Vec3(1, 0, 0), 0.0, 3.9));
 }
@@ -239,11 +239,75 @@ TEST(EmbreeScene, SharedIndexArraysStayValidAndSaveTheCopy) {
     }
   EXPECT_GT(checked, 1000u);
   EXPECT_GE(10 * n, 9 * checked);  // (all of them, with Embree 3.13: no coplanar twins in this scene)
-  std::vector<TriangleMesh> padded = kept, unpadded = kept;
-  for (TriangleMesh& m : padded) m.triangles.reserve(m.triangles.size() + 1);
-  for (TriangleMesh& m : unpadded) m.triangles.shrink_to_fit();
+  // The same meshes as the Scene holds them, with (shared) and without (copied) the spare elements.
+  const auto scene_meshes = [&](bool spare) {
+    std::vector<SceneMesh> out;
+    for (const TriangleMesh& m : kept) {
+      SceneMesh& s = out.emplace_back();
+      for (const Vec3& v : m.vertices)
+        for (int k = 0; k < 3; ++k) s.vertex_xyz.push_back(static_cast<float>(v[k]));
+      s.triangles = m.triangles;
+      if (spare) {
+        s.vertex_xyz.reserve(s.vertex_xyz.size() + 1);
+        s.triangles.reserve(s.triangles.size() + 1);
+      } else {
+        s.vertex_xyz.shrink_to_fit();
+        s.triangles.shrink_to_fit();
+      }
+    }
+    return out;
+  };
+  const std::vector<SceneMesh> padded = scene_meshes(true), unpadded = scene_meshes(false);
+  size_t vertex_count = 0;
+  for (const SceneMesh& m : padded) vertex_count += m.triangles.empty() ? 0 : m.vertex_count();
   const EmbreeScene shared(padded, "threads=1"), copied(unpadded, "threads=1");
-  EXPECT_GE(copied.embree_bytes(), shared.embree_bytes() + 12 * shared.triangle_count());
+  EXPECT_GE(copied.embree_bytes(), shared.embree_bytes() + 12 * shared.triangle_count() + 12 * vertex_count);
+}
+
+// One geometry for Embree and the image method: the Scene rounds every vertex to float about its local origin
+// once, Embree traces that very array (shared, not a copy), and every corner and facet bound the image method
+// reads is that float, widened. Vertices no float holds (rotated by an irrational angle, shifted by 0.1 m), near
+// the world origin and georeferenced (5.3e6 m: the local origin moves to the scene's centre).
+TEST(Scene, EmbreeTracesTheFloatVerticesTheImageMethodReads) {
+  const Eigen::Matrix3d rot = Eigen::AngleAxisd(0.1234567, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  for (const Vec3& shift : {Vec3(0.1, 0.2, 0.3), Vec3(4.5e5 + 0.1, 5.3e6 + 0.2, 120.3)}) {
+    std::vector<TriangleMesh> meshes = paper_warehouse_meshes();
+    size_t not_float = 0;
+    for (TriangleMesh& m : meshes)
+      for (Vec3& v : m.vertices) {
+        v = rot * v + shift;
+        not_float += double(static_cast<float>(v.x())) != v.x();
+      }
+    ASSERT_GT(not_float, 1000u);  // the rounding is exercised
+    const Scene scene(std::move(meshes), MaterialAssignment{});
+    const Vec3 o = scene.local_origin();
+    EXPECT_EQ(o.isZero(), shift.norm() < 1.0);
+    size_t shared = 0;
+    for (size_t g = 0; g < scene.meshes().size(); ++g) {
+      const SceneMesh& m = scene.meshes()[g];
+      if (m.triangles.empty()) continue;
+      const RTCGeometry geom = rtcGetGeometry(scene.bvh().handle(), static_cast<unsigned>(g));
+      shared += rtcGetGeometryBufferData(geom, RTC_BUFFER_TYPE_VERTEX, 0) == static_cast<const void*>(m.vertex_xyz.data());
+      EXPECT_GT(m.vertex_xyz.capacity(), m.vertex_xyz.size()) << "the spare float for Embree's 16-byte loads";
+    }
+    EXPECT_GT(shared, 10u);
+    size_t checked = 0;
+    for (const Facet& f : scene.facets()) {
+      Vec3 lo = Vec3::Constant(INFINITY), hi = -lo;
+      for (uint32_t t : f.triangles)
+        for (const Vec3& c : scene.corners(t)) {
+          const Vec3 local = c - o;
+          for (int k = 0; k < 3; ++k) EXPECT_EQ(double(static_cast<float>(local[k])), local[k]);
+          lo = lo.cwiseMin(c), hi = hi.cwiseMax(c);
+          ++checked;
+        }
+      EXPECT_EQ(lo, f.lo);  // bitwise: the exact search's full-rectangle shortcut compares them
+      EXPECT_EQ(hi, f.hi);
+      EXPECT_LE(f.flatness_m, 1e-5 * (1.0 + (f.hi - o).norm()));
+    }
+    EXPECT_GT(checked, 3000u);
+    EXPECT_EQ(scene.bounds_lo().cwiseMin(scene.bounds_hi()), scene.bounds_lo());
+  }
 }
 
 TEST(SceneSpec, PlacesScalesAndMapsMaterialsWithLocatedErrors) {

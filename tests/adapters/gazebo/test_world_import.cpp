@@ -157,7 +157,7 @@ TEST(WorldImport, MaterialMapByModelLinkCollisionAndMeshMaterial) {
   // Material of each mesh's first triangle (global ids follow the collision order).
   std::map<std::string, std::string> got;
   uint32_t first = 0;
-  for (const TriangleMesh& m : scene->meshes()) {
+  for (const SceneMesh& m : scene->meshes()) {
     got[m.name] = scene->materials()[scene->material_of(first)].name;
     first += static_cast<uint32_t>(m.triangle_count());
   }
