@@ -377,9 +377,9 @@ void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f,
   out.push_back(p);
 }
 
-bool PathFinder::point_on_triangle(const Vec3& facet_normal, uint32_t tri, const Vec3& p) const {
+bool PathFinder::point_on_triangle(const Vec3& facet_normal, uint32_t mesh, uint32_t tri, const Vec3& p) const {
   constexpr double kTol = 1e-9;  // metres; points on shared edges belong to both triangles
-  const auto c = scene_->corners(tri);
+  const auto c = scene_->corners(mesh, tri);
   bool pos = true, neg = true;
   for (int k = 0; k < 3; ++k) {
     const Vec3 e = c[(k + 1) % 3] - c[k];
@@ -393,7 +393,7 @@ bool PathFinder::point_on_triangle(const Vec3& facet_normal, uint32_t tri, const
 
 bool PathFinder::point_on_facet(const Facet& facet, const Vec3& p) const {
   for (uint32_t tri : facet.triangles)
-    if (point_on_triangle(facet.normal, tri, p)) return true;
+    if (point_on_triangle(facet.normal, facet.mesh, tri, p)) return true;
   return false;
 }
 
@@ -547,12 +547,12 @@ void PathFinder::build_full_rects() {
         if (std::abs(fc.normal[a]) == 1.0) k = a;
       if (k < 0 || fc.triangles.empty()) continue;
       const int u = (k + 1) % 3, v = (k + 2) % 3;
-      const double c = scene_->corners(fc.triangles.front())[0][k];
+      const double c = scene_->corners(fc.mesh, fc.triangles.front())[0][k];
       double ulo = INFINITY, uhi = -INFINITY, vlo = INFINITY, vhi = -INFINITY;
       bool planar = true;
       tri.clear();
       for (uint32_t t : fc.triangles) {
-        const auto cs = scene_->corners(t);
+        const auto cs = scene_->corners(fc.mesh, t);
         std::array<Uv, 3> q;
         for (int j = 0; j < 3; ++j) {
           planar = planar && cs[j][k] == c;

@@ -192,7 +192,7 @@ class PathFinder {
   void add_reflection(uint32_t facet, const Vec3& image, const Vec3& p, const Endpoint& a, const Endpoint& t,
                       double f, bool check_leg1, std::vector<TracedPath>& out) const;
   bool point_on_facet(const Facet& facet, const Vec3& p) const;
-  bool point_on_triangle(const Vec3& facet_normal, uint32_t triangle, const Vec3& p) const;
+  bool point_on_triangle(const Vec3& facet_normal, uint32_t mesh, uint32_t triangle, const Vec3& p) const;
   // Level double-bounce (double_bounce.cpp): every plane pair; `floor` is the drop floor so far (power).
   void double_reflections(const Endpoint& a, const Endpoint& t, double f, const PoseCandidates& c, double floor,
                           std::vector<TracedPath>& out) const;

@@ -43,12 +43,10 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
   materials_ = std::move(resolved.materials);
   notes_ = std::move(resolved.notes);
   uint32_t offset = 0;
-  triangle_mesh_.reserve(total_triangles);
   for (size_t m = 0; m < meshes.size(); ++m) {
     const TriangleMesh& mesh = meshes[m];
     triangle_offset_.push_back(offset);
     offset += static_cast<uint32_t>(mesh.triangles.size());
-    triangle_mesh_.insert(triangle_mesh_.end(), mesh.triangles.size(), static_cast<uint32_t>(m));
     // The resolved material of each of the mesh's material names (resolve_materials maps names, not triangles).
     slot_offset_.push_back(static_cast<uint32_t>(material_slot_.size()));
     material_slot_.resize(material_slot_.size() + mesh.material_names.size(), 0);

@@ -9,6 +9,7 @@
 // Dynamic objects (moving obstacles) would be added as further Embree geometries in a second, rebuilt
 // top-level scene referencing this one as an instance; everything here is addressed by (geomID, primID),
 // which stays valid in that design.
+#include <algorithm>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -63,9 +64,17 @@ class Scene {
   // Global triangle id of an Embree hit.
   uint32_t triangle_id(uint32_t geom, uint32_t prim) const { return triangle_offset_[geom] + prim; }
   uint32_t facet_of(uint32_t triangle) const { return facet_of_triangle_[triangle]; }
+  // The mesh a global triangle belongs to: its facet's, or for a triangle in no facet (degenerate), by binary
+  // search of the meshes' first ids (no per-triangle table: 4 bytes per triangle).
+  uint32_t mesh_of(uint32_t triangle) const {
+    const uint32_t f = facet_of_triangle_[triangle];
+    if (f != kNoFacet) return facets_[f].mesh;
+    return static_cast<uint32_t>(std::upper_bound(triangle_offset_.begin(), triangle_offset_.end(), triangle) -
+                                 triangle_offset_.begin()) - 1;
+  }
   // Through the mesh's own per-triangle material names (not a second per-triangle table: 4 bytes per triangle).
   uint32_t material_of(uint32_t triangle) const {
-    const uint32_t mesh = triangle_mesh_[triangle];
+    const uint32_t mesh = mesh_of(triangle);
     return material_slot_[slot_offset_[mesh] + meshes_[mesh].triangle_material[triangle - triangle_offset_[mesh]]];
   }
   // Unit normal of a triangle (zero for degenerate ones). Computed on demand (not stored: 24 bytes per
@@ -77,8 +86,9 @@ class Scene {
     return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
   }
   // The three corners of a triangle, world coordinates (local origin + the float vertex, in double).
-  std::array<Vec3, 3> corners(uint32_t triangle) const {  // inline: the exact reflection search's inner loop
-    const uint32_t mesh = triangle_mesh_[triangle];
+  std::array<Vec3, 3> corners(uint32_t triangle) const { return corners(mesh_of(triangle), triangle); }
+  // The same, its mesh known (a facet's triangles: Facet::mesh). Inline: the exact reflection search's inner loop.
+  std::array<Vec3, 3> corners(uint32_t mesh, uint32_t triangle) const {
     const SceneMesh& m = meshes_[mesh];
     const auto& tri = m.triangles[triangle - triangle_offset_[mesh]];
     return {origin_ + m.local_vertex(tri[0]), origin_ + m.local_vertex(tri[1]), origin_ + m.local_vertex(tri[2])};
@@ -90,7 +100,6 @@ class Scene {
   std::vector<SceneMesh> meshes_;
   std::vector<RadioMaterial> materials_;
   std::vector<uint32_t> triangle_offset_;       // per mesh
-  std::vector<uint32_t> triangle_mesh_;         // global triangle → mesh
   std::vector<uint32_t> slot_offset_;           // per mesh: its first entry in material_slot_
   std::vector<uint32_t> material_slot_;         // per mesh and material name: index into materials_
   std::vector<uint32_t> facet_of_triangle_;     // global triangle → facet

@@ -264,6 +264,38 @@ TEST(EmbreeScene, SharedIndexArraysStayValidAndSaveTheCopy) {
   EXPECT_GE(copied.embree_bytes(), shared.embree_bytes() + 12 * shared.triangle_count() + 12 * vertex_count);
 }
 
+// A triangle's mesh comes from its facet, or for a degenerate triangle (in no facet) from a search of the
+// meshes' first ids; empty meshes in between share an offset with their successor.
+TEST(Scene, MeshOfEveryTriangleIncludingDegenerateOnes) {
+  const auto mesh = [](const std::string& name, const std::string& material, std::vector<Vec3> v,
+                       std::vector<std::array<uint32_t, 3>> t) {
+    TriangleMesh m;
+    m.name = name;
+    m.vertices = std::move(v);
+    m.triangles = std::move(t);
+    m.material_names = {material};
+    m.triangle_material.assign(m.triangles.size(), 0);
+    return m;
+  };
+  const std::vector<Vec3> quad = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(2, 0, 0)};
+  std::vector<TriangleMesh> meshes;
+  meshes.push_back(mesh("a", "metal", quad, {{0, 1, 2}, {0, 1, 4}, {0, 2, 3}}));  // the middle one degenerate
+  meshes.push_back(mesh("empty", "glass", {}, {}));
+  meshes.push_back(mesh("b", "wood", quad, {{0, 1, 4}, {0, 1, 2}}));             // degenerate first
+  meshes.push_back(mesh("c", "concrete", quad, {{0, 1, 4}}));                    // degenerate only
+  const Scene scene(meshes, MaterialAssignment{});
+  const std::vector<uint32_t> want_mesh = {0, 0, 0, 2, 2, 3};
+  const std::vector<std::string> want_material = {"metal", "metal", "metal", "wood", "wood", "concrete"};
+  ASSERT_EQ(scene.triangle_count(), want_mesh.size());
+  size_t degenerate = 0;
+  for (uint32_t t = 0; t < scene.triangle_count(); ++t) {
+    degenerate += scene.facet_of(t) == kNoFacet;
+    EXPECT_EQ(scene.mesh_of(t), want_mesh[t]) << t;
+    EXPECT_EQ(scene.materials()[scene.material_of(t)].name, want_material[t]) << t;
+  }
+  EXPECT_EQ(degenerate, 3u);
+}
+
 // One geometry for Embree and the image method: the Scene rounds every vertex to float about its local origin
 // once, Embree traces that very array (shared, not a copy), and every corner and facet bound the image method
 // reads is that float, widened. Vertices no float holds (rotated by an irrational angle, shifted by 0.1 m), near
