@@ -48,9 +48,9 @@ class Scene {
   const Vec3& local_origin() const { return origin_; }
   static constexpr double kRecentreBeyondM = 1e4;
   // Resident bytes per triangle of a built scene (meshes, facets, Embree's BVH; the float vertex and index
-  // arrays are shared with Embree): MEASURE measured on the parametric warehouses of 0.1–5 M
+  // arrays are shared with Embree): 103–147 measured on the parametric warehouses of 0.1–5 M
   // triangles (0.89 vertices per triangle; README, #13 memory), plus a few MB fixed. Kept at 330, the upper end
-  // measured before, so that meshes with unshared vertices (up to 3 per triangle: ~76 bytes more) fit too;
+  // measured before, so that meshes with unshared vertices (up to 3 per triangle: ~25 bytes more) fit too;
   // it is the estimate checked against the memory budget before a scene is built.
   static constexpr double kSceneBytesPerTriangle = 330.0;
   // Defaults applied and other remarks from material resolution, for the user.
