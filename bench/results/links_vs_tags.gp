@@ -1,5 +1,5 @@
 set terminal pngcairo size 1100,420 font 'sans,10'
-set output "links_vs_tags.png.tmp-22492.png"
+set output "links_vs_tags.png.tmp-31442.png"
 set grid
 set key outside right top
 set title "Links/s vs tags per antenna pose (1 M-triangle warehouse, 2 threads)"
