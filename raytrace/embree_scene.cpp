@@ -36,9 +36,8 @@ EmbreeScene::EmbreeScene(std::span<const SceneMesh> meshes, const std::string& c
       const SceneMesh& mesh = meshes[m];
       if (mesh.triangles.empty()) continue;
       RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-      // Both arrays are shared, not copied (12 bytes per triangle each way on the parametric warehouses), when
-      // they have the spare element Embree's 16-byte loads may read past the end (rtcSetSharedGeometryBuffer(3));
-      // Scene provides it.
+      // Both arrays are shared, not copied (12 bytes per triangle and 12 per vertex), when they have the spare
+      // element Embree's 16-byte loads may read past the end (rtcSetSharedGeometryBuffer(3)); Scene provides it.
       if (mesh.vertex_xyz.capacity() <= mesh.vertex_xyz.size()) {
         auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                               3 * sizeof(float), mesh.vertex_count()));

@@ -13,6 +13,18 @@
 #include "raytrace/obj_loader.h"
 
 namespace rfidray {
+namespace {
+
+// One spare, zeroed element past the end, inside the capacity: Embree's 16-byte loads read past the last
+// vertex and the last triangle of a shared buffer (rtcSetSharedGeometryBuffer(3)).
+template <typename T>
+void pad_for_embree(std::vector<T>& v) {
+  if (v.capacity() == v.size()) v.reserve(v.size() + 1);
+  v.push_back(T{});
+  v.pop_back();
+}
+
+}  // namespace
 
 Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignment, const SceneOptions& options) {
   // Every vertex finite and within the coordinate range (meshes come from files, transforms, SDF poses).
@@ -67,16 +79,14 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
       bounds_lo_ = bounds_lo_.cwiseMin(v);
       bounds_hi_ = bounds_hi_.cwiseMax(v);
     }
-    xyz.push_back(0.0f);  // the spare float, inside the capacity
-    xyz.pop_back();
+    pad_for_embree(xyz);
   }
   FacetSet fs = merge_facets(meshes, resolved.per_triangle, triangle_offset_, options.facets, origin_);
   facets_ = std::move(fs.facets);
   facet_of_triangle_ = std::move(fs.facet_of_triangle);
   for (Facet& f : facets_) f.triangles.shrink_to_fit();  // grown one push_back at a time: up to 2× capacity
-  // The scene's own meshes: float vertices (shared with Embree), the index arrays moved over. Embree's 16-byte
-  // loads may read past the last vertex and the last triangle: one spare float and one spare (zeroed) triangle
-  // of capacity. Each mesh's doubles are freed as it is converted.
+  // The scene's own meshes: float vertices (shared with Embree), the index arrays moved over and padded for
+  // Embree. Each mesh's doubles are freed as it is converted.
   meshes_.reserve(meshes.size());
   for (size_t mi = 0; mi < meshes.size(); ++mi) {
     TriangleMesh& in = meshes[mi];
@@ -85,9 +95,7 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
     m.vertex_xyz = std::move(vertex_xyz[mi]);
     std::vector<Vec3>().swap(in.vertices);
     m.triangles = std::move(in.triangles);
-    if (m.triangles.capacity() == m.triangles.size()) m.triangles.reserve(m.triangles.size() + 1);
-    m.triangles.push_back({0, 0, 0});
-    m.triangles.pop_back();
+    pad_for_embree(m.triangles);
     m.triangle_material = std::move(in.triangle_material);
     m.material_names = std::move(in.material_names);
   }
