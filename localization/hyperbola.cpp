@@ -92,7 +92,8 @@ void sample_section(const Hyperbola& h, double height_m, int rays, double max_ra
   s.packed.assign(2 * rays, -1);
   s.sample_of.clear();
   s.next_is_ray_after.clear();
-  s.x_m.clear(), s.y_m.clear(), s.r1_m.clear();
+  s.x_m.clear(), s.y_m.clear(), s.r1_m.clear(), s.chord_sum_m.clear();
+  s.scale_m = 0.0;
   thread_local std::vector<char> valid;
   valid.assign(2 * rays, 0);
   // The ray directions, shared by every section of this many rays (the same cos/sin values as computed here).
@@ -124,6 +125,9 @@ void sample_section(const Hyperbola& h, double height_m, int rays, double max_ra
       s.packed[a] = static_cast<int>(s.x_m.size());
       s.sample_of.push_back(a);
       s.next_is_ray_after.push_back(i + 1 < rays && valid[a + 2]);
+      s.chord_sum_m.push_back(s.x_m.empty() ? 0.0
+                                            : s.chord_sum_m.back() + std::hypot(p.x() - s.x_m.back(), p.y() - s.y_m.back()));
+      s.scale_m = std::max({s.scale_m, std::abs(p.x()), std::abs(p.y()), std::abs(p.z())});
       s.x_m.push_back(p.x()), s.y_m.push_back(p.y());
       // The same expression intersect_in_plane evaluates for another conic with this F1 (bitwise equal).
       s.r1_m.push_back(std::sqrt((p.x() - h.f1.x()) * (p.x() - h.f1.x()) + (p.y() - h.f1.y()) * (p.y() - h.f1.y()) +
@@ -158,32 +162,76 @@ std::vector<Vec3> intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1
 }
 
 void intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyperbola& h2, std::vector<Vec3>& out) {
+  // 32 and 8: the fewest instructions of the sizes tried on bench/localize_speed's stage (callgrind, 1 000
+  // reads, 3 repeats: 1/1 357.6 M, 8/8 283.8 M, 16/4 280.0 M, 32/8 278.7 M, 64/8 278.9 M, 128/16 281.1 M).
+  intersect_in_plane(h1, s1, h2, out, 32, 8);
+}
+
+void intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyperbola& h2, std::vector<Vec3>& out,
+                        int coarse_block, int fine_block) {
   out.clear();
   const int n = s1.rays;
-  // h2's residual at every valid sample of the section, in packets (the bulk of the method's time: every pair
-  // of conics). Conics of one unwrapped segment share F1 (its first antenna position), and then the distance
-  // to it is the section's own (one square root per sample instead of two).
-  // (Into storage kept per thread at its largest size: an ArrayXd assigned a new size each call reallocated.)
+  // h2's residual f = |p − F2| − |p − F1| − δ at the valid samples of the section (the bulk of the method's
+  // time: every pair of conics). Conics of one unwrapped segment share F1 (its first antenna position), and
+  // then the distance to it is the section's own (one square root per sample instead of two).
+  // f is 2-Lipschitz (each distance is 1-Lipschitz), so |f(p_j) − f(p_k)| ≤ 2|p_j − p_k| ≤ 2 (C_j − C_k)
+  // with C the section's chord sums. A block of kBlock samples whose end values have one sign and
+  // |f_k| + |f_{k+B}| > 2 (C_{k+B} − C_k) + margin has that sign throughout (the two bounds from its ends meet
+  // above zero), so none of its neighbour pairs brackets a crossing and its inner samples are not evaluated.
+  // Every value that is evaluated is the same expression as before, so the brackets, their end values and
+  // hence the points are bitwise those of evaluating every sample. The margin covers the rounding of f and
+  // of C (a few ulps of the coordinates' size; here 1e-9 of it plus 1 µm).
+  // (Into storage kept per thread at its largest size.)
   thread_local std::vector<double> f_storage;
   const double c2 = s1.height_m - h2.f2.z(), c1 = s1.height_m - h2.f1.z();
+  const double c2c2 = c2 * c2, c1c1 = c1 * c1;
   const Eigen::Index m = static_cast<Eigen::Index>(s1.x_m.size());
   if (f_storage.size() < static_cast<size_t>(m)) f_storage.resize(m);
-  Eigen::Map<Eigen::ArrayXd> f(f_storage.data(), m);
-  const Eigen::Map<const Eigen::ArrayXd> x(s1.x_m.data(), m), y(s1.y_m.data(), m), r1(s1.r1_m.data(), m);
-  if (h2.f1 == s1.f1)
-    f = ((x - h2.f2.x()).square() + (y - h2.f2.y()).square() + c2 * c2).sqrt() - r1 - h2.delta_m;
-  else
-    f = ((x - h2.f2.x()).square() + (y - h2.f2.y()).square() + c2 * c2).sqrt() -
-        ((x - h2.f1.x()).square() + (y - h2.f1.y()).square() + c1 * c1).sqrt() - h2.delta_m;
-  // Sign changes between neighbouring rays of a slot, then the track's wrap from the last ray to the first;
-  // refined in the order of the first sample (ray, then slot), which fixes the order of the points.
+  double* const f = f_storage.data();
+  const double* const x = s1.x_m.data();
+  const double* const y = s1.y_m.data();
+  const double* const r1 = s1.r1_m.data();
+  const double* const chord = s1.chord_sum_m.data();
+  const bool shared_f1 = h2.f1 == s1.f1;
+  const double f2x = h2.f2.x(), f2y = h2.f2.y(), f1x = h2.f1.x(), f1y = h2.f1.y(), delta = h2.delta_m;
+  auto value = [&](Eigen::Index k) {
+    const double d2 = std::sqrt((x[k] - f2x) * (x[k] - f2x) + (y[k] - f2y) * (y[k] - f2y) + c2c2);
+    if (shared_f1) return d2 - r1[k] - delta;
+    return d2 - std::sqrt((x[k] - f1x) * (x[k] - f1x) + (y[k] - f1y) * (y[k] - f1y) + c1c1) - delta;
+  };
+  const double scale = std::max({s1.scale_m, h2.f1.cwiseAbs().maxCoeff(), h2.f2.cwiseAbs().maxCoeff(),
+                                 std::abs(delta), std::abs(s1.height_m)});
+  const double margin = 1e-6 + 1e-9 * scale;
+  // Sign changes between neighbouring rays of a slot (found in the blocks evaluated in full: a proven block
+  // has none), then the track's wrap from the last ray to the first; refined in the order of the first sample
+  // (ray, then slot), which fixes the order of the points.
   thread_local std::vector<int> brackets;
   brackets.clear();
-  for (Eigen::Index k = 0; k + 1 < m; ++k)
-    if (s1.next_is_ray_after[k] && (f[k] > 0.0) != (f[k + 1] > 0.0)) brackets.push_back(s1.sample_of[k]);
+  // Blocks of coarse samples; a block that cannot be proven is split into blocks of fine, and a fine block
+  // that cannot be proven is evaluated in full.
+  const Eigen::Index coarse = std::max(1, coarse_block), fine = std::clamp<Eigen::Index>(fine_block, 1, coarse);
+  auto proven = [&](Eigen::Index k, Eigen::Index e) {
+    return (f[k] > 0.0) == (f[e] > 0.0) && std::abs(f[k]) + std::abs(f[e]) > 2.0 * (chord[e] - chord[k]) + margin;
+  };
+  if (m > 0) f[0] = value(0);
+  for (Eigen::Index k = 0; k + 1 < m; k += coarse) {
+    const Eigen::Index e = std::min(k + coarse, m - 1);
+    f[e] = value(e);
+    if (proven(k, e)) continue;
+    for (Eigen::Index k2 = k; k2 < e; k2 += fine) {
+      const Eigen::Index e2 = std::min(k2 + fine, e);
+      if (e2 < e) f[e2] = value(e2);
+      if (proven(k2, e2)) continue;
+      for (Eigen::Index j = k2 + 1; j < e2; ++j) f[j] = value(j);
+      for (Eigen::Index j = k2; j < e2; ++j)
+        if (s1.next_is_ray_after[j] && (f[j] > 0.0) != (f[j + 1] > 0.0)) brackets.push_back(s1.sample_of[j]);
+    }
+  }
   for (int slot = 0; slot < 2; ++slot) {
     const int pa = s1.packed[2 * (n - 1) + slot], pb = s1.packed[slot];
-    if (pa >= 0 && pb >= 0 && (f[pa] > 0.0) != (f[pb] > 0.0)) brackets.push_back(2 * (n - 1) + slot);
+    if (pa < 0 || pb < 0) continue;
+    f[pa] = value(pa), f[pb] = value(pb);
+    if ((f[pa] > 0.0) != (f[pb] > 0.0)) brackets.push_back(2 * (n - 1) + slot);
   }
   std::sort(brackets.begin(), brackets.end());
   const double dpsi = kTwoPi / n;

@@ -44,6 +44,10 @@ struct PlaneSection {
   std::vector<char> next_is_ray_after;  // per packed entry: the next entry is the same slot on the next ray
   std::vector<double> x_m, y_m;  // the valid points' x and y, packed
   std::vector<double> r1_m;       // the valid points' distance to f1, packed
+  // Per packed entry k: Σ_{i<k} |p_{i+1} − p_i| over the packed order (a bound on |p_j − p_k| for j > k,
+  // by the triangle inequality): intersect_in_plane skips blocks of samples it proves free of sign changes.
+  std::vector<double> chord_sum_m;
+  double scale_m = 0.0;  // the largest |coordinate| of a valid point (for the rounding margin)
   bool valid(int sample) const { return packed[sample] >= 0; }
 };
 PlaneSection sample_section(const Hyperbola& h, double height_m, int rays, double max_range_m);
@@ -55,6 +59,10 @@ void sample_section(const Hyperbola& h, double height_m, int rays, double max_ra
 std::vector<Vec3> intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyperbola& h2);
 // The same into `out` (cleared first; its storage reused across calls).
 void intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyperbola& h2, std::vector<Vec3>& out);
+// The same with the block sizes of its sign-change search given (coarse ≥ fine ≥ 1; 1, 1 evaluates every
+// sample): the points are bitwise the same for any sizes, which the tests check.
+void intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyperbola& h2, std::vector<Vec3>& out,
+                        int coarse_block, int fine_block);
 
 // Intersection of three hyperboloids (3-D) by Gauss–Newton from `seed`; false if it does not converge.
 bool intersect_3d(const Hyperbola& a, const Hyperbola& b, const Hyperbola& c, const Vec3& seed, Vec3& out);

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
+#include <vector>
 
 #include "localization/hyperbola.h"
 #include "localization/hyperbolic.h"
@@ -123,6 +125,46 @@ TEST(Hyperbola, ModesFindDenseWeightedCluster) {
   const auto modes = intersection_modes(set, 0.05, 3);
   ASSERT_FALSE(modes.empty());
   EXPECT_LT((modes[0] - Vec3(1.002, 1.997, 0)).norm(), 0.003);
+}
+
+TEST(Hyperbola, BlockedSignSearchGivesBitwiseTheSamePointsAsEverySample) {
+  // intersect_in_plane skips blocks of samples that a Lipschitz bound proves free of sign changes. Whatever
+  // the block sizes, the points must be bitwise those of evaluating every sample (blocks of 1), including
+  // where two crossings are close (tags near the antenna path, whose mirror crossing is near the tag) and
+  // for conics of another segment (different F1). Stage-like foci on a line and random foci in space.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int pairs = 0, points = 0, close_pairs = 0;
+  std::vector<Vec3> every, blocked;
+  for (int trial = 0; trial < 300; ++trial) {
+    const bool line = trial % 2 == 0;
+    auto focus = [&]() {
+      return line ? Vec3(u(rng), 0.0, 0.0) : Vec3(2 * u(rng) - 1, 2 * u(rng) - 1, u(rng) - 0.5);
+    };
+    // Tags from 1 mm to 3 m off the path: the nearest ones put the tag and its mirror crossing close.
+    const Vec3 tag(2 * u(rng) - 0.5, std::pow(10.0, -3.0 + 3.5 * u(rng)), trial % 3 == 0 ? 0.0 : u(rng) - 0.5);
+    const Vec3 f1 = focus(), f2 = focus(), g1 = trial % 4 == 1 ? focus() : f1, g2 = focus();
+    auto conic = [&](const Vec3& a, const Vec3& b) { return Hyperbola{a, b, (tag - b).norm() - (tag - a).norm(), 0.0}; };
+    const Hyperbola h1 = conic(f1, f2), h2 = conic(g1, g2);
+    if (!h1.valid() || !h2.valid()) continue;
+    const PlaneSection s = sample_section(h1, tag.z(), 720, 3.0 + 10.0 * u(rng));
+    intersect_in_plane(h1, s, h2, every, 1, 1);
+    ++pairs;
+    points += static_cast<int>(every.size());
+    for (size_t i = 0; i + 1 < every.size(); ++i)
+      for (size_t j = i + 1; j < every.size(); ++j) close_pairs += (every[i] - every[j]).norm() < 0.02;
+    for (const auto& [coarse, fine] : {std::pair{32, 8}, std::pair{128, 2}, std::pair{7, 3}, std::pair{5, 5}}) {
+      intersect_in_plane(h1, s, h2, blocked, coarse, fine);
+      ASSERT_EQ(blocked.size(), every.size()) << "trial " << trial << ", blocks " << coarse << "/" << fine;
+      for (size_t i = 0; i < every.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+          ASSERT_EQ(blocked[i][c], every[i][c]) << "trial " << trial << ", blocks " << coarse << "/" << fine;
+    }
+  }
+  // The cases above occurred: most pairs are valid, they cross, and some crossings lie within 2 cm.
+  EXPECT_GT(pairs, 200);
+  EXPECT_GT(points, pairs);
+  EXPECT_GT(close_pairs, 5);
 }
 
 }  // namespace
