@@ -204,13 +204,14 @@ Vec3 shift_at(const CellIndex& grid, Vec3 x, double h, long z_cells, const std::
           for (int k = grid.begin(found); k < grid.end(found); ++k) {
             // The kernel is cut at 3h (what `reach` visits): beyond it exp(−4.5) ≈ 1 % adds nothing but cost
             // and makes the sum depend on the cell boundaries.
+            // Written unconditionally and kept by advancing m (no branch to mispredict at the cut's edge; a
+            // point beyond it is overwritten by the next).
             const Vec3 d = Vec3(grid.x(k), grid.y(k), grid.z(k)) - x;
             const double d2 = d.squaredNorm();
-            if (d2 > cut2) continue;
             ox[m] = d.x(), oy[m] = d.y(), oz[m] = d.z();
             ex[m] = -0.5 * d2 / (h * h);
             q[m] = grid.quality(k);
-            ++m;
+            m += !(d2 > cut2);
           }
         }
     Eigen::Map<Eigen::ArrayXd> weights(w_buffer.data(), m);
