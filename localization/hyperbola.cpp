@@ -126,8 +126,12 @@ void sample_section(const Hyperbola& h, double height_m, int rays, double max_ra
       s.sample_of.push_back(a);
       s.next_is_ray_after.push_back(i + 1 < rays && valid[a + 2]);
       // (sqrt of the sum of squares, not hypot: a few times cheaper; its rounding is far inside the margin)
-      const double du = s.x_m.empty() ? 0.0 : p.x() - s.x_m.back(), dv = s.x_m.empty() ? 0.0 : p.y() - s.y_m.back();
-      s.chord_sum_m.push_back(s.x_m.empty() ? 0.0 : s.chord_sum_m.back() + std::sqrt(du * du + dv * dv));
+      double chord_sum = 0.0;
+      if (!s.x_m.empty()) {
+        const double du = p.x() - s.x_m.back(), dv = p.y() - s.y_m.back();
+        chord_sum = s.chord_sum_m.back() + std::sqrt(du * du + dv * dv);
+      }
+      s.chord_sum_m.push_back(chord_sum);
       s.scale_m = std::max({s.scale_m, std::abs(p.x()), std::abs(p.y()), std::abs(p.z())});
       s.x_m.push_back(p.x()), s.y_m.push_back(p.y());
       // The same expression intersect_in_plane evaluates for another conic with this F1 (bitwise equal).
@@ -176,11 +180,11 @@ void intersect_in_plane(const Hyperbola& h1, const PlaneSection& s1, const Hyper
   // time: every pair of conics). Conics of one unwrapped segment share F1 (its first antenna position), and
   // then the distance to it is the section's own (one square root per sample instead of two).
   // f is 2-Lipschitz (each distance is 1-Lipschitz), so |f(p_j) − f(p_k)| ≤ 2|p_j − p_k| ≤ 2 (C_j − C_k)
-  // with C the section's chord sums. A block of kBlock samples whose end values have one sign and
-  // |f_k| + |f_{k+B}| > 2 (C_{k+B} − C_k) + margin has that sign throughout (the two bounds from its ends meet
-  // above zero), so none of its neighbour pairs brackets a crossing and its inner samples are not evaluated.
-  // Every value that is evaluated is the same expression as before, so the brackets, their end values and
-  // hence the points are bitwise those of evaluating every sample. The margin covers the rounding of f and
+  // with C the section's chord sums. A block of samples k … e whose end values have one sign and
+  // |f_k| + |f_e| > 2 (C_e − C_k) + margin has that sign throughout (the two bounds from its ends meet above
+  // zero), so none of its neighbour pairs brackets a crossing and its inner samples are not evaluated.
+  // Every value that is evaluated is the same expression whatever the block sizes, so the brackets, their end
+  // values and hence the points are bitwise those of evaluating every sample (blocks of 1). The margin covers the rounding of f and
   // of C (a few ulps of the coordinates' size; here 1e-9 of it plus 1 µm).
   // (Into storage kept per thread at its largest size.)
   thread_local std::vector<double> f_storage;
