@@ -48,13 +48,19 @@ def localize(rfidray, readings, truth, extra):
                        capture_output=True, text=True)
     if r.returncode != 0:
         die("%s: rfidray localize exit %d: %s" % (readings, r.returncode, r.stderr.strip()[-400:]))
-    return json.loads(r.stdout)["results"]
+    try:
+        return json.loads(r.stdout)["results"]
+    except (ValueError, KeyError) as e:
+        die("%s: rfidray localize printed no results JSON (%s)" % (readings, e))
 
 
 def collect(results, truth_csv, table):
     """table[(distance, slot)] += [(range error, residual)]; slots by x order in the row."""
-    with open(truth_csv, encoding="utf-8") as f:
-        truth = {r["name"]: (float(r["x"]), float(r["y"])) for r in csv.DictReader(f)}
+    try:
+        with open(truth_csv, encoding="utf-8") as f:
+            truth = {r["name"]: (float(r["x"]), float(r["y"])) for r in csv.DictReader(f)}
+    except (OSError, KeyError, TypeError, ValueError) as e:
+        die("%s: not a truth CSV with name,x,y columns (%s)" % (truth_csv, e))
     slot = {name: i for i, name in enumerate(sorted(truth, key=lambda n: truth[n][0]))}
     for r in results:
         if r.get("y") is None or r["name"] not in truth:
