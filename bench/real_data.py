@@ -176,16 +176,17 @@ def stats(results):
     return out
 
 
-def simulated_scenario(path, truth, antenna_file, channel, ripple=None, seed=1):
+def simulated_scenario(path, truth, antenna_file, channel, ripple=None, seed=1, extra_meshes=()):
     """The AdaRF stage in rfidray's terms: 50 stops 2 cm apart over x in [0.02, 0.98] m at z = 0 facing +y,
     8 carriers hopping, tags where the run's truth puts them, a concrete floor 0.75 m below (a table top);
-    `ripple`: each tag's phase_pattern (drawn from `seed` and the tag's index, so give every run its own seed)."""
+    `ripple`: each tag's phase_pattern (drawn from `seed` and the tag's index, so give every run its own seed);
+    `extra_meshes`: more scene meshes as YAML flow maps (bench/row_errors_by_distance.py's wall)."""
     stops = [[0.02 + k * 0.96 / 49, 0.0, 0.0] for k in range(50)]
     lines = ["name: stage_1m", "seed: %d" % seed, "channel: %s" % channel, "model: physical"]
     if channel != "ideal":
         here = os.path.dirname(os.path.abspath(path))
-        lines += ["scene:", "  meshes: [{file: %s, material: concrete, position: [0.5, 0.5, -0.75]}]"
-                  % os.path.join(here, "floor.obj")]
+        meshes = ["{file: %s, material: concrete, position: [0.5, 0.5, -0.75]}" % os.path.join(here, "floor.obj")]
+        lines += ["scene:", "  meshes: [%s]" % ", ".join(meshes + list(extra_meshes))]
     lines += ["antennas:", "  - name: stage", "    frequencies_hz: [%s]" % ", ".join("%.0f" % f for f in CARRIERS_HZ),
               "    hop_dwell_s: 0.125", "    update_rate: 400", "    tx_power_dbm: 30",
               "    noisephi: 0.1", "    phase_bits: 12", "    rssi_resolution_db: 0.5",

@@ -33,7 +33,6 @@ import subprocess
 import sys
 import tempfile
 
-CARRIERS_HZ = [920.625e6 + 0.5e6 * k for k in range(8)]
 OPEN_GATES = ["--method", "nlls", "--height-known", "--mirror-prior", "boresight", "--max-range", "3", "--json",
               "--max-residual-rad", "10", "--max-uncertainty-m", "10"]
 
@@ -84,39 +83,30 @@ def real(args, table):
 
 
 def simulated(args, table):
+    # The stage exactly as bench/real_data.py simulates the set's runs, plus the optional wall.
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from real_data import simulated_scenario, write_floor
     work = tempfile.mkdtemp(prefix="rfidray-row-")
-    with open(os.path.join(work, "floor.obj"), "w") as f:  # 4 m x 4 m, horizontal
-        f.write("v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\nf 1 2 3\nf 1 3 4\n")
-    with open(os.path.join(work, "wall.obj"), "w") as f:  # 4 m x 3 m in the plane y = 0
-        f.write("v -2 0 -1\nv 2 0 -1\nv 2 0 2\nv -2 0 2\nf 1 3 2\nf 1 4 3\n")
-    stops = [[0.02 + k * 0.96 / 49, 0.0, 0.0] for k in range(50)]
-    meshes = ["{file: %s, material: concrete, position: [0.5, 0.5, -0.75]}" % os.path.join(work, "floor.obj")]
+    write_floor(os.path.join(work, "floor.obj"))
+    walls = []
     if args.wall_y is not None:
-        meshes.append("{file: %s, material: %s, position: [0.5, %.4f, 0]}"
-                      % (os.path.join(work, "wall.obj"), args.wall_material, args.wall_y))
+        with open(os.path.join(work, "wall.obj"), "w") as f:  # 4 m x 3 m in the plane y = 0
+            f.write("v -2 0 -1\nv 2 0 -1\nv 2 0 2\nv -2 0 2\nf 1 3 2\nf 1 4 3\n")
+        walls.append("{file: %s, material: %s, position: [0.5, %.4f, 0]}"
+                     % (os.path.join(work, "wall.obj"), args.wall_material, args.wall_y))
     count = 0
     for distance in args.distances:
         for seed, centre in list(zip([1, 2, 3], [0.50, 0.52, 0.48]))[:args.seeds]:
-            tags = [("slot%d" % i, centre + 0.2 * (i - 2), distance) for i in range(5)]
+            tags = [("slot%d" % i, centre + 0.2 * (i - 2), distance, 0.0) for i in range(5)]
             folder = os.path.join(work, "%.2f_%d" % (distance, seed))
-            os.makedirs(folder)
-            lines = ["name: row", "seed: %d" % seed, "channel: single-bounce", "model: physical", "scene:",
-                     "  meshes: [%s]" % ", ".join(meshes), "antennas:", "  - name: stage",
-                     "    frequencies_hz: [%s]" % ", ".join("%.0f" % f for f in CARRIERS_HZ),
-                     "    hop_dwell_s: 0.125", "    update_rate: 400", "    tx_power_dbm: 30", "    noisephi: 0.1",
-                     "    phase_bits: 12", "    rssi_resolution_db: 0.5",
-                     "    pattern: {kind: patch, gain_dbi: 8, beamwidth_deg: 70}", "    polarization: rhcp",
-                     "    yaw_deg: 90", "    waypoints: %s" % json.dumps(stops), "    speed_m_s: 0.02", "tags:"]
-            lines += ["  - {name: %s, position: [%.4f, %.4f, 0], yaw_deg: -90, gain_dbi: 2.15}" % t for t in tags]
-            with open(os.path.join(folder, "row.yaml"), "w") as f:
-                f.write("\n".join(lines) + "\n")
-            r = subprocess.run([args.rfidray, "simulate", os.path.join(folder, "row.yaml"), "-o", folder, "-q"],
-                               capture_output=True, text=True)
+            scenario = folder + ".yaml"
+            simulated_scenario(scenario, tags, None, "single-bounce", seed=seed, extra_meshes=walls)
+            r = subprocess.run([args.rfidray, "simulate", scenario, "-o", folder, "-q"], capture_output=True, text=True)
             if r.returncode != 0:
                 die("rfidray simulate exit %d: %s" % (r.returncode, r.stderr.strip()[-400:]))
             truth = os.path.join(folder, "truth.csv")
             with open(truth, "w") as f:
-                f.write("name,x,y,z\n" + "".join("%s,%.4f,%.4f,0\n" % t for t in tags))
+                f.write("name,x,y,z\n" + "".join("%s,%.4f,%.4f,%.4f\n" % t for t in tags))
             collect(localize(args.rfidray, os.path.join(folder, "stage.csv"), truth, []), truth, table)
             count += 1
     return count
