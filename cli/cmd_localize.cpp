@@ -1,5 +1,6 @@
 // `rfidray localize`: tag positions from readings CSVs with the hyperbolic (paper), NLLS and SAR methods.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <iomanip>
 #include <iostream>
@@ -160,12 +161,16 @@ int run_localize(const LocalizeState& s) {
     std::cout << nlohmann::json{{"results", results}, {"summary", summary}}.dump(2) << "\n";
     return 0;
   }
-  std::cout << std::left << std::setw(16) << "tag" << std::setw(12) << "method" << std::setw(9) << "status"
+  // The tag column fits the longest name (EPCs are 24 hex digits), so the columns stay aligned.
+  size_t tag_width = 16;
+  for (const auto& j : results) tag_width = std::max(tag_width, j["name"].get<std::string>().size() + 2);
+  const int tag_w = static_cast<int>(tag_width);
+  std::cout << std::left << std::setw(tag_w) << "tag" << std::setw(12) << "method" << std::setw(9) << "status"
             << std::right << std::setw(10) << "x" << std::setw(10) << "y" << std::setw(10) << "z" << std::setw(12)
             << "error_mm" << std::setw(10) << "unc_mm" << std::setw(10) << "time_ms" << "  reason\n";
   std::cout << std::fixed;
   for (const auto& j : results) {
-    std::cout << std::left << std::setw(16) << j["name"].get<std::string>() << std::setw(12)
+    std::cout << std::left << std::setw(tag_w) << j["name"].get<std::string>() << std::setw(12)
               << j["method"].get<std::string>() << std::setw(9) << j["status"].get<std::string>() << std::right
               << std::setprecision(4);
     for (const char* c : {"x", "y", "z"})

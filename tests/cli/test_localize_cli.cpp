@@ -87,8 +87,10 @@ TEST(ReadingsReader, GroupsByAntennaChannelFrequencyAndSortsByTime) {
 }
 
 // Writes a readings CSV of two tags seen from an L-shaped path, and the truth file.
-void write_scenario(const fs::path& readings, const fs::path& truth, bool scramble_dist) {
-  const std::vector<std::pair<std::string, Vec3>> tags{{"tagA", Vec3(1.5, 0.5, 2.05)}, {"tagB", Vec3(-3.0, 1.0, 1.85)}};
+// `first_name`: the first tag's name (an EPC-length one tests the text table's alignment).
+void write_scenario(const fs::path& readings, const fs::path& truth, bool scramble_dist,
+                    const std::string& first_name = "tagA") {
+  const std::vector<std::pair<std::string, Vec3>> tags{{first_name, Vec3(1.5, 0.5, 2.05)}, {"tagB", Vec3(-3.0, 1.0, 1.85)}};
   const auto path = loc::sample_polyline({Vec3(-1, -3, 1.68), Vec3(-1, 3, 1.68), Vec3(2, 3, 1.68)}, 0.35, 15.0);
   std::ofstream out(readings);
   out << kHeader << ",antenna\n" << std::setprecision(17);
@@ -147,6 +149,31 @@ TEST(LocalizeCli, EndToEndRecoversTagsAndIgnoresDistColumn) {
   const std::string scrambled = run((d / "r_scrambled.csv").string() + args, status);
   ASSERT_EQ(status, 0) << scrambled;
   EXPECT_EQ(without_times(j), without_times(nlohmann::json::parse(scrambled)));
+}
+
+// The text table's columns stay aligned when a tag name is longer than the default column (a 24-digit EPC):
+// every row's method starts where the header's `method` does.
+TEST(LocalizeCli, TextTableFitsLongTagNames) {
+  const fs::path d = temp_dir();
+  const std::string epc = "100000000000000000000004";
+  write_scenario(d / "r.csv", d / "t.csv", false, epc);
+  int status = 0;
+  const std::string out = run((d / "r.csv").string() + " --method nlls", status);
+  ASSERT_EQ(status, 0) << out;
+  std::istringstream lines(out);
+  std::string header, row;
+  std::getline(lines, header);
+  const size_t method_col = header.find("method");
+  ASSERT_NE(method_col, std::string::npos) << out;
+  int rows = 0;
+  while (std::getline(lines, row) && !row.empty()) {
+    ASSERT_GT(row.size(), method_col) << row;
+    EXPECT_EQ(row.compare(method_col, 4, "nlls"), 0) << "misaligned row:\n" << header << "\n" << row;
+    EXPECT_EQ(row[method_col - 1], ' ') << row;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 2) << out;
+  EXPECT_NE(out.find(epc + " "), std::string::npos) << out;
 }
 
 TEST(LocalizeCli, MaxUncertaintyIsTheLargestRegionAccepted) {
