@@ -15,6 +15,10 @@
 // culled_per_link: reflection candidates rejected without a ray because a leg crosses a covered rectangle
 // (raytrace/covered_rects.h), with setting "single-bounce cull" (TraceOptions::cull_covered; off by default; run
 // only when --settings names it).
+// mirror_points_per_link: single-reflection image points that lie on a facet, each needing a visibility
+// decision (a leg's ray, or culling); reflections_per_link: those with both legs clear (paths). Without
+// culling an exact search spends at least one ray on each mirror point, so rays_per_link ≥ 1 (the direct
+// path) + mirror_points_per_link at level single-bounce.
 // Writes DIR/links_per_level.csv, DIR/links_vs_tags.csv, DIR/links_vs_triangles.png, DIR/links_vs_tags.png.
 #include <omp.h>
 
@@ -89,7 +93,8 @@ std::string packet_note(const RaytracedChannel& ch) {
 }
 
 struct Rate {
-  double median = 0, min = 0, max = 0, rays_per_link = 0, culled_per_link = 0;
+  double median = 0, min = 0, max = 0, rays_per_link = 0, culled_per_link = 0, mirror_points_per_link = 0,
+         reflections_per_link = 0;
 };
 
 Rate measure(const RaytracedChannel& ch, const bench::Workload& w, int runs) {
@@ -100,15 +105,19 @@ Rate measure(const RaytracedChannel& ch, const bench::Workload& w, int runs) {
   ch.one_way(w.antennas.front(), w.tags, 865.7e6, h);
   take_pool_rays();
   take_pool_culled();
+  bench::take_pool_mirror_points();
+  bench::take_pool_reflections();
   for (int r = 0; r < runs; ++r) {
     const auto t0 = std::chrono::steady_clock::now();
     for (const Endpoint& ant : w.antennas) ch.one_way(ant, w.tags, 865.7e6, h);
     rates.push_back(double(w.links()) / seconds_since(t0));
   }
   const uint64_t rays = take_pool_rays(), culled = take_pool_culled();
+  const uint64_t points = bench::take_pool_mirror_points(), found = bench::take_pool_reflections();
   std::sort(rates.begin(), rates.end());
-  return {rates[rates.size() / 2], rates.front(), rates.back(), double(rays) / double(runs * w.links()),
-          double(culled) / double(runs * w.links())};
+  const double links = double(runs) * double(w.links());
+  return {rates[rates.size() / 2], rates.front(), rates.back(), double(rays) / links, double(culled) / links,
+          double(points) / links, double(found) / links};
 }
 
 }  // namespace
@@ -158,7 +167,7 @@ int main(int argc, char** argv) {
   std::ofstream csv(std::filesystem::path(out_dir) / "links_per_level.csv");
   csv << "scene,triangles,facets,planes,build_s,embree_bytes_per_triangle,resident_bytes_per_triangle,setting,"
          "threads,tags,poses,links_per_s_median,links_per_s_min,links_per_s_max,rays_per_link,culled_per_link,"
-         "covered_bytes_per_triangle,covered_build_s\n";
+         "covered_bytes_per_triangle,covered_build_s,mirror_points_per_link,reflections_per_link\n";
   std::map<std::string, io::Series> by_triangles;  // setting → (triangles, links/s at 2 threads)
   std::ofstream tags_csv(std::filesystem::path(out_dir) / "links_vs_tags.csv");
   tags_csv << "scene,setting,threads,tags,poses,links_per_s_median,rays_per_link\n";
@@ -199,14 +208,16 @@ int main(int argc, char** argv) {
       for (int threads : thread_counts) {
         omp_set_num_threads(threads);
         const Rate r = measure(ch, w, runs);
-        std::printf("  %-24s %d thread%s  %12.0f links/s median (min %.0f, max %.0f)  %6.2f rays/link  %6.2f culled/link%s\n",
+        std::printf("  %-24s %d thread%s  %12.0f links/s median (min %.0f, max %.0f)  %6.2f rays/link  %6.2f culled/link"
+                    "  %6.2f mirror points/link  %5.2f reflections/link%s\n",
                     st.name.c_str(), threads, threads == 1 ? " " : "s", r.median, r.min, r.max, r.rays_per_link,
-                    r.culled_per_link, packet_note(ch).c_str());
+                    r.culled_per_link, r.mirror_points_per_link, r.reflections_per_link, packet_note(ch).c_str());
         csv << bs.name << "," << scene->triangle_count() << "," << scene->facets().size() << "," << planes << ","
             << build_s << "," << scene->bvh().embree_bytes() / n_tri << ","
             << double(rss1 - std::min(rss0, rss1)) / n_tri << "," << st.name << "," << threads << ","
             << w.tags.size() << "," << w.antennas.size() << "," << r.median << "," << r.min << "," << r.max << ","
-            << r.rays_per_link << "," << r.culled_per_link << "," << cov_bytes << "," << cov_s << "\n";
+            << r.rays_per_link << "," << r.culled_per_link << "," << cov_bytes << "," << cov_s << ","
+            << r.mirror_points_per_link << "," << r.reflections_per_link << "\n";
         if (threads == 2) {
           auto& s = by_triangles[st.name];
           s.title = st.name, s.style = "linespoints";

@@ -1,5 +1,6 @@
 #pragma once
-// The ray tracer's per-thread counters (tl_rays_traced, tl_segments_culled), summed over the caller and every
+// The ray tracer's per-thread counters (tl_rays_traced, tl_segments_culled, tl_mirror_points,
+// tl_reflections_found), summed over the caller and every
 // thread of the OpenMP pool (its threads persist between regions) and reset: what the benchmarks report per link.
 #include <omp.h>
 
@@ -8,6 +9,7 @@
 
 #include "raytrace/covered_rects.h"
 #include "raytrace/embree_scene.h"
+#include "raytrace/path_finder.h"
 
 namespace rfidray::bench {
 
@@ -27,6 +29,16 @@ inline uint64_t take_pool_rays() {
 // Reflection candidates culled without a ray (raytrace/covered_rects.h) since the last call.
 inline uint64_t take_pool_culled() {
   return take_from_pool([]() -> uint64_t& { return tl_segments_culled; });
+}
+
+// Single-reflection mirror points on a facet (each needs a visibility decision) since the last call.
+inline uint64_t take_pool_mirror_points() {
+  return take_from_pool([]() -> uint64_t& { return tl_mirror_points; });
+}
+
+// Single reflections found (both legs clear) since the last call.
+inline uint64_t take_pool_reflections() {
+  return take_from_pool([]() -> uint64_t& { return tl_reflections_found; });
 }
 
 }  // namespace rfidray::bench

@@ -876,6 +876,7 @@ void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p
   const Vec3 d1 = p - a, d2 = t - p;
   const double l1 = d1.norm(), l2 = d2.norm();
   if (!(l1 > 0.0) || !(l2 > 0.0)) return;
+  ++tl_mirror_points;
   const Vec3 dir1 = d1 / l1, dir2 = d2 / l2;
   const double cos_theta = std::abs(dir1.dot(fc.normal));
   const double clearance = options_.surface_epsilon_m + fc.flatness_m;  // legs stay clear of the facet itself
@@ -898,6 +899,7 @@ void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p
   const auto leg1_blocked = [&] { return check_leg1 && bvh.occluded(a, dir1, end_eps1, leg1_far); };
   const auto leg2_blocked = [&] { return bvh.occluded(p, dir2, leg2_near, leg2_far); };
   if (l2 > l1 ? leg2_blocked() || leg1_blocked() : leg1_blocked() || leg2_blocked()) return;
+  ++tl_reflections_found;
 
   const RadioMaterial& m = scene_->materials()[fc.material];
   const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, dir1) *

@@ -53,6 +53,13 @@ namespace rfidray {
 
 inline constexpr uint32_t kNoMaterial = std::numeric_limits<uint32_t>::max();
 
+// Single reflections on the calling thread, credited to the caller like tl_rays_traced
+// (raytraced_channel.cpp): mirror points that lie on a facet and so need a visibility decision (one or two
+// legs, by ray or by culling), and of those the reflections found (both legs clear). What the benchmarks
+// report per link: the rays an exact search must spend follow from the first, the paths from the second.
+inline thread_local uint64_t tl_mirror_points = 0;
+inline thread_local uint64_t tl_reflections_found = 0;
+
 // A path as the tracer produces it (no strings: the hot loop does not allocate).
 struct TracedPath {
   PathKind kind = PathKind::kLineOfSight;

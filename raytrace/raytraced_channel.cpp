@@ -111,7 +111,7 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
   if (!tl_arena || tl_arena->max_concurrency() != threads) tl_arena = std::make_unique<tbb::task_arena>(threads);
   // Rays traced by whichever thread runs a chunk are credited to the caller (tl_rays_traced), so counts
   // summed over the caller's threads stay what a serial loop gives.
-  std::atomic<uint64_t> rays{0}, culled{0};
+  std::atomic<uint64_t> rays{0}, culled{0}, mirror_points{0}, reflections{0};
   std::mutex error_mutex;
   std::exception_ptr error;
   const std::span<const uint32_t> all(order);
@@ -125,6 +125,7 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
   std::atomic<size_t> next{0};
   const auto lane = [&] {
     const uint64_t before = tl_rays_traced, culled_before = tl_segments_culled;
+    const uint64_t points_before = tl_mirror_points, found_before = tl_reflections_found;
     for (size_t c; (c = next.fetch_add(1, std::memory_order_relaxed)) < chunks;) {
       const size_t first = c * kChunk, last = std::min(n, first + kChunk);
       try {
@@ -139,6 +140,10 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
     tl_rays_traced = before;
     culled.fetch_add(tl_segments_culled - culled_before, std::memory_order_relaxed);
     tl_segments_culled = culled_before;
+    mirror_points.fetch_add(tl_mirror_points - points_before, std::memory_order_relaxed);
+    tl_mirror_points = points_before;
+    reflections.fetch_add(tl_reflections_found - found_before, std::memory_order_relaxed);
+    tl_reflections_found = found_before;
   };
   tl_arena->execute([&] {
     tbb::task_group lanes;
@@ -148,6 +153,8 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
   });
   tl_rays_traced += rays.load();
   tl_segments_culled += culled.load();
+  tl_mirror_points += mirror_points.load();
+  tl_reflections_found += reflections.load();
   if (error) std::rethrow_exception(error);
 }
 

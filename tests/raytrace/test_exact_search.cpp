@@ -13,6 +13,8 @@
 // exercised reflections at all.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <random>
 
@@ -258,6 +260,42 @@ TEST(ExactSearch, CullingRemovesRaysNotPaths) {
   EXPECT_GT(culls[1], 200u);
   EXPECT_LE(rays[1] + culls[1], rays[0]) << "each culled candidate saves at least one ray";
   EXPECT_LT(rays[1], rays[0]);
+}
+
+TEST(ExactSearch, MirrorPointsAndReflectionsAreCounted) {
+  // tl_mirror_points counts the image points on a facet (each needs a visibility decision) and
+  // tl_reflections_found those with both legs clear. With nothing dropped, the second is the number of
+  // reflection paths; without culling each mirror point costs at least one ray and each reflection two, so
+  // rays ≥ links (direct paths) + points + reflections; with culling the points are the same (culling decides
+  // visibility, not where mirror points are). Fails if either counter over- or under-counts.
+  WarehouseParams p;
+  p.rows = 3, p.racks_per_row = 4, p.shelves = 4, p.tessellation = 1;
+  const auto scene = scene_of(generate_warehouse(p));
+  TraceOptions off;
+  off.drop_below_db = 400.0;
+  TraceOptions on = off;
+  on.cull_covered = true;
+  const RaytracedChannel fast(scene, off), culled(scene, on);
+  std::mt19937_64 rng(12);
+  auto [lo, hi] = bounds_of(generate_warehouse(p));
+  const std::vector<Link> links = random_links(rng, lo + Vec3(0.05, 0.05, 0.05), hi - Vec3(0.05, 0.05, 0.05), 200);
+  uint64_t points[2] = {0, 0}, found[2] = {0, 0}, rays[2] = {0, 0}, paths = 0;
+  for (int mode = 0; mode < 2; ++mode)
+    for (const Link& l : links) {
+      const uint64_t p0 = tl_mirror_points, f0 = tl_reflections_found, r0 = tl_rays_traced;
+      const std::vector<Path> got = (mode ? culled : fast).paths(endpoint(l.antenna), endpoint(l.tag), kF);
+      points[mode] += tl_mirror_points - p0;
+      found[mode] += tl_reflections_found - f0;
+      rays[mode] += tl_rays_traced - r0;
+      if (mode == 0)
+        paths += std::count_if(got.begin(), got.end(), [](const Path& q) { return q.kind == PathKind::kReflection; });
+    }
+  EXPECT_GT(found[0], 50u);
+  EXPECT_EQ(found[0], paths);
+  EXPECT_GT(points[0], found[0]) << "some mirror points are hidden in a warehouse";
+  EXPECT_GE(rays[0], links.size() + points[0] + found[0]);
+  EXPECT_EQ(points[1], points[0]);
+  EXPECT_EQ(found[1], found[0]);
 }
 
 TEST(ExactSearch, NoisyMeshMergedIntoFittedPlanes) {

@@ -249,7 +249,9 @@ TEST(Packets, NoStateLeaksBetweenPoses) {
         const Endpoint& a = call % 2 ? far_2 : far_1;
         const std::vector<Endpoint>& tags = call / 2 % 2 ? tags_b : tags_a;
         std::vector<std::complex<double>> h(tags.size());
+        const uint64_t points0 = tl_mirror_points;
         const uint64_t rays = rays_of_call(ch, a, tags, h);
+        const uint64_t points = tl_mirror_points - points0;
         const std::vector<std::complex<double>> want = per_link(ch, a, tags);
         for (size_t i = 0; i < tags.size(); ++i)
           ASSERT_EQ(h[i], want[i]) << to_string(level) << " threads " << threads << " call " << call << " tag " << i;
@@ -257,9 +259,14 @@ TEST(Packets, NoStateLeaksBetweenPoses) {
         PoseCandidates c;
         ch.finder().prepare_pose(a.pose.position, c);
         std::vector<TracedPath> out;
-        const uint64_t before = tl_rays_traced;
+        const uint64_t before = tl_rays_traced, points_before = tl_mirror_points;
         for (const Endpoint& t : tags) ch.finder().trace(a, t, kF, c, out);
         EXPECT_EQ(rays, tl_rays_traced - before) << to_string(level) << " threads " << threads << " call " << call;
+        // So are the mirror points (bench_sweep's mirror_points_per_link).
+        EXPECT_EQ(points, tl_mirror_points - points_before) << to_string(level) << " threads " << threads << " call " << call;
+        if (level == ChannelLevel::kSingleBounce) {
+          EXPECT_GT(points, 0u);
+        }
       }
     }
   }
