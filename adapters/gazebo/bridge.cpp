@@ -11,8 +11,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
-#include <filesystem>
-#include <fstream>
 #include <ignition/transport/Node.hh>
 #include <memory>
 #include <mutex>
@@ -20,7 +18,7 @@
 
 #include "adapters/gazebo/live_world.h"
 #include "adapters/gazebo/msgs/rfid_readings.pb.h"
-#include "io/readings_csv.h"
+#include "adapters/gazebo/tick_csv.h"
 #include "core/error.h"
 #include "core/reader_model.h"
 
@@ -109,18 +107,7 @@ int run_bridge(const BridgeOptions& o) {
   }
   const std::string status_topic = o.topic_prefix + "/status";
   auto status_pub = node.Advertise<rfidray::msgs::BridgeStatus>(status_topic);
-  std::vector<std::unique_ptr<std::ofstream>> csv;
-  if (!o.csv_dir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(o.csv_dir, ec);
-    if (ec) throw InputError(o.csv_dir + ": cannot create output directory (" + ec.message() + ")");
-    for (const AntennaSpec& a : scenario.antennas) {
-      const auto path = std::filesystem::path(o.csv_dir) / (a.reader.name + ".csv");
-      csv.push_back(std::make_unique<std::ofstream>(path, std::ios::binary));
-      if (!*csv.back()) throw InputError(path.string() + ": cannot write (check --csv DIR)");
-      *csv.back() << io::kReadingsHeader << '\n';
-    }
-  }
+  TickCsv csv(o.csv_dir, scenario);
 #ifdef RFIDRAY_HAVE_ROS
   std::unique_ptr<ros_bridge::TagArrayPublisher> ros_pub;
   if (o.ros) {
@@ -203,10 +190,7 @@ int run_bridge(const BridgeOptions& o) {
       tag->set_rssi(r.reading.rssi_dbm);
     }
     readings_pubs[t.antenna].Publish(m);
-    if (!csv.empty()) {
-      io::write_readings_rows(*csv[t.antenna], scenario, t.antenna, t.reads);
-      csv[t.antenna]->flush();
-    }
+    csv.write(scenario, t);
 #ifdef RFIDRAY_HAVE_ROS
     if (ros_pub) {
       std::vector<ros_bridge::TagValue> tags;

@@ -4,20 +4,18 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <memory>
 #include <set>
 #include <stdexcept>
 #include <thread>
 
 #include "adapters/gazebo/live_world.h"
+#include "adapters/gazebo/tick_csv.h"
 #include "adapters/ros/pose_input.h"
 #include "adapters/ros/ros_session.h"
 #include "adapters/ros/tag_array_publisher.h"
 #include "core/error.h"
 #include "core/reader_model.h"
-#include "io/readings_csv.h"
 
 namespace rfidray::gazebo {
 namespace {
@@ -95,18 +93,7 @@ int run_ros_bridge(const RosBridgeOptions& o) {
   LiveWorld live(std::move(world), live_options);
   const Scenario& scenario = live.scenario();
 
-  std::vector<std::unique_ptr<std::ofstream>> csv;
-  if (!o.csv_dir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(o.csv_dir, ec);
-    if (ec) throw InputError(o.csv_dir + ": cannot create output directory (" + ec.message() + ")");
-    for (const AntennaSpec& a : scenario.antennas) {
-      const auto path = std::filesystem::path(o.csv_dir) / (a.reader.name + ".csv");
-      csv.push_back(std::make_unique<std::ofstream>(path, std::ios::binary));
-      if (!*csv.back()) throw InputError(path.string() + ": cannot write (check --csv DIR)");
-      *csv.back() << io::kReadingsHeader << '\n';
-    }
-  }
+  TickCsv csv(o.csv_dir, scenario);
 
   // ROS: the session first (its node name), then outputs, then inputs.
   std::vector<std::string> names;
@@ -144,10 +131,7 @@ int run_ros_bridge(const RosBridgeOptions& o) {
   });
 
   auto sink = [&](const TickReadings& t) {
-    if (!csv.empty()) {
-      io::write_readings_rows(*csv[t.antenna], scenario, t.antenna, t.reads);
-      csv[t.antenna]->flush();
-    }
+    csv.write(scenario, t);
     std::vector<ros_bridge::TagValue> tags;
     for (const ReadRecord& r : t.reads)
       tags.push_back({scenario.tags[r.tag].tag.name, r.distance_m, r.reading.phase_rad, r.reading.rssi_dbm});
