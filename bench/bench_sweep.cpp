@@ -17,8 +17,8 @@
 // only when --settings names it).
 // mirror_points_per_link: single-reflection image points that lie on a facet, each needing a visibility
 // decision (a leg's ray, or culling); reflections_per_link: those with both legs clear (paths). Without
-// culling an exact search spends at least one ray on each mirror point, so rays_per_link ≥ 1 (the direct
-// path) + mirror_points_per_link at level single-bounce.
+// culling an exact search spends at least one ray on each mirror point and two on each reflection, so
+// rays_per_link ≥ 1 (the direct path) + mirror_points_per_link + reflections_per_link at level single-bounce.
 // Writes DIR/links_per_level.csv, DIR/links_vs_tags.csv, DIR/links_vs_triangles.png, DIR/links_vs_tags.png.
 #include <omp.h>
 

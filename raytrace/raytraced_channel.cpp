@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <mutex>
 #include <stdexcept>
@@ -12,6 +13,15 @@
 #include "raytrace/morton.h"
 
 namespace rfidray {
+
+namespace {
+// The calling thread's tracer counters (rays, culled legs, mirror points, reflections found), which a
+// threaded batch credits to its caller.
+constexpr size_t kCounters = 4;
+std::array<uint64_t*, kCounters> thread_counters() {
+  return {&tl_rays_traced, &tl_segments_culled, &tl_mirror_points, &tl_reflections_found};
+}
+}  // namespace
 
 RaytracedChannel::RaytracedChannel(std::shared_ptr<const Scene> scene, const TraceOptions& options)
     : finder_(std::move(scene), options) {
@@ -109,9 +119,9 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
   }
   thread_local std::unique_ptr<tbb::task_arena> tl_arena;
   if (!tl_arena || tl_arena->max_concurrency() != threads) tl_arena = std::make_unique<tbb::task_arena>(threads);
-  // Rays traced by whichever thread runs a chunk are credited to the caller (tl_rays_traced), so counts
-  // summed over the caller's threads stay what a serial loop gives.
-  std::atomic<uint64_t> rays{0}, culled{0}, mirror_points{0}, reflections{0};
+  // Rays traced (and the other thread_counters()) by whichever thread runs a chunk are credited to the
+  // caller, so counts summed over the caller's threads stay what a serial loop gives.
+  std::array<std::atomic<uint64_t>, kCounters> credited{};
   std::mutex error_mutex;
   std::exception_ptr error;
   const std::span<const uint32_t> all(order);
@@ -124,8 +134,9 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
   const size_t chunks = (n + kChunk - 1) / kChunk;
   std::atomic<size_t> next{0};
   const auto lane = [&] {
-    const uint64_t before = tl_rays_traced, culled_before = tl_segments_culled;
-    const uint64_t points_before = tl_mirror_points, found_before = tl_reflections_found;
+    const std::array<uint64_t*, kCounters> counters = thread_counters();
+    std::array<uint64_t, kCounters> before;
+    for (size_t k = 0; k < kCounters; ++k) before[k] = *counters[k];
     for (size_t c; (c = next.fetch_add(1, std::memory_order_relaxed)) < chunks;) {
       const size_t first = c * kChunk, last = std::min(n, first + kChunk);
       try {
@@ -136,14 +147,10 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
         next.store(chunks, std::memory_order_relaxed);  // stop handing out chunks
       }
     }
-    rays.fetch_add(tl_rays_traced - before, std::memory_order_relaxed);
-    tl_rays_traced = before;
-    culled.fetch_add(tl_segments_culled - culled_before, std::memory_order_relaxed);
-    tl_segments_culled = culled_before;
-    mirror_points.fetch_add(tl_mirror_points - points_before, std::memory_order_relaxed);
-    tl_mirror_points = points_before;
-    reflections.fetch_add(tl_reflections_found - found_before, std::memory_order_relaxed);
-    tl_reflections_found = found_before;
+    for (size_t k = 0; k < kCounters; ++k) {
+      credited[k].fetch_add(*counters[k] - before[k], std::memory_order_relaxed);
+      *counters[k] = before[k];
+    }
   };
   tl_arena->execute([&] {
     tbb::task_group lanes;
@@ -151,10 +158,8 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
     lane();
     lanes.wait();  // runs any lane no worker took (it finds no chunk left)
   });
-  tl_rays_traced += rays.load();
-  tl_segments_culled += culled.load();
-  tl_mirror_points += mirror_points.load();
-  tl_reflections_found += reflections.load();
+  const std::array<uint64_t*, kCounters> counters = thread_counters();
+  for (size_t k = 0; k < kCounters; ++k) *counters[k] += credited[k].load();
   if (error) std::rethrow_exception(error);
 }
 
