@@ -43,6 +43,8 @@
 using namespace rfidray;
 using bench::take_pool_rays;
 using bench::take_pool_culled;
+using bench::take_pool_mirror_points;
+using bench::take_pool_reflections;
 
 namespace {
 
@@ -105,15 +107,15 @@ Rate measure(const RaytracedChannel& ch, const bench::Workload& w, int runs) {
   ch.one_way(w.antennas.front(), w.tags, 865.7e6, h);
   take_pool_rays();
   take_pool_culled();
-  bench::take_pool_mirror_points();
-  bench::take_pool_reflections();
+  take_pool_mirror_points();
+  take_pool_reflections();
   for (int r = 0; r < runs; ++r) {
     const auto t0 = std::chrono::steady_clock::now();
     for (const Endpoint& ant : w.antennas) ch.one_way(ant, w.tags, 865.7e6, h);
     rates.push_back(double(w.links()) / seconds_since(t0));
   }
   const uint64_t rays = take_pool_rays(), culled = take_pool_culled();
-  const uint64_t points = bench::take_pool_mirror_points(), found = bench::take_pool_reflections();
+  const uint64_t points = take_pool_mirror_points(), found = take_pool_reflections();
   std::sort(rates.begin(), rates.end());
   const double links = double(runs) * double(w.links());
   return {rates[rates.size() / 2], rates.front(), rates.back(), double(rays) / links, double(culled) / links,
