@@ -10,7 +10,7 @@
 #include <iostream>
 
 #include "bench/localize_common.h"
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 #include "io/plot.h"
 #include "io/scenario_yaml.h"
 #include "localization/summary.h"
@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
     std::cerr << "no antenna named '" << antenna_name << "' in " << scene << "\n";
     return 2;
   }
-  const auto channel = io::make_channel(base.channel, base);
+  const auto channel = make_channel(base.channel, base);
 
   const std::vector<loc::Method> methods{loc::Method::kHyperbolic, loc::Method::kNlls, loc::Method::kSar};
   struct Mode {

@@ -17,7 +17,7 @@
 #include <sstream>
 
 #include "io/atomic_file.h"
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 #include "io/plot.h"
 #include "io/scenario_yaml.h"
 #include "core/error.h"
@@ -81,7 +81,7 @@ int run_compare(const CompareOptions& o) {
     }
   const SceneMotion motion = build_motion(scenario);
   const IdealChannel ideal;
-  const std::unique_ptr<Channel> traced = io::make_channel(level, scenario, motion);
+  const std::unique_ptr<Channel> traced = make_channel(level, scenario, motion);
   SimulationOptions sim;
   sim.threads = o.threads;
   const SimulationResult ri = simulate(scenario, motion, ideal, sim);

@@ -1,4 +1,4 @@
-// `rfidray coverage`: read coverage of a deployment over a plane, a box or the scenario's tags (io/coverage_map.h):
+// `rfidray coverage`: read coverage of a deployment over a plane, a box or the scenario's tags (planning/coverage_map.h):
 // the CSV and, for a plane or tags, floor-plan heatmaps per antenna. Cells are shared over MPI ranks.
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -49,7 +49,7 @@ int run_coverage(const CoverageOptions& o) {
     io::check_output_path(dir / "coverage.csv", "coverage CSV");
   }
   const auto t_setup = std::chrono::steady_clock::now();
-  const std::vector<io::CoverageValues> values = sharded_coverage(p, antennas, o.plan, "coverage");
+  const std::vector<planning::CoverageValues> values = sharded_coverage(p, antennas, o.plan, "coverage");
   const auto t_computed = std::chrono::steady_clock::now();
   if (!ranks.root()) return 0;
 
@@ -136,7 +136,7 @@ std::function<int()> setup_coverage(CLI::App& app) {
                                                  "phase error, localization bound (CSV + PNG)");
   cmd->footer(
       "Cells: --plane z=H (a grid of --step over --extent or the scene), --box, or --tags (the scenario's tags,\n"
-      "including tag_sets). Per antenna and cell (io/coverage_map.h): read probability (fixed antenna: per\n"
+      "including tag_sets). Per antenna and cell (planning/coverage_map.h): read probability (fixed antenna: per\n"
       "attempt, averaged over its carriers; moving antenna: at least once per pass), noise-free RSSI, the\n"
       "multipath phase error against free space, and for a moving antenna the Cramer-Rao bound of the tag's\n"
       "position from the pass's phase history. Same physics as simulate/link; deterministic (no draws).\n"

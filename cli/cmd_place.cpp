@@ -1,6 +1,6 @@
-// `rfidray place`: choose K antenna poses among candidates to read the most tags (io/placement.h) or to minimise
-// the worst localization bound (io/placement_bound.h), from the coverage of every candidate over the cells
-// (io/coverage_map.h, sharded over MPI ranks); writes the choice, an objective-vs-K curve, a map of the chosen
+// `rfidray place`: choose K antenna poses among candidates to read the most tags (planning/placement.h) or to minimise
+// the worst localization bound (planning/placement_bound.h), from the coverage of every candidate over the cells
+// (planning/coverage_map.h, sharded over MPI ranks); writes the choice, an objective-vs-K curve, a map of the chosen
 // placement, the chosen placement's value per cell, and a scenario with the chosen antennas that `simulate` runs.
 #include <yaml-cpp/yaml.h>
 
@@ -22,8 +22,8 @@
 #include "io/candidates_yaml.h"
 #include "io/checked_yaml.h"
 #include "io/map_plot.h"
-#include "io/placement.h"
-#include "io/placement_bound.h"
+#include "planning/placement.h"
+#include "planning/placement_bound.h"
 #include "io/plot.h"
 #include "parallel/ranks.h"
 
@@ -208,15 +208,15 @@ int run_place(const PlaceOptions& o) {
                         with_info ? "240 bytes per candidate and cell" : "96 bytes per candidate and cell");
   const fs::path dir(o.plan.output_dir);
   if (ranks.root()) make_output_dir(o.plan.output_dir);
-  const std::vector<io::CoverageValues> values = sharded_coverage(p, indices, o.plan, "place", with_info);
+  const std::vector<planning::CoverageValues> values = sharded_coverage(p, indices, o.plan, "place", with_info);
   if (!ranks.root()) return 0;
 
   const size_t k = static_cast<size_t>(o.k);
-  io::CoverSets sets(n_c, n_t);
+  planning::CoverSets sets(n_c, n_t);
   for (size_t c = 0; c < n_c; ++c)
     for (size_t t = 0; t < n_t; ++t)
       if (values[c].read_probability[t] >= o.min_probability) sets.set(c, t);
-  std::optional<io::InformationSets> info;
+  std::optional<planning::InformationSets> info;
   if (with_info) {
     info.emplace(n_c, n_t, !o.plan.three_d);
     for (size_t c = 0; c < n_c; ++c) std::copy(values[c].information.begin(), values[c].information.end(), info->at(c, 0));
@@ -224,19 +224,19 @@ int run_place(const PlaceOptions& o) {
 
   // The choice, and the curve: greedy alone and the final choice for every K' ≤ K.
   std::vector<size_t> chosen;
-  io::Placement best_cover;
-  io::BoundPlacement best_bound;
-  std::vector<io::BoundScore> refined_bound;
+  planning::Placement best_cover;
+  planning::BoundPlacement best_bound;
+  std::vector<planning::BoundScore> refined_bound;
   std::vector<size_t> refined_cover;
   if (by_bound) {
-    best_bound = io::place_min_worst_bound(*info, k, o.exact_limit);
+    best_bound = planning::place_min_worst_bound(*info, k, o.exact_limit);
     for (size_t kk = 1; kk <= k; ++kk)
-      refined_bound.push_back(kk == k ? best_bound.score : io::place_min_worst_bound(*info, kk, o.exact_limit).score);
+      refined_bound.push_back(kk == k ? best_bound.score : planning::place_min_worst_bound(*info, kk, o.exact_limit).score);
     chosen = best_bound.chosen;
   } else {
-    best_cover = io::place_antennas(sets, k, o.exact_limit);
+    best_cover = planning::place_antennas(sets, k, o.exact_limit);
     for (size_t kk = 1; kk <= k; ++kk)
-      refined_cover.push_back(kk == k ? best_cover.covered : io::place_antennas(sets, kk, o.exact_limit).covered);
+      refined_cover.push_back(kk == k ? best_cover.covered : planning::place_antennas(sets, kk, o.exact_limit).covered);
     chosen = best_cover.chosen;
   }
   const bool exact = by_bound ? best_bound.exact : best_cover.exact;
@@ -303,7 +303,7 @@ int run_place(const PlaceOptions& o) {
       // Worst bound vs K, each point labelled with the cells it localizes (the first criterion).
       io::Series g{"greedy", {}, {}, "linespoints"}, r{chosen_label, {}, {}, "linespoints"};
       for (size_t i = 0; i < k; ++i) {
-        const auto add = [&](io::Series& s, const io::BoundScore& b) {
+        const auto add = [&](io::Series& s, const planning::BoundScore& b) {
           if (!std::isfinite(b.worst_m)) return;
           s.x.push_back(double(i + 1)), s.y.push_back(b.worst_m);
           s.labels.push_back(std::to_string(b.localized) + "/" + std::to_string(n_t));
@@ -360,21 +360,21 @@ int run_place(const PlaceOptions& o) {
                        : ("coverage (p >= " + fmt("%.2f", o.min_probability) + ")").c_str(),
               p.channel->name().c_str(), ranks.size(), ranks.size() == 1 ? "" : "s");
   if (by_bound) {
-    auto score = [&](const io::BoundScore& b) {
+    auto score = [&](const planning::BoundScore& b) {
       return std::to_string(b.localized) + " of " + std::to_string(n_t) + " cells localized, worst bound " +
              bound_text(b.worst_m, "none") + (std::isfinite(b.worst_m) ? " m" : "");
     };
     std::printf("  greedy: %s; after %zu swap%s: %s", score(best_bound.greedy_curve.back()).c_str(), best_bound.swaps,
                 best_bound.swaps == 1 ? "" : "s", score(best_bound.heuristic).c_str());
     if (exact)
-      std::printf("; exhaustive over all %.0f subsets: %s (optimal)", io::subset_count(n_c, k),
+      std::printf("; exhaustive over all %.0f subsets: %s (optimal)", planning::subset_count(n_c, k),
                   score(best_bound.score).c_str());
     std::printf("\n");
   } else {
     std::printf("  greedy: %zu cells; after %zu swap%s: %zu cells", best_cover.greedy_curve.back(), best_cover.swaps,
                 best_cover.swaps == 1 ? "" : "s", best_cover.heuristic_covered);
     if (exact)
-      std::printf("; exhaustive over all %.0f subsets: %zu cells (optimal)", io::subset_count(n_c, k), best_cover.covered);
+      std::printf("; exhaustive over all %.0f subsets: %zu cells (optimal)", planning::subset_count(n_c, k), best_cover.covered);
     std::printf(" = %.1f %%\n", 100.0 * double(best_cover.covered) / double(n_t));
   }
   for (size_t c : chosen) {

@@ -17,7 +17,7 @@
 #include <optional>
 
 #include "io/atomic_file.h"
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 #include "io/readings_csv.h"
 #include "io/scenario_yaml.h"
 #include "cli/commands.h"
@@ -119,8 +119,8 @@ int run(const SimulateOptions& o) {
   const SceneMotion motion = build_motion(scenario);  // once per run: the channel (auto) and the loop share it
   std::vector<std::string> channel_report;
   const std::unique_ptr<Channel> channel =
-      world_scene ? io::make_channel(scenario.channel, scenario, motion, world_scene, &channel_report)
-                  : io::make_channel(scenario.channel, scenario, motion, &channel_report);
+      world_scene ? make_channel(scenario.channel, scenario, motion, world_scene, &channel_report)
+                  : make_channel(scenario.channel, scenario, motion, &channel_report);
   SimulationOptions sim;
   sim.threads = o.threads;
   set_progress("during the simulation; no output written");

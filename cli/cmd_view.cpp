@@ -1,5 +1,5 @@
 // `rfidray view`: a scene and the traced paths of its links as one self-contained HTML page (io/view_html.h).
-// The paths come from the channel `simulate` and `link` use (io::make_channel on the same scene and options).
+// The paths come from the channel `simulate` and `link` use (make_channel on the same scene and options).
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
@@ -14,7 +14,7 @@
 #include "core/limits.h"
 #include "core/simulation.h"
 #include "io/atomic_file.h"
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 #include "io/checked_yaml.h"
 #include "io/scenario_yaml.h"
 #include "io/view_html.h"
@@ -93,7 +93,7 @@ int run_view(const ViewOptions& o) {
     scene = load_scene(std::vector<std::filesystem::path>(o.scene.begin(), o.scene.end()), assignment, {}, &warnings);
     for (const auto& w : warnings) std::cerr << "rfidray: warning: " << w << "\n";
     const ChannelLevel level = parse_channel_level(o.level.empty() ? "single-bounce" : o.level, "--level");
-    channel = io::make_channel(level, ChannelOptionsSpec{}, scene);
+    channel = make_channel(level, ChannelOptionsSpec{}, scene);
     std::vector<Endpoint> ants, tags;
     for (size_t i = 0; i < o.antennas.size(); ++i) {
       ants.push_back(endpoint_at(o.antennas[i], "--antenna"));
@@ -132,7 +132,7 @@ int run_view(const ViewOptions& o) {
     else if (!is_traced(scenario.channel)) scenario.channel = ChannelLevel::kSingleBounce;  // paths worth seeing
     const SceneMotion motion = build_motion(scenario);
     std::vector<std::string> report;
-    channel = io::make_channel(scenario.channel, scenario, motion, scene, &report);
+    channel = make_channel(scenario.channel, scenario, motion, scene, &report);
     for (const auto& line : report) std::fprintf(stderr, "rfidray: %s\n", line.c_str());
 
     std::vector<std::string> antenna_names, tag_names;

@@ -13,7 +13,7 @@
 #include "cli/progress.h"
 #include "core/error.h"
 #include "core/limits.h"
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 #include "io/scenario_yaml.h"
 #include "io/tag_generators.h"
 #include "parallel/ranks.h"
@@ -109,7 +109,7 @@ Planning prepare_planning(const PlanningOptions& o) {
   if (o.view != "top" && o.view != "side") throw InputError("option --view: expected top or side (got '" + clip(o.view) + "')");
   if (!o.tag_filter.empty() && !o.tags) throw InputError("option --tag-filter: only with --tags");
   if (p.scene == nullptr && !p.scenario.scene.meshes.empty())
-    p.scene = io::load_scenario_scene(p.scenario, p.scenario.channel);
+    p.scene = load_scenario_scene(p.scenario, p.scenario.channel);
   if (o.tags) {
     if (p.scenario.tags.empty()) throw InputError("--tags: the scenario has no tags (add tags or tag_sets)");
     p.cells.params.clear();
@@ -169,8 +169,8 @@ Planning prepare_planning(const PlanningOptions& o) {
 
   // Channel. `channel: auto` samples the scenario's links; with no tags of its own, a sample of the cells.
   auto make = [&](const Scenario& sc, const SceneMotion& mo) {
-    return p.scene ? io::make_channel(sc.channel, sc, mo, p.scene, &p.channel_report)
-                   : io::make_channel(sc.channel, sc, mo, &p.channel_report);
+    return p.scene ? make_channel(sc.channel, sc, mo, p.scene, &p.channel_report)
+                   : make_channel(sc.channel, sc, mo, &p.channel_report);
   };
   if (p.scenario.channel == ChannelLevel::kAuto && p.scenario.tags.empty()) {
     Scenario sampled = p.scenario;
@@ -191,19 +191,19 @@ Planning prepare_planning(const PlanningOptions& o) {
   return p;
 }
 
-std::vector<io::CoverageValues> sharded_coverage(const Planning& p, const std::vector<size_t>& antennas,
+std::vector<planning::CoverageValues> sharded_coverage(const Planning& p, const std::vector<size_t>& antennas,
                                                  const PlanningOptions& o, const std::string& label,
                                                  bool information) {
   const parallel::Ranks& ranks = parallel::Ranks::world();
   const auto [first, count] = ranks.share(p.cells.size());
-  const io::CoverageCells mine = p.cells.slice(first, count);
-  io::CoverageOptions opt;
+  const planning::CoverageCells mine = p.cells.slice(first, count);
+  planning::CoverageOptions opt;
   opt.pass_step_s = o.pass_step_s;
   opt.height_known = !o.three_d;
   opt.threads = o.threads;
   opt.information = information;
   size_t work = 0;
-  for (size_t a : antennas) work += io::coverage_work(p.scenario, p.motion, a, mine.size(), opt);
+  for (size_t a : antennas) work += planning::coverage_work(p.scenario, p.motion, a, mine.size(), opt);
   ProgressLine progress(label, work, "links", ranks.root() && ProgressLine::enabled_for(o.quiet, o.progress));
   opt.progress = [&](size_t n) { progress.advance(n); };
   const bool same = p.scenario.channel == ChannelLevel::kIdeal;
@@ -212,9 +212,9 @@ std::vector<io::CoverageValues> sharded_coverage(const Planning& p, const std::v
   const size_t kValues = information ? 10 : 4;
   std::vector<double> local;
   try {
-    std::vector<io::CoverageValues> v;
+    std::vector<planning::CoverageValues> v;
     for (size_t a : antennas)
-      v.push_back(io::coverage(p.scenario, p.motion, a, *p.channel, same ? *p.channel : *p.ideal, mine, opt));
+      v.push_back(planning::coverage(p.scenario, p.motion, a, *p.channel, same ? *p.channel : *p.ideal, mine, opt));
     local.resize(mine.size() * antennas.size() * kValues);
     for (size_t i = 0; i < mine.size(); ++i)
       for (size_t k = 0; k < antennas.size(); ++k) {
@@ -230,7 +230,7 @@ std::vector<io::CoverageValues> sharded_coverage(const Planning& p, const std::v
   if (!ranks.all_ok(true)) throw InputError("another MPI rank failed (its error is above)");
   progress.finish();
   const std::vector<double> all = ranks.gather(local, p.cells.size(), antennas.size() * kValues);
-  std::vector<io::CoverageValues> out;
+  std::vector<planning::CoverageValues> out;
   if (!ranks.root()) return out;
   out.resize(antennas.size());
   for (auto& v : out) v.resize(p.cells.size(), information);

@@ -11,7 +11,7 @@
 #include "core/channel.h"
 #include "core/scenario.h"
 #include "core/simulation.h"
-#include "io/coverage_map.h"
+#include "planning/coverage_map.h"
 #include "io/map_plot.h"
 #include "io/world_source.h"
 #include "raytrace/scene.h"
@@ -46,7 +46,7 @@ struct Planning {
   std::unique_ptr<Channel> channel;
   std::unique_ptr<Channel> ideal;
   std::vector<std::string> channel_report;
-  io::CoverageCells cells;
+  planning::CoverageCells cells;
   bool grid = false;                       // cells on a plane grid (nx × ny, x fastest)
   size_t nx = 0, ny = 0;
   double plane_z = 0.0;                    // plane height, or the tags' median height (floor plan cut)
@@ -58,8 +58,8 @@ Planning prepare_planning(const PlanningOptions& o);
 
 // Coverage of `antennas` (indices into scenario.antennas) over the cells, each rank computing its share of the
 // cells; the result (index-aligned with `antennas`) on rank 0 only (empty elsewhere). Progress on rank 0.
-// `information`: also each pass's position information (io::CoverageValues::information).
-std::vector<io::CoverageValues> sharded_coverage(const Planning& p, const std::vector<size_t>& antennas,
+// `information`: also each pass's position information (planning::CoverageValues::information).
+std::vector<planning::CoverageValues> sharded_coverage(const Planning& p, const std::vector<size_t>& antennas,
                                                  const PlanningOptions& o, const std::string& label,
                                                  bool information = false);
 

@@ -1,7 +1,7 @@
 #pragma once
 // The probability that one read attempt succeeds, in closed form, for the two reader models of
 // core/reader_model.h — what read_tag() returns as `read` averaged over its random draws. Used to map coverage
-// (io/coverage_map.h) without Monte Carlo, so a map is deterministic and needs no seed.
+// (planning/coverage_map.h) without Monte Carlo, so a map is deterministic and needs no seed.
 //
 //  - paper:    read iff D ≤ r·|1 + n_r| (n_r ~ N(0, σ_r²)) and G_RT·λ/(4πD) + n_RSSI > 0 (n_RSSI ~ N(0, σ²)),
 //              independent draws, so  P = P(|1 + n_r| ≥ D/r) · P(n_RSSI > −A)

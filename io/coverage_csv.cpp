@@ -29,12 +29,12 @@ void field(std::string& line, int precision, double v) {
 
 }  // namespace
 
-void write_coverage_csv(std::ostream& out, const std::vector<std::string>& antenna_names, const CoverageCells& cells,
-                        const std::vector<CoverageValues>& values) {
+void write_coverage_csv(std::ostream& out, const std::vector<std::string>& antenna_names, const planning::CoverageCells& cells,
+                        const std::vector<planning::CoverageValues>& values) {
   out << kCoverageCsvHeader << '\n';
   std::string line;
   for (size_t a = 0; a < values.size(); ++a) {
-    const CoverageValues& v = values[a];
+    const planning::CoverageValues& v = values[a];
     for (size_t i = 0; i < cells.size(); ++i) {
       line = antenna_names[a];
       const Vec3& p = cells.poses[i].position;

@@ -3,19 +3,19 @@
 //   antenna,x,y,z,read_probability,rssi_dbm,phase_error_rad,localization_bound_m
 // one row per (antenna, cell), antennas in scenario order, cells in their order (grid: x fastest, then y, then
 // z). Positions in m (%.4f), probability %.6f, RSSI dB(m) %.3f, phase error rad %.5f, bound m %.6f; a value that
-// does not exist (io/coverage_map.h: NaN) is an empty field. Fixed formats: the same numbers give the same bytes.
+// does not exist (planning/coverage_map.h: NaN) is an empty field. Fixed formats: the same numbers give the same bytes.
 #include <ostream>
 #include <string>
 #include <vector>
 
-#include "io/coverage_map.h"
+#include "planning/coverage_map.h"
 
 namespace rfidray::io {
 
 inline constexpr const char* kCoverageCsvHeader =
     "antenna,x,y,z,read_probability,rssi_dbm,phase_error_rad,localization_bound_m";
 
-void write_coverage_csv(std::ostream& out, const std::vector<std::string>& antenna_names, const CoverageCells& cells,
-                        const std::vector<CoverageValues>& values);
+void write_coverage_csv(std::ostream& out, const std::vector<std::string>& antenna_names, const planning::CoverageCells& cells,
+                        const std::vector<planning::CoverageValues>& values);
 
 }  // namespace rfidray::io

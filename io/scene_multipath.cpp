@@ -5,7 +5,7 @@
 
 #include "core/error.h"
 #include "core/units.h"
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 #include "io/scenario_yaml.h"
 #include "localization/multipath_allowance.h"
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 #include "core/error.h"
 #include "core/reader_model.h"
 
@@ -32,7 +32,7 @@ LiveWorld::LiveWorld(GazeboWorld world, const LiveOptions& options)
 
 const Channel& LiveWorld::channel() {
   if (!channel_ || (needs_trace_ && scene_dirty_)) {
-    channel_ = io::make_channel(options_.channel, world_.scenario.channel_options, build_scene(world_));
+    channel_ = make_channel(options_.channel, world_.scenario.channel_options, build_scene(world_));
     ++scene_builds_;
   }
   scene_dirty_ = false;

@@ -1,6 +1,6 @@
 // Scene, Endpoint, Path and Channel: the objects behind `rfidray link`, for Python. Scenes load through the
 // same functions as the CLI (raytrace load_scene for OBJ files, io::load_world_source for worlds), channels
-// through io::make_channel, endpoints and channel options through the scenario readers (io/scenario_yaml.h).
+// through make_channel, endpoints and channel options through the scenario readers (io/scenario_yaml.h).
 #include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -17,7 +17,7 @@
 #include "core/limits.h"
 #include "core/reader.h"
 #include "core/simulation.h"
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 #include "io/checked_yaml.h"
 #include "io/scenario_yaml.h"
 #include "io/world_source.h"
@@ -227,7 +227,7 @@ as in a scenario file ('isotropic' | 'dipole' | {kind: patch, gain_dbi: 8, beamw
                (p.path.material.empty() ? "" : " " + p.path.material) + ">";
       });
 
-  pyb::class_<PyChannel>(m, "Channel", "A one-way channel of a level on a scene, as io::make_channel builds it.")
+  pyb::class_<PyChannel>(m, "Channel", "A one-way channel of a level on a scene, as make_channel builds it.")
       .def(pyb::init([](std::optional<PyScene> scene, const std::string& level, pyb::kwargs options) {
              const ChannelLevel l = parse_channel_level(level, "level");
              YAML::Node map(YAML::NodeType::Map);
@@ -240,7 +240,7 @@ as in a scenario file ('isotropic' | 'dipole' | {kind: patch, gain_dbi: 8, beamw
              if (is_traced(l) && !scene)
                throw InputError("Channel: level '" + level + "' traces rays and needs a scene (Scene.load)");
              if (scene) c.scene = scene->scene;
-             c.channel = io::make_channel(l, spec, c.scene);
+             c.channel = make_channel(l, spec, c.scene);
              return c;
            }),
            pyb::arg("scene"), pyb::arg("level") = "single-bounce",

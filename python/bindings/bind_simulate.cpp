@@ -1,5 +1,5 @@
 // simulate() and load_readings(): a scenario run exactly as `rfidray simulate` runs it (io::load_scenario /
-// parse_scenario, build_motion, io::make_channel, simulate), and a readings CSV read by io::read_readings_csv.
+// parse_scenario, build_motion, make_channel, simulate), and a readings CSV read by io::read_readings_csv.
 // Both return the CSV's columns as NumPy arrays; rfidray/__init__.py assembles the structured arrays.
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -12,7 +12,7 @@
 
 #include "core/error.h"
 #include "core/simulation.h"
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 #include "io/readings_csv.h"
 #include "io/scenario_yaml.h"
 #include "python/bindings/bindings.h"
@@ -70,7 +70,7 @@ pyb::dict run_simulate(std::optional<std::string> path, std::optional<std::strin
   {
     pyb::gil_scoped_release release;
     motion = build_motion(scenario);
-    const std::unique_ptr<Channel> ch = io::make_channel(scenario.channel, scenario, motion, &report);
+    const std::unique_ptr<Channel> ch = make_channel(scenario.channel, scenario, motion, &report);
     channel_name = ch->name();
     SimulationOptions sim;
     sim.threads = threads;

@@ -1,5 +1,5 @@
 # Fails when an #include "module/..." points against the layering (README, "Architecture"):
-#   core ← raytrace, localization ← io ← adapters/*, bench ← cli, python
+#   core ← raytrace, localization ← planning ← io ← adapters/*, bench ← cli, python
 # Usage: cmake -DROOT=<source tree> -P check_layering.cmake
 if(NOT ROOT)
   message(FATAL_ERROR "check_layering: -DROOT=<source tree> is required")
@@ -9,16 +9,17 @@ endif()
 set(allowed_core "")
 set(allowed_raytrace "core")
 set(allowed_localization "core")
-set(allowed_io "core;raytrace;localization")
+set(allowed_planning "core;raytrace;localization")
+set(allowed_io "core;raytrace;localization;planning")
 set(allowed_parallel "")
 set(allowed_adapters/ros "")
-set(allowed_adapters/gazebo "core;raytrace;localization;io;adapters/ros")
-set(allowed_bench "core;raytrace;localization;io;parallel")
-set(allowed_cli "core;raytrace;localization;io;parallel;adapters/gazebo;adapters/ros")
-set(allowed_python "core;raytrace;localization;io;adapters/gazebo;adapters/ros")
-set(modules core raytrace localization io parallel adapters/ros adapters/gazebo bench cli python)
+set(allowed_adapters/gazebo "core;raytrace;localization;planning;io;adapters/ros")
+set(allowed_bench "core;raytrace;localization;planning;io;parallel")
+set(allowed_cli "core;raytrace;localization;planning;io;parallel;adapters/gazebo;adapters/ros")
+set(allowed_python "core;raytrace;localization;planning;io;adapters/gazebo;adapters/ros")
+set(modules core raytrace localization planning io parallel adapters/ros adapters/gazebo bench cli python)
 # every include root a file may name: the modules and tests
-set(roots core raytrace localization io parallel adapters bench cli python tests)
+set(roots core raytrace localization planning io parallel adapters bench cli python tests)
 
 set(violations "")
 set(checked 0)

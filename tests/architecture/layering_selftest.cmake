@@ -1,9 +1,9 @@
 # The layering check must fail when a forbidden include is added: copy the tree's sources to a scratch folder,
-# plant one (localization → io, core → cli, bench → cli, raytrace → localization, python → cli, io → python in
-# turn) and expect check_layering.cmake to fail naming the file; the unmodified copy must pass.
+# plant one (localization → io, core → cli, bench → cli, raytrace → localization, python → cli, io → python,
+# planning → io in turn) and expect check_layering.cmake to fail naming the file; the unmodified copy must pass.
 # Usage: cmake -DSOURCE=<tree> -DSCRATCH=<dir> -DCHECK=<check_layering.cmake> -P layering_selftest.cmake
 file(REMOVE_RECURSE ${SCRATCH})
-foreach(module core raytrace localization io adapters bench cli python)
+foreach(module core raytrace localization planning io adapters bench cli python)
   if(EXISTS ${SOURCE}/${module})
     file(COPY ${SOURCE}/${module} DESTINATION ${SCRATCH} FILES_MATCHING PATTERN "*.h" PATTERN "*.cpp")
   endif()
@@ -15,7 +15,8 @@ if(NOT rc EQUAL 0)
 endif()
 
 foreach(plant "localization/planted.h|io/scenario_yaml.h" "core/planted.h|cli/commands.h" "bench/planted.h|cli/commands.h"
-              "raytrace/planted.h|localization/result.h" "python/planted.h|cli/commands.h" "io/planted.h|python/bindings/bindings.h")
+              "raytrace/planted.h|localization/result.h" "python/planted.h|cli/commands.h" "io/planted.h|python/bindings/bindings.h"
+              "planning/planted.h|io/scenario_yaml.h")
   string(REPLACE "|" ";" parts "${plant}")
   list(GET parts 0 file)
   list(GET parts 1 inc)

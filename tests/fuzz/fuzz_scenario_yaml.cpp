@@ -4,7 +4,7 @@
 #include <string>
 
 #include "core/simulation.h"
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 #include "io/scenario_yaml.h"
 #include "tests/fuzz/fuzz_support.h"
 
@@ -30,7 +30,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     double ticks = 0.0;
     for (const AntennaSpec& a : scenario.antennas) ticks += duration_s * a.reader.update_rate_hz;
     if (!(ticks <= 2000.0)) return;
-    const auto channel = io::make_channel(ChannelLevel::kIdeal, scenario, motion);
+    const auto channel = make_channel(ChannelLevel::kIdeal, scenario, motion);
     SimulationOptions options;
     options.threads = 1;
     const SimulationResult result = simulate(scenario, motion, *channel, options);

@@ -21,7 +21,7 @@
 #include <sstream>
 #include <thread>
 
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 #include "adapters/gazebo/entity_map.h"
 #include "adapters/gazebo/gazebo_world.h"
 #include "adapters/gazebo/msgs/rfid_readings.pb.h"
@@ -113,7 +113,7 @@ inline SimulationResult simulate_state(bool second, Scenario& scenario_out) {
   s.seed = kSeed;
   s.duration_s = kDuration;
   s.channel = ChannelLevel::kLosBlocked;
-  const auto channel = rfidray::io::make_channel(s.channel, s.channel_options, build_scene(w));
+  const auto channel = rfidray::make_channel(s.channel, s.channel_options, build_scene(w));
   scenario_out = s;
   return simulate(s, *channel);
 }

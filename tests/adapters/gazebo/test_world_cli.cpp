@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 #include "adapters/gazebo/gazebo_world.h"
 #include "io/readings_csv.h"
 #include "io/world_source.h"
@@ -58,7 +58,7 @@ TEST(WorldCli, SimulateWorldEqualsSimulateOfTheImportedScenario) {
   Scenario s = w.scenario;
   s.seed = 3;
   s.duration_s = 1.0;
-  const auto channel = rfidray::io::make_channel(ChannelLevel::kSingleBounce, s.channel_options, build_scene(w));
+  const auto channel = rfidray::make_channel(ChannelLevel::kSingleBounce, s.channel_options, build_scene(w));
   const SimulationResult result = simulate(s, *channel);
   for (size_t a = 0; a < s.antennas.size(); ++a) {
     std::ostringstream expected;

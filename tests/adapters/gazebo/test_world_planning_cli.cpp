@@ -1,5 +1,5 @@
 // `rfidray coverage --world` and `rfidray place --world` through the real binary on the Gazebo test world: the
-// coverage CSV equals io::coverage() on the imported world in process, a candidate at the world's gate antenna
+// coverage CSV equals planning::coverage() on the imported world in process, a candidate at the world's gate antenna
 // gives that antenna's coverage, and what a world cannot give (robot mounts, a placed scenario file) is said.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -11,9 +11,9 @@
 
 #include "adapters/gazebo/gazebo_world.h"
 #include "core/simulation.h"
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 #include "io/coverage_csv.h"
-#include "io/coverage_map.h"
+#include "planning/coverage_map.h"
 #include "tests/support/run_rfidray.h"
 
 namespace rfidray::gazebo {
@@ -67,9 +67,9 @@ TEST(WorldPlanningCli, CoverageWorldEqualsCoverageOfTheImportedWorld) {
   const GazeboWorld w = load_world(o);
   const Scenario& s = w.scenario;
   const SceneMotion motion = build_motion(s);
-  const auto channel = io::make_channel(ChannelLevel::kSingleBounce, s.channel_options, build_scene(w));
+  const auto channel = make_channel(ChannelLevel::kSingleBounce, s.channel_options, build_scene(w));
   const IdealChannel ideal;
-  io::CoverageCells cells;
+  planning::CoverageCells cells;
   cells.params.clear();
   for (size_t i = 0; i < s.tags.size(); ++i) {
     cells.poses.push_back(motion.tags[i]->pose_at(s.tags[i].start_s));
@@ -77,10 +77,10 @@ TEST(WorldPlanningCli, CoverageWorldEqualsCoverageOfTheImportedWorld) {
     cells.param_of.push_back(static_cast<uint32_t>(i));
   }
   std::vector<std::string> names;
-  std::vector<io::CoverageValues> values;
+  std::vector<planning::CoverageValues> values;
   for (size_t a = 0; a < s.antennas.size(); ++a) {
     names.push_back(s.antennas[a].reader.name);
-    values.push_back(io::coverage(s, motion, a, *channel, ideal, cells));
+    values.push_back(planning::coverage(s, motion, a, *channel, ideal, cells));
   }
   std::ostringstream expected;
   io::write_coverage_csv(expected, names, cells, values);

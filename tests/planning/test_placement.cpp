@@ -1,13 +1,13 @@
-// Placement (io/placement.h): greedy + swap against brute force over all K-subsets.
+// Placement (planning/placement.h): greedy + swap against brute force over all K-subsets.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <random>
 
-#include "io/placement.h"
+#include "planning/placement.h"
 
-namespace rfidray::io {
+namespace rfidray::planning {
 namespace {
 
 size_t brute_force(const CoverSets& s, size_t k) {
@@ -75,4 +75,4 @@ TEST(Placement, EqualsBruteForceOnSmallCases) {
 }
 
 }  // namespace
-}  // namespace rfidray::io
+}  // namespace rfidray::planning

@@ -12,7 +12,7 @@
 #include "raytrace/scene.h"
 #include "raytrace/trace_options.h"
 
-namespace rfidray::io {
+namespace rfidray {
 
 // The scene of a scenario (its meshes loaded, materials resolved), printing its warnings and notes to stderr as
 // the factory does; for callers that need the scene itself as well (coverage maps draw its floor plan) and pass
@@ -36,4 +36,4 @@ std::unique_ptr<Channel> make_channel(ChannelLevel level, const ChannelOptionsSp
 std::unique_ptr<Channel> make_channel(ChannelLevel level, const Scenario& scenario,
                                       std::vector<std::string>* report = nullptr);
 
-}  // namespace rfidray::io
+}  // namespace rfidray

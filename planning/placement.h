@@ -1,6 +1,6 @@
 #pragma once
 // Choosing K antenna poses among candidates to cover the most tags (maximum coverage). A candidate covers a tag
-// when it reads it with probability ≥ p per pass (io/coverage_map.h decides; here it is a boolean matrix).
+// when it reads it with probability ≥ p per pass (planning/coverage_map.h decides; here it is a boolean matrix).
 // Coverage is monotone submodular, so greedy selection — each step the candidate that adds the most tags — is
 // within 1 − 1/e of the optimum (Nemhauser, Wolsey, Fisher, Math. Programming 14, 1978); swap refinement then
 // replaces one chosen candidate by an unchosen one while that covers more (best swap first), which reaches the
@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace rfidray::io {
+namespace rfidray::planning {
 
 // Which tags each candidate covers, as bit sets (one bit per tag).
 class CoverSets {
@@ -50,4 +50,4 @@ Placement place_antennas(const CoverSets& sets, size_t k, double exact_limit = 1
 // C(n, k) as a double (inf when it overflows).
 double subset_count(size_t n, size_t k);
 
-}  // namespace rfidray::io
+}  // namespace rfidray::planning

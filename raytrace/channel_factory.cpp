@@ -1,4 +1,4 @@
-#include "io/channel_factory.h"
+#include "raytrace/channel_factory.h"
 
 #include <algorithm>
 #include <iostream>
@@ -8,7 +8,7 @@
 #include "raytrace/fidelity.h"
 #include "raytrace/raytraced_channel.h"
 
-namespace rfidray::io {
+namespace rfidray {
 namespace {
 
 std::shared_ptr<const Scene> scenario_scene(const Scenario& scenario, ChannelLevel level) {
@@ -81,4 +81,4 @@ std::unique_ptr<Channel> make_channel(ChannelLevel level, const Scenario& scenar
   return make_channel(level, scenario, build_motion(scenario), report);
 }
 
-}  // namespace rfidray::io
+}  // namespace rfidray

@@ -1,4 +1,4 @@
-#include "io/placement_bound.h"
+#include "planning/placement_bound.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,10 +7,10 @@
 #include <optional>
 #include <stdexcept>
 
-#include "io/placement.h"
+#include "planning/placement.h"
 #include "localization/cramer_rao.h"
 
-namespace rfidray::io {
+namespace rfidray::planning {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -155,4 +155,4 @@ BoundPlacement place_min_worst_bound(const InformationSets& sets, size_t k, doub
   return out;
 }
 
-}  // namespace rfidray::io
+}  // namespace rfidray::planning

@@ -1,4 +1,4 @@
-// Placement by the worst localization bound (io/placement_bound.h): the exhaustive answer equals brute force over
+// Placement by the worst localization bound (planning/placement_bound.h): the exhaustive answer equals brute force over
 // all K-subsets scored independently here; greedy + swaps alone is a local optimum, and a case shows it missing
 // the optimum (the objective is not submodular, so there is no 1 − 1/e bound to assert instead).
 #include <gtest/gtest.h>
@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <random>
 
-#include "io/placement_bound.h"
+#include "planning/placement_bound.h"
 #include "localization/cramer_rao.h"
 
-namespace rfidray::io {
+namespace rfidray::planning {
 namespace {
 
 // The objective of one subset, from position_bound_m of the informations summed in increasing index order.
@@ -140,4 +140,4 @@ TEST(PlacementBound, SmallerWorstBoundWins) {
 }
 
 }  // namespace
-}  // namespace rfidray::io
+}  // namespace rfidray::planning

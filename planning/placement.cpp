@@ -1,10 +1,10 @@
-#include "io/placement.h"
+#include "planning/placement.h"
 
 #include <algorithm>
 #include <bit>
 #include <stdexcept>
 
-namespace rfidray::io {
+namespace rfidray::planning {
 
 CoverSets::CoverSets(size_t candidates, size_t tags)
     : candidates_(candidates), tags_(tags), words_((tags + 63) / 64), bits_(candidates * words_, 0) {}
@@ -120,4 +120,4 @@ Placement place_antennas(const CoverSets& sets, size_t k, double exact_limit) {
   return out;
 }
 
-}  // namespace rfidray::io
+}  // namespace rfidray::planning

@@ -1,4 +1,4 @@
-#include "io/coverage_map.h"
+#include "planning/coverage_map.h"
 
 #include <omp.h>
 
@@ -15,7 +15,7 @@
 #include "localization/cramer_rao.h"
 #include "raytrace/morton.h"
 
-namespace rfidray::io {
+namespace rfidray::planning {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -237,4 +237,4 @@ CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, siz
   return out;
 }
 
-}  // namespace rfidray::io
+}  // namespace rfidray::planning

@@ -31,7 +31,7 @@
 #include "core/scenario.h"
 #include "core/simulation.h"
 
-namespace rfidray::io {
+namespace rfidray::planning {
 
 // Where coverage is evaluated: tag poses, each with its tag parameters (params[param_of[i]]).
 struct CoverageCells {
@@ -70,9 +70,9 @@ size_t coverage_work(const Scenario& scenario, const SceneMotion& motion, size_t
                      const CoverageOptions& options);
 
 // Coverage of antenna `antenna` of the scenario over `cells`. `motion` is build_motion(scenario); `channel` the
-// scenario's channel (io::make_channel); `ideal` the free-space reference for the phase error (pass the same
+// scenario's channel (make_channel); `ideal` the free-space reference for the phase error (pass the same
 // object as `channel` when the scenario's channel is ideal).
 CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, size_t antenna, const Channel& channel,
                         const Channel& ideal, const CoverageCells& cells, const CoverageOptions& options = {});
 
-}  // namespace rfidray::io
+}  // namespace rfidray::planning

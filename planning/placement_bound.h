@@ -1,7 +1,7 @@
 #pragma once
 // Choosing K antenna poses among candidates to minimise the worst localization bound over the cells
 // (`rfidray place --objective worst-bound`). Per candidate and cell the input is the position information S of
-// that candidate's pass (localization/cramer_rao.h; io/coverage_map.h fills it; zero for a fixed antenna). Chosen
+// that candidate's pass (localization/cramer_rao.h; planning/coverage_map.h fills it; zero for a fixed antenna). Chosen
 // antennas have offsets of their own, so their informations add: the bound of a cell under a choice C is
 // position_bound_m(Σ_{c∈C} S_c), summed in increasing candidate index so that it is a function of the set alone.
 //
@@ -20,7 +20,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace rfidray::io {
+namespace rfidray::planning {
 
 // The per-candidate, per-cell information matrices, packed 6 per cell (localization::pack_information).
 class InformationSets {
@@ -62,4 +62,4 @@ struct BoundPlacement {
 // K (≥ 1, ≤ candidates): greedy, swaps, and the exhaustive search when C(candidates, K) ≤ exact_limit.
 BoundPlacement place_min_worst_bound(const InformationSets& sets, size_t k, double exact_limit = 1e6);
 
-}  // namespace rfidray::io
+}  // namespace rfidray::planning
