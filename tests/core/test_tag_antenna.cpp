@@ -1,0 +1,300 @@
+// The tag antenna model (core/thin_wire_dipole.h, core/tag_antenna.h) against closed forms and against NEC-2
+// (nec2c, run here: the reference is computed, not pasted).
+//
+// The NEC-2 reference and its own error: a thin dipole (0.166 m, radius 0.5 mm, 866 MHz) parallel to a
+// perfectly conducting ground (GN 1) at height d. NEC-2's thin-wire kernel wants segments longer than ~8 radii;
+// the reference is its 41-segment solution (Δ/a = 8.1), its own error the largest difference to the 21-segment
+// (Δ/a = 16) and to the 81-segment extended-kernel (Δ/a = 4, EK) solutions. Near resonance beside metal (5 mm–
+// 1 cm) that error is 0.8–1 Ω of reactance on an |Z| of 2–9 Ω, so the impedance is held to 10 % of |Z_NEC| plus
+// NEC-2's own error; the power transfer τ, which is what a link sees, to 1 dB as the issue asks.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <cstdlib>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "core/error.h"
+#include "core/tag_antenna.h"
+#include "core/thin_wire_dipole.h"
+#include "core/units.h"
+#include "tests/support/run_command.h"
+#include "tests/support/scratch_dir.h"
+
+namespace rfidray {
+namespace {
+
+using testing::ScratchDir;
+
+constexpr double kLength_m = 0.166, kRadius_m = 0.0005, kFrequency_hz = 866e6;
+
+TagAntennaSpec dipole_tag(double conductivity_s_m = 0.0) {
+  TagAntennaSpec a;
+  a.kind = TagAntennaSpec::Kind::kDipole;
+  a.dipole = {kLength_m, kRadius_m, conductivity_s_m};
+  return a;
+}
+
+double db(double v) { return 10.0 * std::log10(v); }
+
+// --- NEC-2 through nec2c ---------------------------------------------------------------------------------------
+
+std::string nec2c_path() {
+#ifdef RFIDRAY_NEC2C
+  return RFIDRAY_NEC2C;
+#else
+  return "";
+#endif
+}
+
+// Skips where nec2c is not installed, except under CI, which installs it (.ci/install-deps): there it fails.
+#define REQUIRE_NEC2C()                                                                             \
+  do {                                                                                              \
+    if (nec2c_path().empty()) {                                                                     \
+      if (std::getenv("CI")) FAIL() << "nec2c not found (apt-get install nec2c; .ci/install-deps)"; \
+      GTEST_SKIP() << "nec2c not installed (apt-get install nec2c)";                                \
+    }                                                                                               \
+  } while (0)
+
+struct NecDeck {
+  int segments = 41;
+  double height_m = 0.0;  // ≤ 0: free space
+  bool extended_kernel = false;
+  double conductivity_s_m = 0.0;
+  // Plane wave at normal incidence (E along the wire) into a load at the feed instead of a voltage source.
+  bool plane_wave = false;
+  std::complex<double> load_ohm;
+};
+
+std::string deck_text(const NecDeck& d) {
+  std::ostringstream s;
+  s.precision(10);
+  const double z = d.height_m > 0.0 ? d.height_m : 1.0;  // free space: the height is irrelevant
+  s << "CM rfidray test: thin dipole parallel to a perfect ground\nCE\n";
+  s << "GW 1 " << d.segments << " 0 " << -kLength_m / 2 << " " << z << " 0 " << kLength_m / 2 << " " << z << " "
+    << kRadius_m << "\nGE " << (d.height_m > 0.0 ? 1 : 0) << "\n";
+  if (d.extended_kernel) s << "EK\n";
+  s << (d.height_m > 0.0 ? "GN 1\n" : "GN -1\n");
+  const int feed = (d.segments + 1) / 2;
+  if (d.conductivity_s_m > 0.0) s << "LD 5 1 1 " << d.segments << " " << d.conductivity_s_m << "\n";
+  if (d.plane_wave) {
+    s << "LD 4 1 " << feed << " " << feed << " " << d.load_ohm.real() << " " << d.load_ohm.imag() << "\n";
+    // Incidence from the zenith (θ = 0), φ = 90°: E along θ̂ = ŷ, the wire's direction.
+    s << "EX 1 1 1 0 0.0 90.0 0.0\n";
+  } else {
+    s << "EX 0 1 " << feed << " 0 1.0 0.0\n";
+  }
+  s << "FR 0 1 0 0 " << kFrequency_hz / 1e6 << " 0\nXQ\nEN\n";
+  return s.str();
+}
+
+// Runs nec2c on the deck; returns its output text (empty on failure).
+std::string run_nec(const ScratchDir& dir, const NecDeck& d, const std::string& name) {
+  const auto in = dir.write(name + ".nec", deck_text(d));
+  const auto out = dir / (name + ".out");
+  const auto r = testing::run_command("'" + nec2c_path() + "' -i '" + in.string() + "' -o '" + out.string() + "'");
+  if (r.status != 0) return "";
+  return testing::slurp(out);
+}
+
+// The feed's impedance from "ANTENNA INPUT PARAMETERS" (columns: tag seg Vr Vi Ir Ii Zr Zi ...).
+std::optional<std::complex<double>> nec_impedance(const ScratchDir& dir, const NecDeck& d, const std::string& name) {
+  const std::string out = run_nec(dir, d, name);
+  const size_t at = out.find("ANTENNA INPUT PARAMETERS");
+  if (at == std::string::npos) return std::nullopt;
+  std::istringstream s(out.substr(at));
+  std::string line;
+  for (int i = 0; i < 4 && std::getline(s, line); ++i) {
+  }
+  std::istringstream row(line);
+  int tag = 0, seg = 0;
+  double vr, vi, ir, ii, zr, zi;
+  if (!(row >> tag >> seg >> vr >> vi >> ir >> ii >> zr >> zi)) return std::nullopt;
+  return std::complex<double>(zr, zi);
+}
+
+// |current| on the feed segment from "CURRENTS AND LOCATION" (columns: seg tag x y z len Ir Ii |I| phase).
+std::optional<double> nec_feed_current(const ScratchDir& dir, const NecDeck& d, const std::string& name) {
+  const std::string out = run_nec(dir, d, name);
+  const size_t at = out.find("CURRENTS AND LOCATION");
+  if (at == std::string::npos) return std::nullopt;
+  std::istringstream s(out.substr(at));
+  std::string line;
+  const int feed = (d.segments + 1) / 2;
+  while (std::getline(s, line)) {
+    std::istringstream row(line);
+    int seg = 0, tag = 0;
+    double x, y, z, len, ir, ii, mag;
+    if ((row >> seg >> tag >> x >> y >> z >> len >> ir >> ii >> mag) && seg == feed) return mag;
+  }
+  return std::nullopt;
+}
+
+double power_transfer(std::complex<double> z_antenna, std::complex<double> z_chip) {
+  return 4.0 * z_chip.real() * z_antenna.real() / std::norm(z_antenna + z_chip);
+}
+
+// --- against NEC-2 -------------------------------------------------------------------------------------------------
+
+TEST(TagAntennaNec, DipoleImpedanceAndPowerTransferBesideMetalMatchNec2) {
+  REQUIRE_NEC2C();
+  ScratchDir dir("tag_antenna_nec");
+  const auto z_free_nec = nec_impedance(dir, {.segments = 41}, "free");
+  ASSERT_TRUE(z_free_nec) << deck_text({.segments = 41});
+  const TagAntennaSpec tag = dipole_tag();
+  const std::complex<double> z_free = antenna_free_space_impedance(tag, kFrequency_hz);
+  EXPECT_LE(std::abs(z_free - *z_free_nec), 0.10 * std::abs(*z_free_nec))
+      << "free space: rfidray " << z_free << ", NEC-2 " << *z_free_nec;
+
+  for (double d : {0.003, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2}) {
+    const std::string h = std::to_string(d);
+    const auto ref = nec_impedance(dir, {.segments = 41, .height_m = d}, "h41_" + h);
+    const auto coarse = nec_impedance(dir, {.segments = 21, .height_m = d}, "h21_" + h);
+    const auto fine = nec_impedance(dir, {.segments = 81, .height_m = d, .extended_kernel = true}, "h81_" + h);
+    ASSERT_TRUE(ref && coarse && fine) << "nec2c failed at d = " << d;
+    const double nec_error = std::max(std::abs(*ref - *coarse), std::abs(*ref - *fine));
+    const std::complex<double> z = antenna_impedance_in_place(tag, "metal", d, kFrequency_hz);
+    EXPECT_LE(std::abs(z - *ref), 0.10 * std::abs(*ref) + nec_error)
+        << "d = " << d << " m: rfidray " << z << ", NEC-2 " << *ref << " (NEC-2's own error " << nec_error << " Ω)";
+    // τ with the chip conjugate-matched to each code's own free-space impedance (the issue's table).
+    const double tau = power_transfer(z, std::conj(z_free));
+    const double tau_nec = power_transfer(*ref, std::conj(*z_free_nec));
+    EXPECT_NEAR(db(tau), db(tau_nec), 1.0) << "d = " << d << " m";
+    const TagCoupling c = tag_coupling(tag, TagChipSpec{}, "metal", d, kFrequency_hz);
+    EXPECT_NEAR(c.power_transfer, tau, 1e-12 + 1e-9 * tau);
+  }
+}
+
+// The whole receive chain beside metal, not only the impedance: NEC-2 illuminates the dipole over ground with a
+// plane wave at normal incidence, the feed loaded by the chip (conjugate of NEC-2's free-space impedance); the
+// chip's power against free space is |I_d|² / |I_free|². rfidray splits it into the image path
+// (mount_image_factor, |1 − e^{−j2kd}|²) times F = 4 R_a0 R_c / |Z_a + Z_c|² (core/tag_antenna.h).
+TEST(TagAntennaNec, ChipPowerBesideMetalUnderAPlaneWaveMatchesNec2) {
+  REQUIRE_NEC2C();
+  ScratchDir dir("tag_antenna_nec_pw");
+  const auto z_free_nec = nec_impedance(dir, {.segments = 41}, "free");
+  ASSERT_TRUE(z_free_nec);
+  const std::complex<double> load = std::conj(*z_free_nec);
+  const auto i_free = nec_feed_current(dir, {.segments = 41, .plane_wave = true, .load_ohm = load}, "pw_free");
+  ASSERT_TRUE(i_free);
+  const TagAntennaSpec tag = dipole_tag();
+  TagMountSpec mount{TagMountSpec::Kind::kGiven, "metal", 0.0};
+  for (double d : {0.003, 0.005, 0.01, 0.02, 0.05, 0.1}) {
+    const auto i_d = nec_feed_current(dir, {.segments = 41, .height_m = d, .plane_wave = true, .load_ohm = load},
+                                      "pw_" + std::to_string(d));
+    ASSERT_TRUE(i_d);
+    const double nec_db = 20.0 * std::log10(*i_d / *i_free);
+    mount.distance_m = d;
+    const double image = std::norm(mount_image_factor(mount, 1.0, kFrequency_hz));
+    const TagCoupling c = tag_coupling(tag, TagChipSpec{}, "metal", d, kFrequency_hz);
+    const double rfidray_db = db(image * c.chip_power_factor);
+    EXPECT_NEAR(rfidray_db, nec_db, 1.0) << "d = " << d << " m (image path alone: " << db(image) << " dB)";
+  }
+}
+
+// Skin-effect loss of an aluminium wire: beside metal the loss resistance is comparable to the radiation
+// resistance. NEC-2's LD 5 (wire conductivity) is the reference.
+TEST(TagAntennaNec, WireConductivityLossMatchesNec2) {
+  REQUIRE_NEC2C();
+  ScratchDir dir("tag_antenna_nec_loss");
+  const TagAntennaSpec tag = dipole_tag(3.5e7);
+  for (double d : {0.003, 0.01}) {
+    const auto ref = nec_impedance(dir, {.segments = 41, .height_m = d, .conductivity_s_m = 3.5e7},
+                                   "loss_" + std::to_string(d));
+    const auto lossless = nec_impedance(dir, {.segments = 41, .height_m = d}, "lossless_" + std::to_string(d));
+    ASSERT_TRUE(ref && lossless);
+    const std::complex<double> z = antenna_impedance_in_place(tag, "metal", d, kFrequency_hz);
+    const std::complex<double> z0 = antenna_impedance_in_place(dipole_tag(), "metal", d, kFrequency_hz);
+    // The loss resistance (the rise of R) within 10 % of NEC-2's.
+    EXPECT_NEAR(z.real() - z0.real(), ref->real() - lossless->real(), 0.10 * (ref->real() - lossless->real()))
+        << "d = " << d;
+  }
+}
+
+// --- closed forms and self-consistency --------------------------------------------------------------------------
+
+TEST(TagAntenna, MatchedTagInFreeSpaceReadsAsWithoutTheModel) {
+  const TagCoupling c = tag_coupling(dipole_tag(), TagChipSpec{}, "", 0.0, kFrequency_hz);
+  EXPECT_NEAR(c.power_transfer, 1.0, 1e-12);
+  EXPECT_NEAR(c.chip_power_factor, 1.0, 1e-12);
+  EXPECT_NEAR(c.modulation_factor, 0.25, 1e-12);  // |0 − (−Z*/Z)|² / 4
+  EXPECT_NEAR(c.backscatter_phase_rad, 0.0, 1e-12);
+}
+
+TEST(TagAntenna, ChipImpedancesAreTheirCircuits) {
+  const double w = kTwoPi * kFrequency_hz;
+  const TagChipSpec series{TagChipSpec::Kind::kSeries, 20.0, 1e-12};
+  const std::complex<double> zs = chip_impedance(series, dipole_tag(), kFrequency_hz);
+  EXPECT_DOUBLE_EQ(zs.real(), 20.0);
+  EXPECT_NEAR(zs.imag(), -1.0 / (w * 1e-12), 1e-9);
+  const TagChipSpec parallel{TagChipSpec::Kind::kParallel, 1500.0, 1e-12};
+  const std::complex<double> zp = chip_impedance(parallel, dipole_tag(), kFrequency_hz);
+  const std::complex<double> expect = 1.0 / std::complex<double>(1.0 / 1500.0, w * 1e-12);
+  EXPECT_NEAR(std::abs(zp - expect), 0.0, 1e-9);
+  // τ of a badly matched chip in free space is below one; F equals τ there (Z_a = Z_a0).
+  const TagCoupling c = tag_coupling(dipole_tag(), series, "", 0.0, kFrequency_hz);
+  EXPECT_LT(c.power_transfer, 0.5);
+  EXPECT_NEAR(c.chip_power_factor, c.power_transfer, 1e-12);
+}
+
+TEST(TagAntenna, MountImageFactorIsTheImagePairAndBlocksBehind) {
+  const double lambda = wavelength_m(kFrequency_hz);
+  TagMountSpec m{TagMountSpec::Kind::kGiven, "metal", lambda / 4.0};
+  // d = λ/4 at normal incidence: the image wave arrives in phase, |AF| = 2.
+  EXPECT_NEAR(std::abs(mount_image_factor(m, 1.0, kFrequency_hz)), 2.0, 1e-12);
+  EXPECT_EQ(mount_image_factor(m, -0.3, kFrequency_hz), std::complex<double>(0.0, 0.0));
+  EXPECT_EQ(mount_image_factor(m, 0.0, kFrequency_hz), std::complex<double>(0.0, 0.0));
+  m.distance_m = 0.01;
+  const double kd = wavenumber_rad_m(kFrequency_hz) * 0.01;
+  EXPECT_NEAR(std::abs(mount_image_factor(m, 1.0, kFrequency_hz)), 2.0 * std::sin(kd), 1e-12);
+  m.kind = TagMountSpec::Kind::kScene;  // a meshed surface: the ray tracer's image, not the mount's
+  EXPECT_EQ(mount_image_factor(m, 1.0, kFrequency_hz), std::complex<double>(1.0, 0.0));
+}
+
+TEST(TagAntenna, ImpedanceConvergesWithSegments) {
+  const ThinWireDipole d{kLength_m, kRadius_m};
+  const int n = default_dipole_segments(d);
+  const auto plane = perfect_conductor_plane(0.003, kFrequency_hz);
+  const std::complex<double> z = dipole_input_impedance(d, kFrequency_hz, plane.get());
+  const std::complex<double> z2 = dipole_input_impedance(d, kFrequency_hz, plane.get(), 2 * n);
+  EXPECT_LE(std::abs(z - z2), 0.05 * std::abs(z2)) << z << " vs " << z2 << " at " << 2 * n << " segments";
+  const std::complex<double> f = dipole_input_impedance(d, kFrequency_hz);
+  const std::complex<double> f2 = dipole_input_impedance(d, kFrequency_hz, nullptr, 2 * n);
+  EXPECT_LE(std::abs(f - f2), 0.01 * std::abs(f2));
+  // Far from the plane the image couples through its radiated field only, which falls as 1/distance: the
+  // impedance change at 6 m is half that at 3 m (within 10 %), about an ohm.
+  const auto at3 = perfect_conductor_plane(3.0, kFrequency_hz);
+  const auto at6 = perfect_conductor_plane(6.0, kFrequency_hz);
+  const double dz3 = std::abs(dipole_input_impedance(d, kFrequency_hz, at3.get()) - f);
+  const double dz6 = std::abs(dipole_input_impedance(d, kFrequency_hz, at6.get()) - f);
+  EXPECT_LT(dz3, 2.0);
+  EXPECT_NEAR(dz6 / dz3, 0.5, 0.05) << dz3 << " Ω at 3 m, " << dz6 << " Ω at 6 m";
+}
+
+TEST(TagAntenna, BadParametersNameTheirField) {
+  TagAntennaSpec a = dipole_tag();
+  a.dipole.radius_m = 0.05;
+  try {
+    validate(a, TagChipSpec{}, TagMountSpec{}, "tags[2]");
+    FAIL() << "a fat wire was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("tags[2].antenna.radius_m"), std::string::npos) << e.what();
+  }
+  const TagMountSpec wood{TagMountSpec::Kind::kGiven, "wood", 0.01};
+  try {
+    validate(dipole_tag(), TagChipSpec{}, wood, "tags[0]");
+    FAIL() << "an unmodelled mount material was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("tags[0].mount.material"), std::string::npos) << e.what();
+  }
+  const TagMountSpec too_close{TagMountSpec::Kind::kGiven, "metal", 1e-4};
+  EXPECT_THROW(validate(dipole_tag(), TagChipSpec{}, too_close, "t"), InputError);
+  EXPECT_THROW(dipole_input_impedance({kLength_m, kRadius_m}, -1.0), InputError);
+  EXPECT_THROW(dipole_input_impedance({kLength_m, kRadius_m}, kFrequency_hz, nullptr, 7), InputError);
+}
+
+}  // namespace
+}  // namespace rfidray
