@@ -14,9 +14,11 @@
 #include "core/error.h"
 #include "core/limits.h"
 #include "core/reader.h"
+#include "core/tag_couplings.h"
 #include "core/units.h"
 #include "raytrace/raytraced_channel.h"
 #include "cli/commands.h"
+#include "io/tag_antenna_spec.h"
 #include "io/world_source.h"
 #include "cli/number_list.h"
 
@@ -87,9 +89,18 @@ Quat parse_rpy(const std::string& text, const std::string& option) {
 
 nlohmann::json complex_json(std::complex<double> c) { return {{"re", c.real()}, {"im", c.imag()}}; }
 
-// Noise-free physical reader model (core/reader_model.h): round-trip phase −arg(h²) and P_tx·K·|h|⁴.
+// The tag as an antenna (core/tag_antenna.h) on this link: its coupling and the image factor of a mount that is
+// not in the scene (1 otherwise).
+struct LinkTag {
+  std::optional<TagCoupling> coupling;
+  TagMountSpec mount;
+  std::complex<double> image_factor = 1.0;
+};
+
+// Noise-free physical reader model (core/reader_model.h): round-trip phase −arg(h²) − the tag's turn, the chip's
+// P_tx·F·|h|² and the reader's P_tx·K·|h|⁴ (F = 1, K = modulation_factor for the point tag).
 nlohmann::json channel_json(const Channel& channel, const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
-                            const ReaderParams& reader, const TagParams& tag_params) {
+                            const ReaderParams& reader, const TagParams& tag_params, const LinkTag* link_tag = nullptr) {
   const std::vector<Path> paths = channel.paths(antenna, tag, frequency_hz);
   nlohmann::json jp = nlohmann::json::array();
   for (const Path& p : paths) {
@@ -110,14 +121,19 @@ nlohmann::json channel_json(const Channel& channel, const Endpoint& antenna, con
     one["points"] = points;
     jp.push_back(one);
   }
-  const std::complex<double> h = sum_paths(paths);
+  const TagCoupling* c = link_tag && link_tag->coupling ? &*link_tag->coupling : nullptr;
+  // The tag's mount, when not meshed, adds its image path to every path (along the direct direction).
+  const std::complex<double> h = sum_paths(paths) * (link_tag ? link_tag->image_factor : 1.0);
   const double gain2 = std::norm(h);
+  const double chip_factor = c ? c->chip_power_factor : 1.0;
+  const double k_mod = c ? c->modulation_factor : reader.modulation_factor;
+  const double tag_turn = c ? c->backscatter_phase_rad : 0.0;
   nlohmann::json out = {{"channel", channel.name()}, {"paths", jp}, {"h", complex_json(h)}};
   if (gain2 > 0.0) {
-    const double tag_dbm = reader.tx_power_dbm + linear_to_db(gain2);
-    const double rssi = reader.tx_power_dbm + linear_to_db(reader.modulation_factor) + 2.0 * linear_to_db(gain2);
+    const double tag_dbm = reader.tx_power_dbm + linear_to_db(chip_factor * gain2);
+    const double rssi = reader.tx_power_dbm + linear_to_db(k_mod) + 2.0 * linear_to_db(gain2);
     out["path_gain_db"] = linear_to_db(gain2);
-    out["phase_rad"] = wrap_to_2pi(-std::arg(h * h));
+    out["phase_rad"] = wrap_to_2pi(-std::arg(h * h) - tag_turn);
     out["rssi_dbm"] = rssi;
     out["tag_power_dbm"] = tag_dbm;
     out["tag_powered"] = tag_dbm >= tag_params.chip_sensitivity_dbm;
@@ -145,6 +161,21 @@ void print_table(const nlohmann::json& j) {
               j["scene"]["facets"].get<size_t>(), j["level"].get<std::string>().c_str(),
               j["candidates"].get<std::string>().c_str(), j["frequency_hz"].get<double>() / 1e6);
   for (const auto& note : j["scene"]["notes"]) std::printf("note: %s\n", note.get<std::string>().c_str());
+  if (j.contains("tag_antenna")) {
+    const auto& t = j["tag_antenna"];
+    const auto& m = t["mount"];
+    const std::string mount = m["kind"] == "none" ? "free space"
+                              : m["material"].get<std::string>() + " " + fmt("%.4g", m["distance_m"].get<double>()) +
+                                    " m behind (" + m["kind"].get<std::string>() + ")";
+    std::printf("tag antenna %s, chip %s, on %s: Z = %.3f %+.3fj Ω (free space %.3f %+.3fj), chip %.3f %+.3fj Ω, "
+                "power transfer %.2f dB, chip power %+.2f dB, K = %.4g\n",
+                t["antenna"].get<std::string>().c_str(), t["chip"].get<std::string>().c_str(), mount.c_str(),
+                t["impedance_re_ohm"].get<double>(), t["impedance_im_ohm"].get<double>(),
+                t["free_space_impedance_re_ohm"].get<double>(), t["free_space_impedance_im_ohm"].get<double>(),
+                t["chip_impedance_re_ohm"].get<double>(), t["chip_impedance_im_ohm"].get<double>(),
+                t["power_transfer_db"].get<double>(), t["chip_power_factor_db"].get<double>(),
+                t["modulation_factor"].get<double>());
+  }
   for (const char* which : {"raytraced", "ideal"}) {
     const auto& c = j[which];
     std::printf("\n%s (%s)\n", which, c["channel"].get<std::string>().c_str());
@@ -181,6 +212,7 @@ struct LinkOptions {
   double tx_power_dbm = ReaderParams{}.tx_power_dbm;
   double thickness_m = -1.0;
   double drop_db = TraceOptions{}.drop_below_db;
+  std::string tag_antenna, tag_chip = "matched", tag_mount;  // core/tag_antenna.h; "" = the point tag
   bool json = false;
   io::WorldSourceOptions world;  // --world instead of --scene
 };
@@ -268,9 +300,26 @@ int run_link(const LinkOptions& o) {
 
   ReaderParams reader;
   reader.tx_power_dbm = o.tx_power_dbm;
-  const TagParams tag_params;
+  TagParams tag_params;
   const RaytracedChannel raytraced(scene, trace);
   const IdealChannel ideal;
+
+  // The tag as an antenna: its coupling on the traced link (the ideal channel stays the paper's point tag).
+  LinkTag link_tag;
+  if (o.tag_antenna.empty() && (o.tag_chip != "matched" || !o.tag_mount.empty()))
+    throw InputError("options --tag-chip and --tag-mount need --tag-antenna (dipole:LENGTH_M:RADIUS_M or table:FILE)");
+  if (!o.tag_antenna.empty()) {
+    tag_params.antenna = io::parse_tag_antenna(o.tag_antenna, "option --tag-antenna");
+    tag_params.chip = io::parse_tag_chip(o.tag_chip, "option --tag-chip");
+    tag_params.mount = io::parse_tag_mount(o.tag_mount.empty() ? "scene" : o.tag_mount, "option --tag-mount");
+    validate(tag_params.antenna, tag_params.chip, tag_params.mount, "option --tag");
+    TagCouplingSolver solver;
+    std::vector<std::string> notes;
+    link_tag.mount = solver.resolve_mount(tag_params, tag.pose, raytraced, &notes);
+    for (const auto& n : notes) std::cerr << "rfidray: note: " << n << "\n";
+    link_tag.coupling = solver.coupling(tag_params, link_tag.mount, o.frequency_hz, "option --tag");
+    link_tag.image_factor = mount_image_factor(link_tag.mount, tag.pose, antenna.pose.position, o.frequency_hz);
+  }
 
   nlohmann::json j;
   j["scene"] = {{"files", world ? std::vector<std::string>{o.world.file} : o.scene},
@@ -290,7 +339,30 @@ int run_link(const LinkOptions& o) {
                  {"modulation_factor", reader.modulation_factor},
                  {"sensitivity_dbm", reader.sensitivity_dbm},
                  {"tag_chip_sensitivity_dbm", tag_params.chip_sensitivity_dbm}};
-  j["raytraced"] = channel_json(raytraced, antenna, tag, o.frequency_hz, reader, tag_params);
+  if (link_tag.coupling) {
+    const TagCoupling& c = *link_tag.coupling;
+    const TagMountSpec& m = link_tag.mount;
+    j["tag_antenna"] = {
+        {"antenna", o.tag_antenna},
+        {"chip", o.tag_chip},
+        {"impedance_re_ohm", c.antenna_impedance_ohm.real()},
+        {"impedance_im_ohm", c.antenna_impedance_ohm.imag()},
+        {"free_space_impedance_re_ohm", c.free_space_impedance_ohm.real()},
+        {"free_space_impedance_im_ohm", c.free_space_impedance_ohm.imag()},
+        {"chip_impedance_re_ohm", c.chip_impedance_ohm.real()},
+        {"chip_impedance_im_ohm", c.chip_impedance_ohm.imag()},
+        {"power_transfer", c.power_transfer},
+        {"power_transfer_db", linear_to_db(c.power_transfer)},
+        {"chip_power_factor_db", linear_to_db(c.chip_power_factor)},
+        {"modulation_factor", c.modulation_factor},
+        {"backscatter_phase_rad", c.backscatter_phase_rad},
+        {"mount",
+         {{"kind", m.kind == TagMountSpec::Kind::kNone ? "none" : m.kind == TagMountSpec::Kind::kGiven ? "given" : "scene"},
+          {"material", m.material},
+          {"distance_m", m.distance_m}}},
+        {"image_factor", complex_json(link_tag.image_factor)}};
+  }
+  j["raytraced"] = channel_json(raytraced, antenna, tag, o.frequency_hz, reader, tag_params, &link_tag);
   j["ideal"] = channel_json(ideal, antenna, tag, o.frequency_hz, reader, tag_params);
   if (o.json)
     std::cout << j.dump(2) << "\n";
@@ -322,6 +394,12 @@ std::function<int()> setup_link(CLI::App& app) {
   cmd->add_option("--level", o->level, "los | los+blocked | single-bounce | double-bounce | full-selective | full");
   cmd->add_option("--candidates", o->candidates, "exhaustive | fast (reflection candidate search)");
   cmd->add_option("--drop-db", o->drop_db, "drop paths this many dB below the strongest");
+  cmd->add_option("--tag-antenna", o->tag_antenna,
+                  "the tag as an antenna: dipole:LENGTH_M:RADIUS_M[:CONDUCTIVITY_S_M] | table:FILE.csv (docs/tag-antenna.md)");
+  cmd->add_option("--tag-chip", o->tag_chip, "matched[:DESIGN_HZ] | series:R_OHM:C_F | parallel:R_OHM:C_F (with --tag-antenna)");
+  cmd->add_option("--tag-mount", o->tag_mount,
+                  "what the tag is on: scene (nearest meshed facet; default) | none | MATERIAL:DISTANCE_M, e.g. metal:0.01 "
+                  "(a surface behind the tag, along its local -X)");
   cmd->add_flag("--json", o->json, "JSON output");
   return [o] { return run_link(*o); };
 }

@@ -2,6 +2,7 @@
 // The channel interface: everything between the reader antenna's port and the tag's port.
 // The ideal channel (free space, paper) and the ray-traced channels (raytrace/) implement it.
 #include <complex>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -12,6 +13,13 @@
 #include "core/polarization.h"
 
 namespace rfidray {
+
+// The surface nearest to a point, as a tag's mount sees it (core/tag_antenna.h, TagMountSpec::kScene).
+struct NearbySurface {
+  double distance_m = 0.0;
+  std::string material;            // the radio material's name
+  bool perfect_conductor = false;  // metal
+};
 
 // One end of a link: where it is, which way it points, how it radiates.
 struct Endpoint {
@@ -38,6 +46,14 @@ class Channel {
   // True when the channel depends on nothing but the two endpoints (no moving scene objects), so
   // a link whose endpoints did not move can reuse its last value.
   virtual bool cacheable() const { return true; }
+
+  // The scene's surface nearest to `point` within `max_distance_m`, for tags whose mount comes from the scene;
+  // std::nullopt without a scene or when none is that close. Thread-safe.
+  virtual std::optional<NearbySurface> nearest_surface(const Vec3& point, double max_distance_m) const {
+    (void)point;
+    (void)max_distance_m;
+    return std::nullopt;
+  }
 };
 
 // Free space, line of sight always: h = √(G_R G_T) · λ/(4πD) · e^{-jkD} with the pattern gains in the

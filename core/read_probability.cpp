@@ -37,8 +37,11 @@ double read_probability(const ReaderParams& reader, const TagParams& tag, const 
     // The same decision as physical_reading(): noise-free powers against both thresholds.
     const double p_tx_w = dbm_to_watt(reader.tx_power_dbm);
     const double gain2 = std::norm(link.h_one_way);
-    if (!(p_tx_w * gain2 >= dbm_to_watt(tag.chip_sensitivity_dbm))) return 0.0;
-    const double p_rx_w = p_tx_w * reader.modulation_factor * gain2 * gain2;
+    const TagCoupling* c = link.tag_coupling;
+    const double chip_factor = c ? c->chip_power_factor : 1.0;
+    const double k_mod = c ? c->modulation_factor : reader.modulation_factor;
+    if (!(p_tx_w * chip_factor * gain2 >= dbm_to_watt(tag.chip_sensitivity_dbm))) return 0.0;
+    const double p_rx_w = p_tx_w * k_mod * gain2 * gain2;
     if (!(p_rx_w >= dbm_to_watt(reader.sensitivity_dbm))) return 0.0;
     return report;
   }

@@ -10,6 +10,7 @@
 #include "core/geometry.h"
 #include "core/phase_pattern.h"
 #include "core/polarization.h"
+#include "core/tag_antenna.h"
 
 namespace rfidray {
 
@@ -67,6 +68,11 @@ struct TagParams {
   AntennaPattern pattern;            // used by the physical model and ray-traced channels
   Polarization polarization;
   PhasePattern phase_pattern;        // round-trip phase vs direction of the antenna, in the tag frame
+  // The tag as an antenna with an impedance, its chip and what it is stuck on (core/tag_antenna.h; physical
+  // model). Default: the paper's point tag, no detuning (reads exactly as before the model existed).
+  TagAntennaSpec antenna;
+  TagChipSpec chip;
+  TagMountSpec mount;
 };
 
 // What one read attempt yields. `read == false` means the tag did not answer; phase/RSSI are then unset.

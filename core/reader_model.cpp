@@ -126,10 +126,14 @@ Reading physical_reading(const ReaderParams& reader, const TagParams& tag, const
   Reading r;
   const double p_tx_w = dbm_to_watt(reader.tx_power_dbm);
   const double gain2 = std::norm(link.h_one_way);  // |h|², includes both antenna gains and polarization
-  // Forward link: the tag chip wakes up iff the power it receives reaches its sensitivity.
-  if (!(p_tx_w * gain2 >= dbm_to_watt(tag.chip_sensitivity_dbm))) return r;
+  const TagCoupling* c = link.tag_coupling;
+  // Forward link: the tag chip wakes up iff the power it receives reaches its sensitivity (F: the chip's share
+  // of what a matched antenna in free space would deliver, core/tag_antenna.h).
+  const double chip_factor = c ? c->chip_power_factor : 1.0;
+  if (!(p_tx_w * chip_factor * gain2 >= dbm_to_watt(tag.chip_sensitivity_dbm))) return r;
   // Reverse link: backscattered power P_rx = P_tx·K·|h|⁴ (monostatic, round trip h²).
-  const double p_rx_w = p_tx_w * reader.modulation_factor * gain2 * gain2;
+  const double k_mod = c ? c->modulation_factor : reader.modulation_factor;
+  const double p_rx_w = p_tx_w * k_mod * gain2 * gain2;
   if (!(p_rx_w >= dbm_to_watt(reader.sensitivity_dbm)) || !reported) return r;  // noise-free power decides
   double sigma_phi = reader.noise_phi_rad, sigma_rssi_db = reader.noise_rssi_db;
   if (reader.snr_at_sensitivity_db > 0.0) {
@@ -144,7 +148,9 @@ Reading physical_reading(const ReaderParams& reader, const TagParams& tag, const
   const double n_rssi_db = sigma_rssi_db * z_rssi;
   const std::complex<double> h2 = link.h_one_way * link.h_one_way;
   // Round-trip phase φ0 − arg(h²): for the ideal channel this is φ0 + 4πD/λ (eq. 3); + the phase patterns.
-  const double phase = link.phase_offset_rad - std::arg(h2) + n_phi + n_opt + link.pattern_phase_rad;
+  // The tag's modulation turns the backscatter by arg(ρ_1 − ρ_2) relative to free space (core/tag_antenna.h).
+  const double tag_turn = c ? c->backscatter_phase_rad : 0.0;
+  const double phase = link.phase_offset_rad - std::arg(h2) - tag_turn + n_phi + n_opt + link.pattern_phase_rad;
   if (!std::isfinite(phase)) return r;
   r.read = true;
   r.phase_rad = quantize_phase(phase, reader.phase_bits);
@@ -152,10 +158,12 @@ Reading physical_reading(const ReaderParams& reader, const TagParams& tag, const
   return r;
 }
 
-double min_readable_h2(const ReaderParams& reader, const TagParams& tag) {
+double min_readable_h2(const ReaderParams& reader, const TagParams& tag, const TagCoupling* coupling) {
   const double p_tx_w = dbm_to_watt(reader.tx_power_dbm);
-  return std::max(dbm_to_watt(tag.chip_sensitivity_dbm) / p_tx_w,
-                  std::sqrt(dbm_to_watt(reader.sensitivity_dbm) / (p_tx_w * reader.modulation_factor)));
+  const double chip_factor = coupling ? coupling->chip_power_factor : 1.0;
+  const double k_mod = coupling ? coupling->modulation_factor : reader.modulation_factor;
+  return std::max(dbm_to_watt(tag.chip_sensitivity_dbm) / (p_tx_w * chip_factor),
+                  std::sqrt(dbm_to_watt(reader.sensitivity_dbm) / (p_tx_w * k_mod)));
 }
 
 Reading read_tag(const ReaderParams& reader, const TagParams& tag, const LinkState& link, Rng& rng) {
@@ -232,6 +240,7 @@ void validate(const TagParams& tag, const std::string& field) {
   tag.pattern.validate(field + ".pattern");
   validate_polarization(tag.polarization, field + ".polarization");
   validate(tag.phase_pattern, field + ".phase_pattern");
+  validate(tag.antenna, tag.chip, tag.mount, field);
 }
 
 }  // namespace rfidray

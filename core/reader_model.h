@@ -31,6 +31,10 @@ struct LinkState {
   double pattern_phase_rad = 0.0;      // antenna and tag phase patterns along this link (round trip)
   size_t hop_index = 0;                // carrier index (read_probability)
   std::complex<double> h_one_way{0.0, 0.0};  // from the Channel (physical model)
+  // The tag antenna's coupling at this carrier (core/tag_antenna.h, TagCoupling; physical model): the chip
+  // receives P_tx·F·|h|², the reader P_tx·K·|h|⁴ and the phase turns by −backscatter_phase. Null: the point
+  // tag (F = 1, K = reader.modulation_factor, no turn).
+  const TagCoupling* tag_coupling = nullptr;
 };
 
 // Dispatches on reader.model. Draws from `rng` in a fixed order so runs are reproducible.
@@ -41,8 +45,9 @@ Reading paper_reading(const ReaderParams& reader, const LinkState& link, Rng& rn
 Reading physical_reading(const ReaderParams& reader, const TagParams& tag, const LinkState& link, Rng& rng);
 
 // The smallest |h|² (one-way channel power gain) at which the physical model can read the tag: the chip must
-// be powered (P_tx·|h|² ≥ chip sensitivity) and the reader must decode (P_tx·K·|h|⁴ ≥ reader sensitivity).
-double min_readable_h2(const ReaderParams& reader, const TagParams& tag);
+// be powered (P_tx·F·|h|² ≥ chip sensitivity) and the reader must decode (P_tx·K·|h|⁴ ≥ reader sensitivity);
+// F = 1 and K = modulation_factor without a coupling.
+double min_readable_h2(const ReaderParams& reader, const TagParams& tag, const TagCoupling* coupling = nullptr);
 
 // Quantizes a phase in [0, 2π) to `bits` bits of 2π (0 bits: unchanged); result in [0, 2π).
 double quantize_phase(double phase_rad, int bits);

@@ -1,5 +1,7 @@
 #include "core/simulation.h"
 
+#include "core/tag_couplings.h"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -56,7 +58,7 @@ Pose phase_centre_pose(const ReaderParams& reader, const Pose& antenna_pose) {
 void read_attempts(const Scenario& scenario, size_t antenna, uint64_t tick, double t_s, const Pose& antenna_pose,
                    std::span<const size_t> present, std::span<const double> distance_m,
                    std::span<const Pose> tag_pose, std::span<const std::complex<double>> h_one_way,
-                   std::vector<ReadRecord>& out) {
+                   std::vector<ReadRecord>& out, const TagCouplings* couplings) {
   const ReaderParams& reader = scenario.antennas[antenna].reader;
   const size_t c = hop_index_at(reader, t_s);
   const bool physical = reader.model == ReaderModelKind::kPhysical;
@@ -69,6 +71,12 @@ void read_attempts(const Scenario& scenario, size_t antenna, uint64_t tick, doub
     link.phase_offset_rad = reader.phase_offsets_rad[c];
     link.hop_index = c;
     link.h_one_way = physical ? h_one_way[i] : std::complex<double>{0.0, 0.0};
+    if (couplings && physical) {
+      link.tag_coupling = couplings->at(i, antenna, c);
+      // A mount that is not in the scene adds its image path (a meshed one is the channel's own path).
+      if (link.tag_coupling)
+        link.h_one_way *= mount_image_factor(couplings->mounts()[i], tag_pose[i], centre.position, link.frequency_hz);
+    }
     const PhasePattern& tag_pattern = scenario.tags[i].tag.phase_pattern;
     if (!reader.phase_pattern.empty() || !tag_pattern.empty()) {
       // Along the direct direction (a ray-traced channel's other paths get the same shift: an approximation).
@@ -85,7 +93,7 @@ void read_attempts(const Scenario& scenario, size_t antenna, uint64_t tick, doub
 
 std::vector<ReadRecord> simulate_tick(const Scenario& scenario, const Channel& channel, size_t antenna,
                                       uint64_t tick, const Pose& antenna_pose, std::span<const Pose> tag_poses,
-                                      std::span<const size_t> present) {
+                                      std::span<const size_t> present, const TagCouplings* couplings) {
   const ReaderParams& reader = scenario.antennas.at(antenna).reader;
   const double t_s = static_cast<double>(tick) / reader.update_rate_hz;
   const size_t n_tags = scenario.tags.size();
@@ -107,7 +115,7 @@ std::vector<ReadRecord> simulate_tick(const Scenario& scenario, const Channel& c
     for (size_t m = 0; m < present.size(); ++m) h[present[m]] = batch_h[m];
   }
   std::vector<ReadRecord> out;
-  read_attempts(scenario, antenna, tick, t_s, antenna_pose, present, dist, tag_poses, h, out);
+  read_attempts(scenario, antenna, tick, t_s, antenna_pose, present, dist, tag_poses, h, out, couplings);
   return out;
 }
 
@@ -231,6 +239,10 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
   };
   auto needs_h = [&](size_t a) { return scenario.antennas[a].reader.model == ReaderModelKind::kPhysical; };
 
+  // Tag antennas, chips and mounts: resolved once, before the parallel loop (core/tag_couplings.h).
+  const TagCouplings couplings(scenario, motion, channel);
+  result.notes = couplings.notes();
+
   // Static links (antenna and tag both static) are computed once per channel frequency, up front.
   // static_h[a][c * n_tags + i]; empty when the antenna moves or does not need h.
   std::vector<std::vector<std::optional<std::complex<double>>>> static_h(n_ant);
@@ -348,7 +360,7 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
           }
         }
         item.out.attempts += present.size();
-        read_attempts(scenario, a, k, t, ap, present, dist, tag_pose, h, item.out.reads);
+        read_attempts(scenario, a, k, t, ap, present, dist, tag_pose, h, item.out.reads, &couplings);
       }
     } catch (...) {
       item.error = std::current_exception();

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "core/channel.h"
@@ -20,6 +21,8 @@
 #include "core/trajectory.h"
 
 namespace rfidray {
+
+class TagCouplings;
 
 // Antenna–tag distances below this count as "the tag is at the antenna" (an input error).
 inline constexpr double kMinLinkDistance_m = 1e-6;
@@ -71,6 +74,7 @@ struct SimulationResult {
   double duration_s = 0.0;
   std::vector<AntennaResult> antennas;  // index-aligned with Scenario::antennas
   uint64_t channel_evaluations = 0;     // links handed to Channel::one_way (after caching)
+  std::vector<std::string> notes;       // for the user: e.g. what tags' scene mounts found (core/tag_couplings.h)
 };
 
 // Runs the scenario along `motion` (build_motion(scenario), built once per run by the caller). Throws InputError
@@ -88,17 +92,20 @@ Pose phase_centre_pose(const ReaderParams& reader, const Pose& antenna_pose);
 // distance_m (from the phase centre), tag_pose and h_one_way are indexed by tag (h only read for the physical
 // model, tag_pose only when a phase pattern is set). antenna_pose is the reported (mounting) pose. Successful
 // reads are appended to `out`.
+// `couplings` (optional): the tags' antennas, chips and mounts (core/tag_couplings.h; physical model); tag_pose
+// is then read for every tag with an antenna.
 void read_attempts(const Scenario& scenario, size_t antenna, uint64_t tick, double t_s, const Pose& antenna_pose,
                    std::span<const size_t> present, std::span<const double> distance_m,
                    std::span<const Pose> tag_pose, std::span<const std::complex<double>> h_one_way,
-                   std::vector<ReadRecord>& out);
+                   std::vector<ReadRecord>& out, const TagCouplings* couplings = nullptr);
 
 // One tick of one antenna from poses given from outside (a live bridge), at t = tick / update_rate like
 // simulate(): the channel is evaluated for the present tags (physical model only) and read_attempts draws.
 // For the same poses and seed it returns exactly the reads simulate() makes at that tick. tag_poses is
-// indexed by tag. Throws InputError when a tag is at the antenna.
+// indexed by tag. Throws InputError when a tag is at the antenna. `couplings`: the run's TagCouplings (built once
+// by the caller; null: every tag a point tag, as for a scenario without tag antennas).
 std::vector<ReadRecord> simulate_tick(const Scenario& scenario, const Channel& channel, size_t antenna,
                                       uint64_t tick, const Pose& antenna_pose, std::span<const Pose> tag_poses,
-                                      std::span<const size_t> present);
+                                      std::span<const size_t> present, const TagCouplings* couplings = nullptr);
 
 }  // namespace rfidray

@@ -16,6 +16,7 @@
 #include "core/distribution.h"
 #include "io/antenna_file.h"
 #include "io/checked_yaml.h"
+#include "io/tag_antenna_spec.h"
 #include "io/tag_generators.h"
 #include "core/random.h"
 #include "raytrace/scene.h"
@@ -425,7 +426,78 @@ AntennaSpec parse_antenna(const YamlFile& src, const YAML::Node& n, const std::s
   return a;
 }
 
-// The radio keys of a tag (gain_dbi, chip_sensitivity_dbm, pattern, polarization) into `t`.
+// A tag's `antenna:` (docs/tag-antenna.md): a map {type: dipole, length_m, radius_m[, conductivity_s_m]} or
+// {type: table, file: F.csv (relative to the scenario file) | rows: [[frequency_hz, resistance_ohm, reactance_ohm],
+// ...]}, or the command line's text form (io/tag_antenna_spec.h).
+TagAntennaSpec parse_tag_antenna_node(const YamlFile& src, const YAML::Node& n, const std::string& field) {
+  if (n.IsScalar()) return src.located(n, [&] { return io::parse_tag_antenna(n.Scalar(), field); });
+  YamlMap m(src, n, field);
+  TagAntennaSpec a;
+  const std::string type = src.scalar(m.required("type"), m.field("type"));
+  if (type == "dipole") {
+    a.kind = TagAntennaSpec::Kind::kDipole;
+    a.dipole.length_m = m.positive({"length_m"}, 0.0);
+    a.dipole.radius_m = m.positive({"radius_m"}, 0.0);
+    a.dipole.conductivity_s_m = m.non_negative({"conductivity_s_m"}, 0.0);
+  } else if (type == "table") {
+    a.kind = TagAntennaSpec::Kind::kTable;
+    auto src_kind = m.get_one({"file", "rows"});
+    if (!src_kind) throw src.error(n, field, "a table needs 'file' (CSV) or 'rows'");
+    if (src_kind->first == "file") {
+      std::filesystem::path file = src.scalar(src_kind->second, m.field("file"));
+      if (file.is_relative()) file = std::filesystem::path(src.file()).parent_path() / file;
+      a.table_source = file.string();
+      a.table = src.located(src_kind->second, [&] { return io::read_tag_antenna_table(a.table_source); });
+    } else {
+      const YAML::Node& rows = src_kind->second;
+      if (!rows.IsSequence() || rows.size() == 0) throw src.error(rows, m.field("rows"), "must be a list of rows");
+      for (size_t i = 0; i < rows.size(); ++i) {
+        const auto r = src.numbers(rows[i], indexed(m.field("rows"), i));
+        if (r.size() != 3)
+          throw src.error(rows[i], indexed(m.field("rows"), i), "needs [frequency_hz, resistance_ohm, reactance_ohm]");
+        a.table.push_back({r[0], {r[1], r[2]}});
+      }
+    }
+  } else {
+    throw src.error(m.required("type"), m.field("type"), "must be dipole or table (got '" + clip(type) + "')");
+  }
+  m.finish();
+  return a;
+}
+
+// A tag's `chip:`: matched (the default) or a map {type: matched, design_frequency_hz} | {type: series|parallel,
+// resistance_ohm, capacitance_f}, or the text form.
+TagChipSpec parse_tag_chip_node(const YamlFile& src, const YAML::Node& n, const std::string& field) {
+  if (n.IsScalar()) return src.located(n, [&] { return io::parse_tag_chip(n.Scalar(), field); });
+  YamlMap m(src, n, field);
+  TagChipSpec c;
+  const std::string type = src.scalar(m.required("type"), m.field("type"));
+  if (type == "matched") {
+    c.design_frequency_hz = m.non_negative({"design_frequency_hz"}, 0.0);
+  } else if (type == "series" || type == "parallel") {
+    c.kind = type == "series" ? TagChipSpec::Kind::kSeries : TagChipSpec::Kind::kParallel;
+    c.resistance_ohm = m.positive({"resistance_ohm"}, 0.0);
+    c.capacitance_f = m.positive({"capacitance_f"}, 0.0);
+  } else {
+    throw src.error(m.required("type"), m.field("type"), "must be matched, series or parallel (got '" + clip(type) + "')");
+  }
+  m.finish();
+  return c;
+}
+
+// A tag's `mount:`: none | scene | {material: metal, distance_m: D}, or the text form MATERIAL:DISTANCE_M.
+TagMountSpec parse_tag_mount_node(const YamlFile& src, const YAML::Node& n, const std::string& field) {
+  if (n.IsScalar()) return src.located(n, [&] { return io::parse_tag_mount(n.Scalar(), field); });
+  YamlMap m(src, n, field);
+  TagMountSpec mt;
+  mt.kind = TagMountSpec::Kind::kGiven;
+  mt.material = src.scalar(m.required("material"), m.field("material"));
+  mt.distance_m = m.positive({"distance_m"}, 0.0);
+  m.finish();
+  return mt;
+}
+
+// The radio keys of a tag (gain_dbi, chip_sensitivity_dbm, pattern, polarization, antenna, chip, mount) into `t`.
 void parse_tag_keys(YamlMap& m, TagParams& t) {
   const YamlFile& src = m.src();
   t.gain_dbi = m.number("gain_dbi", t.gain_dbi);
@@ -435,6 +507,13 @@ void parse_tag_keys(YamlMap& m, TagParams& t) {
                                : isotropic_pattern(t.gain_dbi);
   if (auto pol = m.get("polarization")) t.polarization = parse_polarization(src, *pol, m.field("polarization"));
   if (auto pp = m.get("phase_pattern")) t.phase_pattern = parse_phase_pattern(src, *pp, m.field("phase_pattern"));
+  if (auto a = m.get("antenna")) t.antenna = parse_tag_antenna_node(src, *a, m.field("antenna"));
+  if (auto c = m.get("chip")) t.chip = parse_tag_chip_node(src, *c, m.field("chip"));
+  if (auto mt = m.get("mount")) {
+    t.mount = parse_tag_mount_node(src, *mt, m.field("mount"));
+  } else if (t.antenna.kind != TagAntennaSpec::Kind::kNone) {
+    t.mount.kind = TagMountSpec::Kind::kScene;  // a tag with an antenna is detuned by the scene's metal near it
+  }
 }
 
 TagSpec parse_tag(const YamlFile& src, const YAML::Node& n, const std::string& field, size_t index) {

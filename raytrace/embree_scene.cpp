@@ -138,6 +138,72 @@ void EmbreeScene::occluded_many(int width, const Segment* s, size_t n, bool* blo
   }
 }
 
+namespace {
+
+// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection, 2005, §5.1.5).
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+struct PointQueryState {
+  Vec3 point;  // about the scene's local origin
+  std::span<const SceneMesh> meshes;
+  NearestTriangle best;
+};
+
+bool nearest_triangle_callback(RTCPointQueryFunctionArguments* args) {
+  auto* st = static_cast<PointQueryState*>(args->userPtr);
+  const SceneMesh& m = st->meshes[args->geomID];
+  const auto& t = m.triangles[args->primID];
+  const Vec3 q = closest_point_on_triangle(st->point, m.local_vertex(t[0]), m.local_vertex(t[1]), m.local_vertex(t[2]));
+  const double d = (q - st->point).norm();
+  const bool better = d < st->best.distance_m ||
+                      (d == st->best.distance_m && (args->geomID < st->best.geom ||
+                                                    (args->geomID == st->best.geom && args->primID < st->best.prim)));
+  if (!better) return false;
+  st->best = {true, d, args->geomID, args->primID};
+  if (d < args->query->radius) {
+    args->query->radius = static_cast<float>(d) * (1.0f + 1e-6f) + 1e-7f;  // keep ties reachable
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+NearestTriangle EmbreeScene::nearest_triangle(const Vec3& point, double max_distance_m,
+                                              std::span<const SceneMesh> meshes) const {
+  PointQueryState st{point - origin_, meshes, {}};
+  st.best.distance_m = max_distance_m;
+  RTCPointQuery q;
+  q.x = static_cast<float>(st.point.x());
+  q.y = static_cast<float>(st.point.y());
+  q.z = static_cast<float>(st.point.z());
+  q.time = 0.0f;
+  q.radius = static_cast<float>(max_distance_m);
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(scene_, &q, &context, nearest_triangle_callback, &st);
+  if (st.best.found && !(st.best.distance_m <= max_distance_m)) st.best = {};
+  return st.best;
+}
+
 EmbreeScene::~EmbreeScene() {
   rtcReleaseScene(scene_);
   rtcReleaseDevice(device_);

@@ -40,6 +40,13 @@ struct Segment {
   double tnear = 0.0, tfar = 0.0;
 };
 
+// The triangle nearest to a point (EmbreeScene::nearest_triangle).
+struct NearestTriangle {
+  bool found = false;
+  double distance_m = std::numeric_limits<double>::infinity();
+  uint32_t geom = 0, prim = 0;  // mesh index, triangle index within the mesh
+};
+
 struct RayHit {
   bool hit = false;
   double t = std::numeric_limits<double>::infinity();  // distance along the (unit) direction, metres
@@ -100,6 +107,11 @@ class EmbreeScene {
   // not blocked, as in occluded()). Counts one ray per active segment. Throws std::invalid_argument for
   // another width.
   void occluded_many(int width, const Segment* s, size_t n, bool* blocked) const;
+
+  // The triangle of `meshes` (the ones this scene was built from) nearest to `point` within `max_distance_m`
+  // (Embree's rtcPointQuery over the BVH; exact closest point on each candidate triangle, in double from the
+  // float vertices). Ties go to the lower (geom, prim). Thread-safe; allocates nothing.
+  NearestTriangle nearest_triangle(const Vec3& point, double max_distance_m, std::span<const SceneMesh> meshes) const;
 
   RTCScene handle() const { return scene_; }  // for raw-Embree baselines in bench/ (coordinates − origin())
   const Vec3& origin() const { return origin_; }

@@ -163,4 +163,11 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
   if (error) std::rethrow_exception(error);
 }
 
+std::optional<NearbySurface> RaytracedChannel::nearest_surface(const Vec3& point, double max_distance_m) const {
+  const auto s = scene().nearest_surface(point, max_distance_m);
+  if (!s) return std::nullopt;
+  const RadioMaterial& m = scene().materials()[s->material];
+  return NearbySurface{s->distance_m, m.name, m.perfect_conductor};
+}
+
 }  // namespace rfidray

@@ -44,6 +44,9 @@ class RaytracedChannel final : public Channel {
   void one_way(const Endpoint& antenna, std::span<const Endpoint> tags, double frequency_hz,
                std::span<std::complex<double>> h) const override;
 
+  // The nearest facet of the scene (Scene::nearest_surface) with its radio material.
+  std::optional<NearbySurface> nearest_surface(const Vec3& point, double max_distance_m) const override;
+
   const PathFinder& finder() const { return finder_; }
   const Scene& scene() const { return finder_.scene(); }
   // The packet width of level los's visibility rays (1, 4, 8 or 16): 1 unless los_packets_by_timing, then 0

@@ -110,6 +110,14 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
 #endif
 }
 
+std::optional<Scene::NearbySurface> Scene::nearest_surface(const Vec3& point, double max_distance_m) const {
+  if (empty() || !bvh_) return std::nullopt;
+  const NearestTriangle t = bvh_->nearest_triangle(point, max_distance_m, meshes_);
+  if (!t.found) return std::nullopt;
+  const uint32_t triangle = triangle_id(t.geom, t.prim);
+  return NearbySurface{t.distance_m, triangle, material_of(triangle)};
+}
+
 std::vector<std::string> extrapolation_warnings(const Scene& scene, double frequency_hz) {
   std::vector<std::string> out;
   for (const RadioMaterial& m : scene.materials())

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -93,6 +94,14 @@ class Scene {
     const auto& tri = m.triangles[triangle - triangle_offset_[mesh]];
     return {origin_ + m.local_vertex(tri[0]), origin_ + m.local_vertex(tri[1]), origin_ + m.local_vertex(tri[2])};
   }
+  // The surface nearest to `point` within `max_distance_m` (a tag's mount, core/tag_antenna.h): its distance,
+  // global triangle and radio material; std::nullopt when none is that close.
+  struct NearbySurface {
+    double distance_m = 0.0;
+    uint32_t triangle = 0;
+    uint32_t material = 0;  // index into materials()
+  };
+  std::optional<NearbySurface> nearest_surface(const Vec3& point, double max_distance_m) const;
   // Vertex i of mesh `mesh`, world coordinates.
   Vec3 vertex(uint32_t mesh, size_t i) const { return origin_ + meshes_[mesh].local_vertex(i); }
 

@@ -22,6 +22,7 @@
 #include "adapters/gazebo/gazebo_world.h"
 #include "core/channel.h"
 #include "core/simulation.h"
+#include "core/tag_couplings.h"
 
 namespace rfidray::gazebo {
 
@@ -104,6 +105,7 @@ class LiveWorld {
   std::string first_rejected_pose_;
   std::unique_ptr<Channel> channel_;
   IdealChannel ideal_;  // for paper-model antennas (they use the distance only)
+  std::optional<TagCouplings> couplings_;  // built at the first tick
   AntennaPoseProvider pose_provider_;
 };
 

@@ -1,0 +1,151 @@
+#include "core/tag_couplings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/error.h"
+#include "core/simulation.h"
+
+namespace rfidray {
+namespace {
+
+constexpr double kGridStep = 0.005;  // relative spacing of the distance grid (0.5 %)
+
+std::string metres(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+}  // namespace
+
+double coupling_grid_distance_m(double distance_m) {
+  return std::exp(std::round(std::log(distance_m) / kGridStep) * kGridStep);
+}
+
+TagMountSpec TagCouplingSolver::resolve_mount(const TagParams& tag, const Pose& pose, const Channel& channel,
+                                              std::vector<std::string>* notes) {
+  if (tag.antenna.kind == TagAntennaSpec::Kind::kNone || tag.mount.kind != TagMountSpec::Kind::kScene)
+    return tag.mount;
+  const auto s = channel.nearest_surface(pose.position, kSceneMountSearch_m);
+  TagMountSpec m;
+  if (!s) return m;  // kNone: nothing within reach (or no scene)
+  if (!s->perfect_conductor) {
+    if (notes)
+      notes->push_back("tag '" + tag.name + "': the nearest surface is " + s->material + " at " +
+                       metres(s->distance_m) + " m; only metal detunes a tag in this version, so it is free space");
+    return m;
+  }
+  m.kind = TagMountSpec::Kind::kScene;
+  m.material = "metal";
+  m.distance_m = s->distance_m;
+  if (tag.antenna.kind == TagAntennaSpec::Kind::kDipole && m.distance_m < tag.antenna.dipole.radius_m) {
+    if (notes)
+      notes->push_back("tag '" + tag.name + "': the nearest metal is " + metres(s->distance_m) +
+                       " m away, closer than the wire's radius; taken at the radius (" +
+                       metres(tag.antenna.dipole.radius_m) + " m)");
+    m.distance_m = tag.antenna.dipole.radius_m;
+  }
+  return m;
+}
+
+std::complex<double> TagCouplingSolver::in_place(const TagAntennaSpec& antenna, const std::string& material,
+                                                 double distance_m, double frequency_hz, const std::string& field) {
+  const double d = distance_m > 0.0 && !material.empty() ? coupling_grid_distance_m(distance_m) : 0.0;
+  const Key key{antenna.dipole.length_m, antenna.dipole.radius_m, antenna.dipole.conductivity_s_m,
+                d > 0.0 ? material : std::string(), d, frequency_hz};
+  const auto it = memo_.find(key);
+  if (it != memo_.end()) return it->second;
+  ++solves_;
+  const std::complex<double> z = antenna_impedance_in_place(antenna, d > 0.0 ? material : "", d, frequency_hz, field);
+  memo_.emplace(key, z);
+  return z;
+}
+
+TagCoupling TagCouplingSolver::coupling(const TagParams& tag, const TagMountSpec& mount, double frequency_hz,
+                                        const std::string& field) {
+  const TagAntennaSpec& a = tag.antenna;
+  std::complex<double> z_free, z_in;
+  if (a.kind == TagAntennaSpec::Kind::kDipole) {
+    z_free = in_place(a, "", 0.0, frequency_hz, field + ".antenna");
+    z_in = mount.kind == TagMountSpec::Kind::kNone
+               ? z_free
+               : in_place(a, mount.material, mount.distance_m, frequency_hz, field + ".mount");
+  } else {
+    z_free = z_in = antenna_free_space_impedance(a, frequency_hz, field + ".antenna");
+  }
+  std::complex<double> z_chip;
+  if (tag.chip.kind == TagChipSpec::Kind::kMatched && a.kind == TagAntennaSpec::Kind::kDipole) {
+    const double f = tag.chip.design_frequency_hz > 0.0 ? tag.chip.design_frequency_hz : frequency_hz;
+    z_chip = std::conj(in_place(a, "", 0.0, f, field + ".chip"));
+  } else {
+    z_chip = chip_impedance(tag.chip, a, frequency_hz, field + ".chip");
+  }
+  if (!(z_free.real() > 0.0 && z_in.real() > 0.0 && z_chip.real() > 0.0))
+    throw field_error(field, "the antenna's and the chip's resistances must be > 0");
+  return tag_coupling(z_free, z_in, z_chip);
+}
+
+namespace {
+
+std::vector<Pose> start_poses(const Scenario& scenario, const SceneMotion& motion) {
+  std::vector<Pose> poses(scenario.tags.size());
+  for (size_t i = 0; i < poses.size(); ++i)
+    if (scenario.tags[i].tag.antenna.kind != TagAntennaSpec::Kind::kNone)
+      poses[i] = motion.tags.at(i)->pose_at(scenario.tags[i].start_s);
+  return poses;
+}
+
+}  // namespace
+
+TagCouplings::TagCouplings(const Scenario& scenario, const SceneMotion& motion, const Channel& channel)
+    : TagCouplings(scenario, start_poses(scenario, motion), channel) {}
+
+TagCouplings::TagCouplings(const Scenario& scenario, std::span<const Pose> tag_poses, const Channel& channel) {
+  const size_t n_tags = scenario.tags.size();
+  bool any = false;
+  for (const TagSpec& t : scenario.tags) any = any || t.tag.antenna.kind != TagAntennaSpec::Kind::kNone;
+  if (!any) return;
+  size_t per_tag = 0;
+  for (const AntennaSpec& a : scenario.antennas) {
+    hop_offset_.push_back(per_tag);
+    per_tag += a.reader.frequencies_hz.size();
+  }
+  offset_.assign(n_tags, -1);
+  mounts_.resize(n_tags);
+  TagCouplingSolver solver;
+  size_t scene_mounted = 0;
+  double d_min = 1e300, d_max = 0.0;
+  for (size_t i = 0; i < n_tags; ++i) {
+    const TagSpec& spec = scenario.tags[i];
+    mounts_[i] = spec.tag.mount;
+    if (spec.tag.antenna.kind == TagAntennaSpec::Kind::kNone) continue;
+    mounts_[i] = solver.resolve_mount(spec.tag, tag_poses[i], channel, &notes_);
+    if (spec.tag.mount.kind == TagMountSpec::Kind::kScene && mounts_[i].kind == TagMountSpec::Kind::kScene) {
+      ++scene_mounted;
+      d_min = std::min(d_min, mounts_[i].distance_m);
+      d_max = std::max(d_max, mounts_[i].distance_m);
+    }
+    offset_[i] = static_cast<long>(values_.size());
+    const std::string field = "tag '" + spec.tag.name + "'";
+    for (const AntennaSpec& a : scenario.antennas)
+      for (double f : a.reader.frequencies_hz) values_.push_back(solver.coupling(spec.tag, mounts_[i], f, field));
+  }
+  if (scene_mounted > 0)
+    notes_.push_back(std::to_string(scene_mounted) + " tag(s) detuned by metal found in the scene, " + metres(d_min) +
+                     "–" + metres(d_max) + " m behind them (" + std::to_string(solver.solves()) +
+                     " moment-method solves)");
+}
+
+std::complex<double> mount_image_factor(const TagMountSpec& mount, const Pose& tag_pose, const Vec3& antenna_position,
+                                        double frequency_hz) {
+  if (mount.kind != TagMountSpec::Kind::kGiven) return 1.0;
+  const Vec3 to_antenna = antenna_position - tag_pose.position;
+  const double len = to_antenna.norm();
+  if (!(len > 0.0)) return 1.0;
+  const Vec3 local = tag_pose.to_local_direction(to_antenna / len);
+  return mount_image_factor(mount, local.x(), frequency_hz);
+}
+
+}  // namespace rfidray
