@@ -89,11 +89,11 @@ Quat parse_rpy(const std::string& text, const std::string& option) {
 
 nlohmann::json complex_json(std::complex<double> c) { return {{"re", c.real()}, {"im", c.imag()}}; }
 
-// The tag as an antenna (core/tag_antenna.h) on this link: its coupling and the image factor of a mount that is
+// The tag as an antenna (core/tag_antenna.h) on this link: its coupling and the image factor of a backing that is
 // not in the scene (1 otherwise).
 struct LinkTag {
   std::optional<TagCoupling> coupling;
-  TagMountSpec mount;
+  TagBackingSpec backing;
   std::complex<double> image_factor = 1.0;
 };
 
@@ -122,7 +122,7 @@ nlohmann::json channel_json(const Channel& channel, const Endpoint& antenna, con
     jp.push_back(one);
   }
   const TagCoupling* c = link_tag && link_tag->coupling ? &*link_tag->coupling : nullptr;
-  // The tag's mount, when not meshed, adds its image path to every path (along the direct direction).
+  // The tag's backing, when not meshed, adds its image path to every path (along the direct direction).
   const std::complex<double> h = sum_paths(paths) * (link_tag ? link_tag->image_factor : 1.0);
   const double gain2 = std::norm(h);
   const double chip_factor = c ? c->chip_power_factor : 1.0;
@@ -163,13 +163,13 @@ void print_table(const nlohmann::json& j) {
   for (const auto& note : j["scene"]["notes"]) std::printf("note: %s\n", note.get<std::string>().c_str());
   if (j.contains("tag_antenna")) {
     const auto& t = j["tag_antenna"];
-    const auto& m = t["mount"];
-    const std::string mount = m["kind"] == "none" ? "free space"
+    const auto& m = t["backing"];
+    const std::string backing = m["kind"] == "none" ? "free space"
                               : m["material"].get<std::string>() + " " + fmt("%.4g", m["distance_m"].get<double>()) +
                                     " m behind (" + m["kind"].get<std::string>() + ")";
     std::printf("tag antenna %s, chip %s, on %s: Z = %.3f %+.3fj Ω (free space %.3f %+.3fj), chip %.3f %+.3fj Ω, "
                 "power transfer %.2f dB, chip power %+.2f dB, K = %.4g\n",
-                t["antenna"].get<std::string>().c_str(), t["chip"].get<std::string>().c_str(), mount.c_str(),
+                t["antenna"].get<std::string>().c_str(), t["chip"].get<std::string>().c_str(), backing.c_str(),
                 t["impedance_re_ohm"].get<double>(), t["impedance_im_ohm"].get<double>(),
                 t["free_space_impedance_re_ohm"].get<double>(), t["free_space_impedance_im_ohm"].get<double>(),
                 t["chip_impedance_re_ohm"].get<double>(), t["chip_impedance_im_ohm"].get<double>(),
@@ -212,7 +212,7 @@ struct LinkOptions {
   double tx_power_dbm = ReaderParams{}.tx_power_dbm;
   double thickness_m = -1.0;
   double drop_db = TraceOptions{}.drop_below_db;
-  std::string tag_antenna, tag_chip = "matched", tag_mount;  // core/tag_antenna.h; "" = the point tag
+  std::string tag_antenna, tag_chip = "matched", tag_backing;  // core/tag_antenna.h; "" = the point tag
   bool json = false;
   io::WorldSourceOptions world;  // --world instead of --scene
 };
@@ -306,19 +306,19 @@ int run_link(const LinkOptions& o) {
 
   // The tag as an antenna: its coupling on the traced link (the ideal channel stays the paper's point tag).
   LinkTag link_tag;
-  if (o.tag_antenna.empty() && (o.tag_chip != "matched" || !o.tag_mount.empty()))
-    throw InputError("options --tag-chip and --tag-mount need --tag-antenna (dipole:LENGTH_M:RADIUS_M or table:FILE)");
+  if (o.tag_antenna.empty() && (o.tag_chip != "matched" || !o.tag_backing.empty()))
+    throw InputError("options --tag-chip and --tag-backing need --tag-antenna (dipole:LENGTH_M:RADIUS_M or table:FILE)");
   if (!o.tag_antenna.empty()) {
     tag_params.antenna = io::parse_tag_antenna(o.tag_antenna, "option --tag-antenna");
     tag_params.chip = io::parse_tag_chip(o.tag_chip, "option --tag-chip");
-    tag_params.mount = io::parse_tag_mount(o.tag_mount.empty() ? "scene" : o.tag_mount, "option --tag-mount");
-    validate(tag_params.antenna, tag_params.chip, tag_params.mount, "option --tag");
+    tag_params.backing = io::parse_tag_backing(o.tag_backing.empty() ? "scene" : o.tag_backing, "option --tag-backing");
+    validate(tag_params.antenna, tag_params.chip, tag_params.backing, "option --tag");
     TagCouplingSolver solver;
     std::vector<std::string> notes;
-    link_tag.mount = solver.resolve_mount(tag_params, tag.pose, raytraced, &notes);
+    link_tag.backing = solver.resolve_backing(tag_params, tag.pose, raytraced, &notes);
     for (const auto& n : notes) std::cerr << "rfidray: note: " << n << "\n";
-    link_tag.coupling = solver.coupling(tag_params, link_tag.mount, o.frequency_hz, "option --tag");
-    link_tag.image_factor = mount_image_factor(link_tag.mount, tag.pose, antenna.pose.position, o.frequency_hz);
+    link_tag.coupling = solver.coupling(tag_params, link_tag.backing, o.frequency_hz, "option --tag");
+    link_tag.image_factor = backing_image_factor(link_tag.backing, tag.pose, antenna.pose.position, o.frequency_hz);
   }
 
   nlohmann::json j;
@@ -341,7 +341,7 @@ int run_link(const LinkOptions& o) {
                  {"tag_chip_sensitivity_dbm", tag_params.chip_sensitivity_dbm}};
   if (link_tag.coupling) {
     const TagCoupling& c = *link_tag.coupling;
-    const TagMountSpec& m = link_tag.mount;
+    const TagBackingSpec& m = link_tag.backing;
     j["tag_antenna"] = {
         {"antenna", o.tag_antenna},
         {"chip", o.tag_chip},
@@ -356,8 +356,8 @@ int run_link(const LinkOptions& o) {
         {"chip_power_factor_db", linear_to_db(c.chip_power_factor)},
         {"modulation_factor", c.modulation_factor},
         {"backscatter_phase_rad", c.backscatter_phase_rad},
-        {"mount",
-         {{"kind", m.kind == TagMountSpec::Kind::kNone ? "none" : m.kind == TagMountSpec::Kind::kGiven ? "given" : "scene"},
+        {"backing",
+         {{"kind", m.kind == TagBackingSpec::Kind::kNone ? "none" : m.kind == TagBackingSpec::Kind::kGiven ? "given" : "scene"},
           {"material", m.material},
           {"distance_m", m.distance_m}}},
         {"image_factor", complex_json(link_tag.image_factor)}};
@@ -397,7 +397,7 @@ std::function<int()> setup_link(CLI::App& app) {
   cmd->add_option("--tag-antenna", o->tag_antenna,
                   "the tag as an antenna: dipole:LENGTH_M:RADIUS_M[:CONDUCTIVITY_S_M] | table:FILE.csv (docs/tag-antenna.md)");
   cmd->add_option("--tag-chip", o->tag_chip, "matched[:DESIGN_HZ] | series:R_OHM:C_F | parallel:R_OHM:C_F (with --tag-antenna)");
-  cmd->add_option("--tag-mount", o->tag_mount,
+  cmd->add_option("--tag-backing", o->tag_backing,
                   "what the tag is on: scene (nearest meshed facet; default) | none | MATERIAL:DISTANCE_M, e.g. metal:0.01 "
                   "(a surface behind the tag, along its local -X)");
   cmd->add_flag("--json", o->json, "JSON output");

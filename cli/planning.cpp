@@ -15,11 +15,26 @@
 #include "core/limits.h"
 #include "raytrace/channel_factory.h"
 #include "io/scenario_yaml.h"
+#include "io/tag_antenna_spec.h"
 #include "io/tag_generators.h"
 #include "parallel/ranks.h"
 
 namespace rfidray::cli {
 namespace {
+
+// --tag-antenna, --tag-chip, --tag-backing: every cell's tag becomes that antenna (core/tag_antenna.h).
+void override_tag_antenna(const PlanningOptions& o, std::vector<TagParams>& params) {
+  if (o.tag_antenna.empty()) {
+    if (!o.tag_chip.empty() || !o.tag_backing.empty())
+      throw InputError("options --tag-chip and --tag-backing need --tag-antenna");
+    return;
+  }
+  const TagAntennaSpec antenna = io::parse_tag_antenna(o.tag_antenna, "option --tag-antenna");
+  const TagChipSpec chip = io::parse_tag_chip(o.tag_chip.empty() ? "matched" : o.tag_chip, "option --tag-chip");
+  const TagBackingSpec backing = io::parse_tag_backing(o.tag_backing.empty() ? "scene" : o.tag_backing, "option --tag-backing");
+  validate(antenna, chip, backing, "option --tag");
+  for (TagParams& t : params) t.antenna = antenna, t.chip = chip, t.backing = backing;
+}
 
 // At most this many cells in one map (a few hundred bytes each in flight).
 constexpr size_t kMaxCells = 50'000'000;
@@ -56,6 +71,10 @@ void add_planning_options(CLI::App& cmd, PlanningOptions& o) {
   cmd.add_option("--box", o.box, "cells in a box X0,Y0,Z0,X1,Y1,Z1 (m)");
   cmd.add_flag("--tags", o.tags, "the scenario's tags (listed and tag_sets) are the cells");
   cmd.add_option("--tag-filter", o.tag_filter, "with --tags: only tags whose name matches this shell pattern (e.g. 'east_*')");
+  cmd.add_option("--tag-antenna", o.tag_antenna,
+                 "the cells' tag as an antenna: dipole:LENGTH_M:RADIUS_M[:S_M] | table:FILE.csv (docs/tag-antenna.md)");
+  cmd.add_option("--tag-chip", o.tag_chip, "with --tag-antenna: matched[:DESIGN_HZ] | series:R_OHM:C_F | parallel:R_OHM:C_F");
+  cmd.add_option("--tag-backing", o.tag_backing, "with --tag-antenna: scene (default) | none | MATERIAL:DISTANCE_M");
   cmd.add_option("--view", o.view, "maps seen from: top (x, y) | side (the cells' longer horizontal axis, and z)");
   cmd.add_option("--extent", o.extent, "plane extent X0,Y0,X1,Y1 (m); default: the scene's bounds");
   cmd.add_option("--step", o.step_m, "grid step (m) of --plane and --box");
@@ -125,12 +144,14 @@ Planning prepare_planning(const PlanningOptions& o) {
     if (p.cells.size() == 0) throw InputError("option --tag-filter: no tag of the scenario matches '" + clip(o.tag_filter) + "'");
     std::nth_element(heights.begin(), heights.begin() + heights.size() / 2, heights.end());
     p.plane_z = heights[heights.size() / 2];
+    override_tag_antenna(o, p.cells.params);
   } else {
     // A grid cell's tag: the scenario's first tag's radio keys, else a scenario file's default tag.
     TagParams tag;
     tag.pattern = isotropic_pattern(tag.gain_dbi);
     if (!p.scenario.tags.empty()) tag = p.scenario.tags.front().tag;
     p.cells.params = {tag};
+    override_tag_antenna(o, p.cells.params);
     io::TagGrid grid;
     grid.step_m = o.step_m;
     if (!o.plane.empty()) {

@@ -27,6 +27,8 @@ struct PlanningOptions {
   std::string extent;             // x0,y0,x1,y1 of the plane (default: the scene's, or the tags')
   bool tags = false;              // the scenario's tags (listed and generated) are the cells
   std::string tag_filter;         // with tags: only tags whose name matches this shell pattern
+  // The cells' tag as an antenna (core/tag_antenna.h, io/tag_antenna_spec.h text forms); "" keeps the scenario's.
+  std::string tag_antenna, tag_chip, tag_backing;
   std::string view = "top";       // maps: top (x, y) | side (along the cells' longer horizontal extent, and z)
   double step_m = 0.1;
   double pass_step_s = 0.0;

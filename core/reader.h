@@ -72,7 +72,7 @@ struct TagParams {
   // model). Default: the paper's point tag, no detuning (reads exactly as before the model existed).
   TagAntennaSpec antenna;
   TagChipSpec chip;
-  TagMountSpec mount;
+  TagBackingSpec backing;
 };
 
 // What one read attempt yields. `read == false` means the tag did not answer; phase/RSSI are then unset.

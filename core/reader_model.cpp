@@ -240,7 +240,7 @@ void validate(const TagParams& tag, const std::string& field) {
   tag.pattern.validate(field + ".pattern");
   validate_polarization(tag.polarization, field + ".polarization");
   validate(tag.phase_pattern, field + ".phase_pattern");
-  validate(tag.antenna, tag.chip, tag.mount, field);
+  validate(tag.antenna, tag.chip, tag.backing, field);
 }
 
 }  // namespace rfidray

@@ -73,9 +73,9 @@ void read_attempts(const Scenario& scenario, size_t antenna, uint64_t tick, doub
     link.h_one_way = physical ? h_one_way[i] : std::complex<double>{0.0, 0.0};
     if (couplings && physical) {
       link.tag_coupling = couplings->at(i, antenna, c);
-      // A mount that is not in the scene adds its image path (a meshed one is the channel's own path).
+      // A backing that is not in the scene adds its image path (a meshed one is the channel's own path).
       if (link.tag_coupling)
-        link.h_one_way *= mount_image_factor(couplings->mounts()[i], tag_pose[i], centre.position, link.frequency_hz);
+        link.h_one_way *= backing_image_factor(couplings->backings()[i], tag_pose[i], centre.position, link.frequency_hz);
     }
     const PhasePattern& tag_pattern = scenario.tags[i].tag.phase_pattern;
     if (!reader.phase_pattern.empty() || !tag_pattern.empty()) {
@@ -239,7 +239,7 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
   };
   auto needs_h = [&](size_t a) { return scenario.antennas[a].reader.model == ReaderModelKind::kPhysical; };
 
-  // Tag antennas, chips and mounts: resolved once, before the parallel loop (core/tag_couplings.h).
+  // Tag antennas, chips and backings: resolved once, before the parallel loop (core/tag_couplings.h).
   const TagCouplings couplings(scenario, motion, channel);
   result.notes = couplings.notes();
 

@@ -106,7 +106,7 @@ TagCoupling tag_coupling(const TagAntennaSpec& antenna, const TagChipSpec& chip,
                          double distance_m, double frequency_hz, const std::string& field) {
   const std::complex<double> z_free = antenna_free_space_impedance(antenna, frequency_hz, field + ".antenna");
   const std::complex<double> z_in = antenna_impedance_in_place(antenna, material, distance_m, frequency_hz,
-                                                               field + ".mount");
+                                                               field + ".backing");
   const std::complex<double> z_chip = chip_impedance(chip, antenna, frequency_hz, field + ".chip");
   if (!(z_free.real() > 0.0 && z_in.real() > 0.0 && z_chip.real() > 0.0))
     throw field_error(field, "the antenna's and the chip's resistances must be > 0 (antenna " + num(z_in.real()) +
@@ -114,14 +114,14 @@ TagCoupling tag_coupling(const TagAntennaSpec& antenna, const TagChipSpec& chip,
   return tag_coupling(z_free, z_in, z_chip);
 }
 
-std::complex<double> mount_image_factor(const TagMountSpec& mount, double cos_psi, double frequency_hz) {
-  if (mount.kind != TagMountSpec::Kind::kGiven) return 1.0;
+std::complex<double> backing_image_factor(const TagBackingSpec& backing, double cos_psi, double frequency_hz) {
+  if (backing.kind != TagBackingSpec::Kind::kGiven) return 1.0;
   if (!(cos_psi > 0.0)) return 0.0;  // behind the surface: the object blocks it
   // A perfect conductor reverses the image's tangential field (Γ = −1 for a field parallel to the plane).
-  return 1.0 - std::polar(1.0, -2.0 * wavenumber_rad_m(frequency_hz) * mount.distance_m * cos_psi);
+  return 1.0 - std::polar(1.0, -2.0 * wavenumber_rad_m(frequency_hz) * backing.distance_m * cos_psi);
 }
 
-void validate(const TagAntennaSpec& antenna, const TagChipSpec& chip, const TagMountSpec& mount,
+void validate(const TagAntennaSpec& antenna, const TagChipSpec& chip, const TagBackingSpec& backing,
               const std::string& field) {
   if (antenna.kind == TagAntennaSpec::Kind::kDipole) {
     if (!finite_positive(antenna.dipole.length_m))
@@ -142,8 +142,8 @@ void validate(const TagAntennaSpec& antenna, const TagChipSpec& chip, const TagM
     }
   }
   if (antenna.kind == TagAntennaSpec::Kind::kNone) {
-    if (chip.kind != TagChipSpec::Kind::kMatched || chip.resistance_ohm != 0.0 || mount.kind == TagMountSpec::Kind::kGiven)
-      throw field_error(field + ".antenna", "a chip or a mount needs the tag's antenna (dipole or table)");
+    if (chip.kind != TagChipSpec::Kind::kMatched || chip.resistance_ohm != 0.0 || backing.kind == TagBackingSpec::Kind::kGiven)
+      throw field_error(field + ".antenna", "a chip or a backing needs the tag's antenna (dipole or table)");
   }
   if (chip.kind != TagChipSpec::Kind::kMatched) {
     if (!finite_positive(chip.resistance_ohm))
@@ -154,16 +154,16 @@ void validate(const TagAntennaSpec& antenna, const TagChipSpec& chip, const TagM
                chip.design_frequency_hz <= 1e11)) {
     throw field_error(field + ".chip.design_frequency_hz", "must be ≥ 0 and at most 1e11 Hz (0: each carrier)");
   }
-  if (mount.kind == TagMountSpec::Kind::kGiven) {
-    if (!is_metal(mount.material))
-      throw field_error(field + ".mount.material", "'" + clip(mount.material) +
+  if (backing.kind == TagBackingSpec::Kind::kGiven) {
+    if (!is_metal(backing.material))
+      throw field_error(field + ".backing.material", "'" + clip(backing.material) +
                                                        "': only metal detunes a tag so far (known: metal)");
-    if (!(std::isfinite(mount.distance_m) && mount.distance_m > 0.0 && mount.distance_m <= 10.0))
-      throw field_error(field + ".mount.distance_m", "must be > 0 and at most 10 m (got " + num(mount.distance_m) + ")");
-    if (antenna.kind == TagAntennaSpec::Kind::kDipole && mount.distance_m < antenna.dipole.radius_m)
-      throw field_error(field + ".mount.distance_m", "must be at least the wire's radius (" +
+    if (!(std::isfinite(backing.distance_m) && backing.distance_m > 0.0 && backing.distance_m <= 10.0))
+      throw field_error(field + ".backing.distance_m", "must be > 0 and at most 10 m (got " + num(backing.distance_m) + ")");
+    if (antenna.kind == TagAntennaSpec::Kind::kDipole && backing.distance_m < antenna.dipole.radius_m)
+      throw field_error(field + ".backing.distance_m", "must be at least the wire's radius (" +
                                                          num(antenna.dipole.radius_m) + " m; got " +
-                                                         num(mount.distance_m) + ")");
+                                                         num(backing.distance_m) + ")");
   }
 }
 

@@ -36,8 +36,8 @@ struct TagAntennaSpec {
   Kind kind = Kind::kNone;
   ThinWireDipole dipole;  // kDipole: its wire (along the tag's local Z)
   // kTable: the free-space impedance against frequency (a datasheet's or a NEC run's), interpolated linearly
-  // in frequency, held constant outside the table. A table antenna is not detuned by a mount (its geometry is
-  // unknown): its free-space impedance and chip set F and K, and a mount adds only its image path.
+  // in frequency, held constant outside the table. A table antenna is not detuned by a backing (its geometry is
+  // unknown): its free-space impedance and chip set F and K, and a backing adds only its image path.
   struct Point {
     double frequency_hz = 0.0;
     std::complex<double> impedance_ohm;
@@ -59,19 +59,19 @@ struct TagChipSpec {
 
 // What the tag is stuck on. kNone: free space. kGiven: a surface `distance_m` behind the tag (its wire parallel
 // to it; the surface's normal along the tag's local −X, the tag facing +X), not in the scene: the model adds its
-// image path and blocks the half-space behind it. kScene: the nearest meshed facet within kSceneMountSearch_m
+// image path and blocks the half-space behind it. kScene: the nearest meshed facet within kSceneBackingSearch_m
 // of the tag (when the channel has a scene), its material and distance; its image path is the ray tracer's.
 // material: "metal" (a perfect conductor). Dielectric materials are not modelled yet: InputError names them.
-struct TagMountSpec {
+struct TagBackingSpec {
   enum class Kind { kNone, kGiven, kScene };
   Kind kind = Kind::kNone;
   std::string material;
   double distance_m = 0.0;
 };
 
-// How far a scene mount looks for a surface. The detuning of a half-wave dipole beside metal falls to 0.1 dB at
+// How far a scene backing looks for a surface. The detuning of a half-wave dipole beside metal falls to 0.1 dB at
 // ~10 cm (NEC-2) and below 0.02 dB at λ/2; farther surfaces act through their paths only.
-inline constexpr double kSceneMountSearch_m = 0.15;
+inline constexpr double kSceneBackingSearch_m = 0.15;
 
 // The tag's electrical state at one frequency and mounting.
 struct TagCoupling {
@@ -89,25 +89,25 @@ std::complex<double> antenna_free_space_impedance(const TagAntennaSpec& antenna,
                                                   const std::string& field = "tag.antenna");
 std::complex<double> antenna_impedance_in_place(const TagAntennaSpec& antenna, const std::string& material,
                                                 double distance_m, double frequency_hz,
-                                                const std::string& field = "tag.mount");
+                                                const std::string& field = "tag.backing");
 std::complex<double> chip_impedance(const TagChipSpec& chip, const TagAntennaSpec& antenna, double frequency_hz,
                                     const std::string& field = "tag.chip");
 
 // τ, F, K and the phase from the three impedances.
 TagCoupling tag_coupling(std::complex<double> z_free_ohm, std::complex<double> z_in_place_ohm,
                          std::complex<double> z_chip_ohm);
-// The same for a tag: antenna, chip and (for kGiven) mount, or an explicit surface (material, distance) found in
+// The same for a tag: antenna, chip and (for kGiven) backing, or an explicit surface (material, distance) found in
 // the scene (material "" or distance ≤ 0: free space).
 TagCoupling tag_coupling(const TagAntennaSpec& antenna, const TagChipSpec& chip, const std::string& material,
                          double distance_m, double frequency_hz, const std::string& field = "tag");
 
-// The image path of a kGiven mount, as a factor on the one-way channel: 1 − e^{−j2kd·cosψ} for a metal surface,
+// The image path of a kGiven backing, as a factor on the one-way channel: 1 − e^{−j2kd·cosψ} for a metal surface,
 // ψ the angle between the direction to the other end (tag frame) and the tag's +X; 0 behind the surface
 // (cosψ ≤ 0). Exact for an infinite plane in the far field of the pair.
-std::complex<double> mount_image_factor(const TagMountSpec& mount, double cos_psi, double frequency_hz);
+std::complex<double> backing_image_factor(const TagBackingSpec& backing, double cos_psi, double frequency_hz);
 
 // Checks the three specs (finite, positive sizes; known material). Throws InputError naming `field`.
-void validate(const TagAntennaSpec& antenna, const TagChipSpec& chip, const TagMountSpec& mount,
+void validate(const TagAntennaSpec& antenna, const TagChipSpec& chip, const TagBackingSpec& backing,
               const std::string& field);
 
 }  // namespace rfidray

@@ -24,12 +24,12 @@ double coupling_grid_distance_m(double distance_m) {
   return std::exp(std::round(std::log(distance_m) / kGridStep) * kGridStep);
 }
 
-TagMountSpec TagCouplingSolver::resolve_mount(const TagParams& tag, const Pose& pose, const Channel& channel,
+TagBackingSpec TagCouplingSolver::resolve_backing(const TagParams& tag, const Pose& pose, const Channel& channel,
                                               std::vector<std::string>* notes) {
-  if (tag.antenna.kind == TagAntennaSpec::Kind::kNone || tag.mount.kind != TagMountSpec::Kind::kScene)
-    return tag.mount;
-  const auto s = channel.nearest_surface(pose.position, kSceneMountSearch_m);
-  TagMountSpec m;
+  if (tag.antenna.kind == TagAntennaSpec::Kind::kNone || tag.backing.kind != TagBackingSpec::Kind::kScene)
+    return tag.backing;
+  const auto s = channel.nearest_surface(pose.position, kSceneBackingSearch_m);
+  TagBackingSpec m;
   if (!s) return m;  // kNone: nothing within reach (or no scene)
   if (!s->perfect_conductor) {
     if (notes)
@@ -37,7 +37,7 @@ TagMountSpec TagCouplingSolver::resolve_mount(const TagParams& tag, const Pose& 
                        metres(s->distance_m) + " m; only metal detunes a tag in this version, so it is free space");
     return m;
   }
-  m.kind = TagMountSpec::Kind::kScene;
+  m.kind = TagBackingSpec::Kind::kScene;
   m.material = "metal";
   m.distance_m = s->distance_m;
   if (tag.antenna.kind == TagAntennaSpec::Kind::kDipole && m.distance_m < tag.antenna.dipole.radius_m) {
@@ -63,15 +63,15 @@ std::complex<double> TagCouplingSolver::in_place(const TagAntennaSpec& antenna, 
   return z;
 }
 
-TagCoupling TagCouplingSolver::coupling(const TagParams& tag, const TagMountSpec& mount, double frequency_hz,
+TagCoupling TagCouplingSolver::coupling(const TagParams& tag, const TagBackingSpec& backing, double frequency_hz,
                                         const std::string& field) {
   const TagAntennaSpec& a = tag.antenna;
   std::complex<double> z_free, z_in;
   if (a.kind == TagAntennaSpec::Kind::kDipole) {
     z_free = in_place(a, "", 0.0, frequency_hz, field + ".antenna");
-    z_in = mount.kind == TagMountSpec::Kind::kNone
+    z_in = backing.kind == TagBackingSpec::Kind::kNone
                ? z_free
-               : in_place(a, mount.material, mount.distance_m, frequency_hz, field + ".mount");
+               : in_place(a, backing.material, backing.distance_m, frequency_hz, field + ".backing");
   } else {
     z_free = z_in = antenna_free_space_impedance(a, frequency_hz, field + ".antenna");
   }
@@ -113,24 +113,24 @@ TagCouplings::TagCouplings(const Scenario& scenario, std::span<const Pose> tag_p
     per_tag += a.reader.frequencies_hz.size();
   }
   offset_.assign(n_tags, -1);
-  mounts_.resize(n_tags);
+  backings_.resize(n_tags);
   TagCouplingSolver solver;
   size_t scene_mounted = 0;
   double d_min = 1e300, d_max = 0.0;
   for (size_t i = 0; i < n_tags; ++i) {
     const TagSpec& spec = scenario.tags[i];
-    mounts_[i] = spec.tag.mount;
+    backings_[i] = spec.tag.backing;
     if (spec.tag.antenna.kind == TagAntennaSpec::Kind::kNone) continue;
-    mounts_[i] = solver.resolve_mount(spec.tag, tag_poses[i], channel, &notes_);
-    if (spec.tag.mount.kind == TagMountSpec::Kind::kScene && mounts_[i].kind == TagMountSpec::Kind::kScene) {
+    backings_[i] = solver.resolve_backing(spec.tag, tag_poses[i], channel, &notes_);
+    if (spec.tag.backing.kind == TagBackingSpec::Kind::kScene && backings_[i].kind == TagBackingSpec::Kind::kScene) {
       ++scene_mounted;
-      d_min = std::min(d_min, mounts_[i].distance_m);
-      d_max = std::max(d_max, mounts_[i].distance_m);
+      d_min = std::min(d_min, backings_[i].distance_m);
+      d_max = std::max(d_max, backings_[i].distance_m);
     }
     offset_[i] = static_cast<long>(values_.size());
     const std::string field = "tag '" + spec.tag.name + "'";
     for (const AntennaSpec& a : scenario.antennas)
-      for (double f : a.reader.frequencies_hz) values_.push_back(solver.coupling(spec.tag, mounts_[i], f, field));
+      for (double f : a.reader.frequencies_hz) values_.push_back(solver.coupling(spec.tag, backings_[i], f, field));
   }
   if (scene_mounted > 0)
     notes_.push_back(std::to_string(scene_mounted) + " tag(s) detuned by metal found in the scene, " + metres(d_min) +
@@ -138,14 +138,14 @@ TagCouplings::TagCouplings(const Scenario& scenario, std::span<const Pose> tag_p
                      " moment-method solves)");
 }
 
-std::complex<double> mount_image_factor(const TagMountSpec& mount, const Pose& tag_pose, const Vec3& antenna_position,
+std::complex<double> backing_image_factor(const TagBackingSpec& backing, const Pose& tag_pose, const Vec3& antenna_position,
                                         double frequency_hz) {
-  if (mount.kind != TagMountSpec::Kind::kGiven) return 1.0;
+  if (backing.kind != TagBackingSpec::Kind::kGiven) return 1.0;
   const Vec3 to_antenna = antenna_position - tag_pose.position;
   const double len = to_antenna.norm();
   if (!(len > 0.0)) return 1.0;
   const Vec3 local = tag_pose.to_local_direction(to_antenna / len);
-  return mount_image_factor(mount, local.x(), frequency_hz);
+  return backing_image_factor(backing, local.x(), frequency_hz);
 }
 
 }  // namespace rfidray

@@ -1,5 +1,5 @@
 #pragma once
-// The tag couplings of a run (core/tag_antenna.h), resolved before the run's parallel loops: each tag's mount
+// The tag couplings of a run (core/tag_antenna.h), resolved before the run's parallel loops: each tag's backing
 // — the one the scenario gives, or the scene's nearest surface at the tag's first pose (a tag moves with what
 // it is stuck on) — and its coupling at every carrier of every antenna.
 //
@@ -27,13 +27,13 @@ struct SceneMotion;
 
 class TagCouplingSolver {
  public:
-  // The mount of a tag at `pose`: kGiven and kNone as given; kScene becomes kScene with the nearest surface's
-  // material and distance (within kSceneMountSearch_m, metal only: a dielectric surface does not detune in this
+  // The backing of a tag at `pose`: kGiven and kNone as given; kScene becomes kScene with the nearest surface's
+  // material and distance (within kSceneBackingSearch_m, metal only: a dielectric surface does not detune in this
   // version and a note says so), or kNone when there is none. `notes` (optional) collects lines for the user.
-  TagMountSpec resolve_mount(const TagParams& tag, const Pose& pose, const Channel& channel,
+  TagBackingSpec resolve_backing(const TagParams& tag, const Pose& pose, const Channel& channel,
                              std::vector<std::string>* notes = nullptr);
-  // The coupling of `tag` with its mount resolved to `mount`, at `frequency_hz`.
-  TagCoupling coupling(const TagParams& tag, const TagMountSpec& mount, double frequency_hz,
+  // The coupling of `tag` with its backing resolved to `backing`, at `frequency_hz`.
+  TagCoupling coupling(const TagParams& tag, const TagBackingSpec& backing, double frequency_hz,
                        const std::string& field);
   size_t solves() const { return solves_; }
 
@@ -62,22 +62,22 @@ class TagCouplings {
     if (offset_.empty() || offset_[tag] < 0) return nullptr;
     return &values_[static_cast<size_t>(offset_[tag]) + hop_offset_[antenna] + hop];
   }
-  // The mount each tag was resolved to (index-aligned with scenario.tags).
-  const std::vector<TagMountSpec>& mounts() const { return mounts_; }
-  // What the scene mounts found, for the user (one line per tag set of equal results at most).
+  // The backing each tag was resolved to (index-aligned with scenario.tags).
+  const std::vector<TagBackingSpec>& backings() const { return backings_; }
+  // What the scene backings found, for the user (one line per tag set of equal results at most).
   const std::vector<std::string>& notes() const { return notes_; }
 
  private:
   std::vector<long> offset_;        // per tag: first value, −1 for a point tag
   std::vector<size_t> hop_offset_;  // per antenna: its carriers' first index within a tag's block
   std::vector<TagCoupling> values_;
-  std::vector<TagMountSpec> mounts_;
+  std::vector<TagBackingSpec> backings_;
   std::vector<std::string> notes_;
 };
 
-// The image path a kGiven mount adds to the one-way channel between the tag at `tag_pose` and an antenna at
-// `antenna_position` (mount_image_factor with cosψ along the tag's local +X); 1 for other mounts.
-std::complex<double> mount_image_factor(const TagMountSpec& mount, const Pose& tag_pose, const Vec3& antenna_position,
+// The image path a kGiven backing adds to the one-way channel between the tag at `tag_pose` and an antenna at
+// `antenna_position` (backing_image_factor with cosψ along the tag's local +X); 1 for other backings.
+std::complex<double> backing_image_factor(const TagBackingSpec& backing, const Pose& tag_pose, const Vec3& antenna_position,
                                         double frequency_hz);
 
 }  // namespace rfidray

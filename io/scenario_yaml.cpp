@@ -485,19 +485,20 @@ TagChipSpec parse_tag_chip_node(const YamlFile& src, const YAML::Node& n, const 
   return c;
 }
 
-// A tag's `mount:`: none | scene | {material: metal, distance_m: D}, or the text form MATERIAL:DISTANCE_M.
-TagMountSpec parse_tag_mount_node(const YamlFile& src, const YAML::Node& n, const std::string& field) {
-  if (n.IsScalar()) return src.located(n, [&] { return io::parse_tag_mount(n.Scalar(), field); });
+// A tag's `backing:` (the surface behind it): none | scene | {material: metal, distance_m: D}, or the text form
+// MATERIAL:DISTANCE_M. (`mount:` is a robot mounting pose.)
+TagBackingSpec parse_tag_backing_node(const YamlFile& src, const YAML::Node& n, const std::string& field) {
+  if (n.IsScalar()) return src.located(n, [&] { return io::parse_tag_backing(n.Scalar(), field); });
   YamlMap m(src, n, field);
-  TagMountSpec mt;
-  mt.kind = TagMountSpec::Kind::kGiven;
+  TagBackingSpec mt;
+  mt.kind = TagBackingSpec::Kind::kGiven;
   mt.material = src.scalar(m.required("material"), m.field("material"));
   mt.distance_m = m.positive({"distance_m"}, 0.0);
   m.finish();
   return mt;
 }
 
-// The radio keys of a tag (gain_dbi, chip_sensitivity_dbm, pattern, polarization, antenna, chip, mount) into `t`.
+// The radio keys of a tag (gain_dbi, chip_sensitivity_dbm, pattern, polarization, antenna, chip, backing) into `t`.
 void parse_tag_keys(YamlMap& m, TagParams& t) {
   const YamlFile& src = m.src();
   t.gain_dbi = m.number("gain_dbi", t.gain_dbi);
@@ -509,10 +510,10 @@ void parse_tag_keys(YamlMap& m, TagParams& t) {
   if (auto pp = m.get("phase_pattern")) t.phase_pattern = parse_phase_pattern(src, *pp, m.field("phase_pattern"));
   if (auto a = m.get("antenna")) t.antenna = parse_tag_antenna_node(src, *a, m.field("antenna"));
   if (auto c = m.get("chip")) t.chip = parse_tag_chip_node(src, *c, m.field("chip"));
-  if (auto mt = m.get("mount")) {
-    t.mount = parse_tag_mount_node(src, *mt, m.field("mount"));
+  if (auto b = m.get("backing")) {
+    t.backing = parse_tag_backing_node(src, *b, m.field("backing"));
   } else if (t.antenna.kind != TagAntennaSpec::Kind::kNone) {
-    t.mount.kind = TagMountSpec::Kind::kScene;  // a tag with an antenna is detuned by the scene's metal near it
+    t.backing.kind = TagBackingSpec::Kind::kScene;  // a tag with an antenna is detuned by the scene's metal near it
   }
 }
 

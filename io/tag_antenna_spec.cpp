@@ -64,16 +64,16 @@ TagChipSpec parse_tag_chip(const std::string& text, const std::string& field) {
                                "': expected matched[:DESIGN_FREQUENCY_HZ], series:R_OHM:C_F or parallel:R_OHM:C_F");
 }
 
-TagMountSpec parse_tag_mount(const std::string& text, const std::string& field) {
-  TagMountSpec m;
+TagBackingSpec parse_tag_backing(const std::string& text, const std::string& field) {
+  TagBackingSpec m;
   if (text == "none") return m;
   if (text == "scene") {
-    m.kind = TagMountSpec::Kind::kScene;
+    m.kind = TagBackingSpec::Kind::kScene;
     return m;
   }
   const auto p = split(text, ':');
   if (p.size() == 2 && !p[0].empty()) {
-    m.kind = TagMountSpec::Kind::kGiven;
+    m.kind = TagBackingSpec::Kind::kGiven;
     m.material = p[0];
     m.distance_m = number(p[1], field, "the distance (m)");
     return m;

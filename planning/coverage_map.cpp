@@ -6,11 +6,14 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <map>
 #include <mutex>
+#include <tuple>
 
 #include "core/error.h"
 #include "core/limits.h"
 #include "core/read_probability.h"
+#include "core/tag_couplings.h"
 #include "core/units.h"
 #include "localization/cramer_rao.h"
 #include "raytrace/morton.h"
@@ -138,6 +141,39 @@ CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, siz
 
   const std::vector<uint32_t> order = spatial_order(cells);
 
+  // Tag antennas (core/tag_couplings.h): each cell's backing (the scene's metal near the cell, or the given one) and
+  // its coupling at every carrier, resolved serially before the parallel loop. Cells share a block when their tag
+  // parameters and resolved backing are the same (distances on the solver's 0.5 % grid), so a map of a million
+  // cells holds a few hundred blocks.
+  const size_t n_carriers = reader.frequencies_hz.size();
+  std::vector<TagCoupling> coupling_blocks;  // n_carriers per block
+  std::vector<TagBackingSpec> block_backing;
+  std::vector<uint32_t> block_of;            // per cell; kNoBlock: a point tag
+  constexpr uint32_t kNoBlock = std::numeric_limits<uint32_t>::max();
+  bool any_antenna = false;
+  for (const TagParams& t : cells.params) any_antenna = any_antenna || t.antenna.kind != TagAntennaSpec::Kind::kNone;
+  if (any_antenna) {
+    TagCouplingSolver solver;
+    std::map<std::tuple<size_t, int, std::string, double>, uint32_t> block_index;
+    block_of.assign(n, kNoBlock);
+    for (size_t k = 0; k < n; ++k) {
+      const size_t param = cells.param_of.empty() ? 0 : cells.param_of[k];
+      const TagParams& t = cells.params[param];
+      if (t.antenna.kind == TagAntennaSpec::Kind::kNone) continue;
+      const TagBackingSpec backing = solver.resolve_backing(t, cells.poses[k], channel);
+      const double d = backing.kind == TagBackingSpec::Kind::kNone ? 0.0 : coupling_grid_distance_m(backing.distance_m);
+      const auto key = std::make_tuple(param, static_cast<int>(backing.kind), backing.material, d);
+      auto it = block_index.find(key);
+      if (it == block_index.end()) {
+        it = block_index.emplace(key, static_cast<uint32_t>(block_backing.size())).first;
+        block_backing.push_back(backing);
+        for (double f : reader.frequencies_hz)
+          coupling_blocks.push_back(solver.coupling(t, backing, f, "coverage cell tag '" + t.name + "'"));
+      }
+      block_of[k] = it->second;
+    }
+  }
+
 #pragma omp parallel num_threads(threads)
   {
     // The cells are the parallel work: the channel's own loops over a batch stay serial in each thread (else
@@ -178,14 +214,20 @@ CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, siz
             link.distance_m = d;
             link.frequency_hz = f;
             link.hop_index = pp.carrier;
+            if (!block_of.empty() && block_of[cell_of[i]] != kNoBlock) {
+              const uint32_t b = block_of[cell_of[i]];
+              link.tag_coupling = &coupling_blocks[b * n_carriers + pp.carrier];
+              h[i] *= backing_image_factor(block_backing[b], tags[i].pose, pp.centre.position, f);
+            }
             link.h_one_way = h[i];
             const double p = read_probability(reader, cells.tag(cell_of[i]), link);
             const double gain2 = std::norm(h[i]);
+            const double k_mod = link.tag_coupling ? link.tag_coupling->modulation_factor : reader.modulation_factor;
             double rssi = kNaN, p_rx_w = 0.0;
             if (physical) {
               if (gain2 > 0.0) {
-                p_rx_w = p_tx_w * reader.modulation_factor * gain2 * gain2;
-                rssi = reader.tx_power_dbm + linear_to_db(reader.modulation_factor) + 2.0 * linear_to_db(gain2);
+                p_rx_w = p_tx_w * k_mod * gain2 * gain2;
+                rssi = reader.tx_power_dbm + linear_to_db(k_mod) + 2.0 * linear_to_db(gain2);
               }
             } else {
               rssi = 40.0 * std::log10(reader.communication_gain * lambda / (4.0 * kPi * d));

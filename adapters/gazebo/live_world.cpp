@@ -67,7 +67,7 @@ void LiveWorld::emit_until(double t_s, const TickSink& sink, size_t& emitted) {
     out.frequency_hz = reader.frequencies_hz[c];
     out.hop_index = static_cast<uint32_t>(c);
     const Channel& ch = reader.model == ReaderModelKind::kPhysical ? channel() : static_cast<const Channel&>(ideal_);
-    // Tag antennas and their mounts: resolved once, at the tags' first poses (core/tag_couplings.h).
+    // Tag antennas and what backs them: resolved once, at the tags' first poses (core/tag_couplings.h).
     if (!couplings_) couplings_.emplace(s, std::span<const Pose>(tag_poses), channel());
     out.reads = simulate_tick(s, ch, best, out.tick, out.antenna_pose, tag_poses, present, &*couplings_);
     ++next_tick_[best];

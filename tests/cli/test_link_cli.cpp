@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -107,6 +108,50 @@ TEST(LinkCli, BadInputFailsWithAMessage) {
     EXPECT_NE(r.out.find(c.needle), std::string::npos) << c.args << "\n" << r.out;
     EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
   }
+}
+
+// The tag as an antenna (issue #32's command): the JSON has the tag_antenna object with the impedance and the power
+// transfer of a half-wave dipole 1 cm from metal (−10.3 dB, NEC-2: tests/core/test_tag_antenna.cpp).
+TEST(LinkCli, TagAntennaOnMetalPrintsItsCoupling) {
+  const std::string floor = std::string(RFIDRAY_SOURCE_DIR) + "/scenes/floor_4m.obj";
+  const CliRun r = run("link --material concrete --scene " + floor + " --antenna 0,0,1 --tag 3,0,1 --tag-rpy 0,0,180 --frequency 866e6 "
+                       "--tag-antenna dipole:0.166:0.0005 --tag-chip matched --tag-backing metal:0.01 --json 2>/dev/null");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+  const auto& t = j["tag_antenna"];
+  EXPECT_NEAR(t["impedance_re_ohm"].get<double>(), 1.9, 0.2);
+  EXPECT_LT(std::abs(t["impedance_im_ohm"].get<double>()), 3.5);
+  EXPECT_NEAR(t["power_transfer_db"].get<double>(), -10.3, 0.3);
+  EXPECT_NEAR(t["power_transfer"].get<double>(), std::pow(10.0, t["power_transfer_db"].get<double>() / 10.0), 1e-12);
+  EXPECT_EQ(t["backing"]["kind"], "given");
+  // The chip's power is the point tag's on the same link plus the image path and F (= τ · R_a0 / R_a).
+  const CliRun point = run("link --material concrete --scene " + floor + " --antenna 0,0,1 --tag 3,0,1 --tag-rpy 0,0,180 --frequency 866e6 "
+                           "--json 2>/dev/null");
+  ASSERT_EQ(point.status, 0) << point.out;
+  const nlohmann::json jp = nlohmann::json::parse(point.out.substr(point.out.find('{')));
+  EXPECT_FALSE(jp.contains("tag_antenna"));
+  const double image_db = 10.0 * std::log10(std::norm(std::complex<double>(t["image_factor"]["re"], t["image_factor"]["im"])));
+  EXPECT_NEAR(j["raytraced"]["tag_power_dbm"].get<double>() - jp["raytraced"]["tag_power_dbm"].get<double>(),
+              image_db + t["chip_power_factor_db"].get<double>(), 1e-6);
+  // Facing away from the reader, the metal behind it blocks the link.
+  const CliRun back = run("link --material concrete --scene " + floor + " --antenna 0,0,1 --tag 3,0,1 --frequency 866e6 --json "
+                          "--tag-antenna dipole:0.166:0.0005 --tag-backing metal:0.01 2>/dev/null");
+  ASSERT_EQ(back.status, 0) << back.out;
+  EXPECT_FALSE(nlohmann::json::parse(back.out.substr(back.out.find('{')))["raytraced"]["readable"].get<bool>());
+}
+
+TEST(LinkCli, TagAntennaBadUsesExitTwoNamingTheOption) {
+  const std::string floor = std::string(RFIDRAY_SOURCE_DIR) + "/scenes/floor_4m.obj";
+  const std::string base = "link --material concrete --scene " + floor + " --antenna 0,0,1 --tag 3,0,1 ";
+  const CliRun chip_alone = run(base + "--tag-chip series:20:1e-12");
+  EXPECT_EQ(chip_alone.status, 2);
+  EXPECT_NE(chip_alone.out.find("--tag-antenna"), std::string::npos) << chip_alone.out;
+  const CliRun bad = run(base + "--tag-antenna dipole:0.166");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.out.find("--tag-antenna"), std::string::npos) << bad.out;
+  const CliRun wood = run(base + "--tag-antenna dipole:0.166:0.0005 --tag-backing wood:0.01");
+  EXPECT_EQ(wood.status, 2);
+  EXPECT_NE(wood.out.find("metal"), std::string::npos) << wood.out;
 }
 
 }  // namespace

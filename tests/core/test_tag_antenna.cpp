@@ -191,7 +191,7 @@ TEST(TagAntennaNec, DipoleImpedanceAndPowerTransferBesideMetalMatchNec2) {
 // The whole receive chain beside metal, not only the impedance: NEC-2 illuminates the dipole over ground with a
 // plane wave at normal incidence, the feed loaded by the chip (conjugate of NEC-2's free-space impedance); the
 // chip's power against free space is |I_d|² / |I_free|². rfidray splits it into the image path
-// (mount_image_factor, |1 − e^{−j2kd}|²) times F = 4 R_a0 R_c / |Z_a + Z_c|² (core/tag_antenna.h).
+// (backing_image_factor, |1 − e^{−j2kd}|²) times F = 4 R_a0 R_c / |Z_a + Z_c|² (core/tag_antenna.h).
 TEST(TagAntennaNec, ChipPowerBesideMetalUnderAPlaneWaveMatchesNec2) {
   REQUIRE_NEC2C();
   ScratchDir dir("tag_antenna_nec_pw");
@@ -201,14 +201,14 @@ TEST(TagAntennaNec, ChipPowerBesideMetalUnderAPlaneWaveMatchesNec2) {
   const auto i_free = nec_feed_current(dir, {.segments = 41, .plane_wave = true, .load_ohm = load}, "pw_free");
   ASSERT_TRUE(i_free);
   const TagAntennaSpec tag = dipole_tag();
-  TagMountSpec mount{TagMountSpec::Kind::kGiven, "metal", 0.0};
+  TagBackingSpec backing{TagBackingSpec::Kind::kGiven, "metal", 0.0};
   for (double d : {0.003, 0.005, 0.01, 0.02, 0.05, 0.1}) {
     const auto i_d = nec_feed_current(dir, {.segments = 41, .height_m = d, .plane_wave = true, .load_ohm = load},
                                       "pw_" + std::to_string(d));
     ASSERT_TRUE(i_d);
     const double nec_db = 20.0 * std::log10(*i_d / *i_free);
-    mount.distance_m = d;
-    const double image = std::norm(mount_image_factor(mount, 1.0, kFrequency_hz));
+    backing.distance_m = d;
+    const double image = std::norm(backing_image_factor(backing, 1.0, kFrequency_hz));
     const TagCoupling c = tag_coupling(tag, TagChipSpec{}, "metal", d, kFrequency_hz);
     const double rfidray_db = db(image * c.chip_power_factor);
     EXPECT_NEAR(rfidray_db, nec_db, 1.0) << "d = " << d << " m (image path alone: " << db(image) << " dB)";
@@ -240,13 +240,13 @@ TEST(TagAntennaNec, ModulatedBackscatterBesideMetalMatchesNec2) {
   };
   const TagAntennaSpec tag = dipole_tag();
   const TagCoupling free = tag_coupling(tag, TagChipSpec{}, "", 0.0, kFrequency_hz);
-  TagMountSpec mount{TagMountSpec::Kind::kGiven, "metal", 0.0};
+  TagBackingSpec backing{TagBackingSpec::Kind::kGiven, "metal", 0.0};
   for (double d : {0.003, 0.005, 0.01, 0.02, 0.05, 0.1}) {
     const auto nec = modulated_db(41, d);
     const auto nec_coarse = modulated_db(21, d);
     ASSERT_TRUE(nec && nec_coarse) << "nec2c failed at d = " << d;
-    mount.distance_m = d;
-    const double image2 = std::norm(mount_image_factor(mount, 1.0, kFrequency_hz));
+    backing.distance_m = d;
+    const double image2 = std::norm(backing_image_factor(backing, 1.0, kFrequency_hz));
     const TagCoupling c = tag_coupling(tag, TagChipSpec{}, "metal", d, kFrequency_hz);
     const double rfidray_db = db(image2 * image2 * c.modulation_factor / free.modulation_factor);
     EXPECT_NEAR(rfidray_db, *nec, 1.0 + std::abs(*nec - *nec_coarse)) << "d = " << d << " m";
@@ -300,16 +300,16 @@ TEST(TagAntenna, ChipImpedancesAreTheirCircuits) {
 
 TEST(TagAntenna, MountImageFactorIsTheImagePairAndBlocksBehind) {
   const double lambda = wavelength_m(kFrequency_hz);
-  TagMountSpec m{TagMountSpec::Kind::kGiven, "metal", lambda / 4.0};
+  TagBackingSpec m{TagBackingSpec::Kind::kGiven, "metal", lambda / 4.0};
   // d = λ/4 at normal incidence: the image wave arrives in phase, |AF| = 2.
-  EXPECT_NEAR(std::abs(mount_image_factor(m, 1.0, kFrequency_hz)), 2.0, 1e-12);
-  EXPECT_EQ(mount_image_factor(m, -0.3, kFrequency_hz), std::complex<double>(0.0, 0.0));
-  EXPECT_EQ(mount_image_factor(m, 0.0, kFrequency_hz), std::complex<double>(0.0, 0.0));
+  EXPECT_NEAR(std::abs(backing_image_factor(m, 1.0, kFrequency_hz)), 2.0, 1e-12);
+  EXPECT_EQ(backing_image_factor(m, -0.3, kFrequency_hz), std::complex<double>(0.0, 0.0));
+  EXPECT_EQ(backing_image_factor(m, 0.0, kFrequency_hz), std::complex<double>(0.0, 0.0));
   m.distance_m = 0.01;
   const double kd = wavenumber_rad_m(kFrequency_hz) * 0.01;
-  EXPECT_NEAR(std::abs(mount_image_factor(m, 1.0, kFrequency_hz)), 2.0 * std::sin(kd), 1e-12);
-  m.kind = TagMountSpec::Kind::kScene;  // a meshed surface: the ray tracer's image, not the mount's
-  EXPECT_EQ(mount_image_factor(m, 1.0, kFrequency_hz), std::complex<double>(1.0, 0.0));
+  EXPECT_NEAR(std::abs(backing_image_factor(m, 1.0, kFrequency_hz)), 2.0 * std::sin(kd), 1e-12);
+  m.kind = TagBackingSpec::Kind::kScene;  // a meshed surface: the ray tracer's image, not the backing's
+  EXPECT_EQ(backing_image_factor(m, 1.0, kFrequency_hz), std::complex<double>(1.0, 0.0));
 }
 
 TEST(TagAntenna, ImpedanceConvergesWithSegments) {
@@ -336,19 +336,19 @@ TEST(TagAntenna, BadParametersNameTheirField) {
   TagAntennaSpec a = dipole_tag();
   a.dipole.radius_m = 0.05;
   try {
-    validate(a, TagChipSpec{}, TagMountSpec{}, "tags[2]");
+    validate(a, TagChipSpec{}, TagBackingSpec{}, "tags[2]");
     FAIL() << "a fat wire was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("tags[2].antenna.radius_m"), std::string::npos) << e.what();
   }
-  const TagMountSpec wood{TagMountSpec::Kind::kGiven, "wood", 0.01};
+  const TagBackingSpec wood{TagBackingSpec::Kind::kGiven, "wood", 0.01};
   try {
     validate(dipole_tag(), TagChipSpec{}, wood, "tags[0]");
-    FAIL() << "an unmodelled mount material was accepted";
+    FAIL() << "an unmodelled backing material was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("tags[0].mount.material"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("tags[0].backing.material"), std::string::npos) << e.what();
   }
-  const TagMountSpec too_close{TagMountSpec::Kind::kGiven, "metal", 1e-4};
+  const TagBackingSpec too_close{TagBackingSpec::Kind::kGiven, "metal", 1e-4};
   EXPECT_THROW(validate(dipole_tag(), TagChipSpec{}, too_close, "t"), InputError);
   EXPECT_THROW(dipole_input_impedance({kLength_m, kRadius_m}, -1.0), InputError);
   EXPECT_THROW(dipole_input_impedance({kLength_m, kRadius_m}, kFrequency_hz, nullptr, 7), InputError);
