@@ -117,6 +117,7 @@ def main():
                          "impedance_im_ohm": t["impedance_im_ohm"], "nec_forward_m": ""})
         nec2c = shutil.which("nec2c")
         nec_note = "nec2c not found: no NEC-2 points"
+        impedance_rows = []
         if nec2c:
             z_free = nec_feed_current(nec2c, work, 0.0, None)
             load = z_free.conjugate()
@@ -124,6 +125,10 @@ def main():
             t_free = tagged_free["tag_antenna"]
             fwd_free, _ = ranges(tagged_free, "raytraced")
             for d in NEC_DISTANCES_M:
+                z_d = nec_feed_current(nec2c, work, d, None)
+                zr = link(a.binary, scene, ["--tag-antenna", f"dipole:{LENGTH_M}:{RADIUS_M}", "--tag-backing", f"metal:{d}"])["tag_antenna"]
+                z_ours = complex(zr["impedance_re_ohm"], zr["impedance_im_ohm"])
+                impedance_rows.append((d, z_ours, z_d, abs(z_ours - z_d) / abs(z_d)))
                 i_d = nec_feed_current(nec2c, work, d, load)
                 rows.append({"distance_m": d, "point_tag_range_m": "", "model_forward_m": "", "model_reverse_m": "",
                              "model_range_m": "", "power_transfer_db": "", "chip_power_factor_db": "", "image_db": "",
@@ -149,6 +154,10 @@ def main():
                             f"{r['model_reverse_m']:.2f} | {r['power_transfer_db']:.1f} | {r['chip_power_factor_db']:+.1f} | |\n")
                 else:
                     f.write(f"| {r['distance_m']:g} | | | | | {r['nec_forward_m']:.2f} |\n")
+            if impedance_rows:
+                f.write("\n| d (m) | rfidray Z (ohm) | NEC-2 Z (ohm, 41 segments) | abs(dZ)/abs(Z_NEC) |\n|---|---|---|---|\n")
+                for d, zo, zn, e in impedance_rows:
+                    f.write(f"| {d:g} | {zo.real:.3f} {zo.imag:+.3f}j | {zn.real:.3f} {zn.imag:+.3f}j | {100 * e:.1f} % |\n")
         png = a.png or os.path.join(a.out_dir, "tag_on_metal.png")
         try:
             import matplotlib

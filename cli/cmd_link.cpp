@@ -359,7 +359,12 @@ int run_link(const LinkOptions& o) {
         {"backing",
          {{"kind", m.kind == TagBackingSpec::Kind::kNone ? "none" : m.kind == TagBackingSpec::Kind::kGiven ? "given" : "scene"},
           {"material", m.material},
-          {"distance_m", m.distance_m}}},
+          {"distance_m", m.distance_m},
+          {"facet_extent_m", m.kind == TagBackingSpec::Kind::kScene && m.facet_extent_m < 1e299
+                                 ? nlohmann::json(m.facet_extent_m) : nlohmann::json(nullptr)},
+          // The detuning assumes an infinite plane: false when the facet is narrower than the dipole.
+          {"faces_facet", m.faces_facet},
+          {"plane_model_ok", plane_backing_ok(tag_params, m)}}},
         {"image_factor", complex_json(link_tag.image_factor)}};
   }
   j["raytraced"] = channel_json(raytraced, antenna, tag, o.frequency_hz, reader, tag_params, &link_tag);

@@ -19,6 +19,12 @@ struct NearbySurface {
   double distance_m = 0.0;
   std::string material;            // the radio material's name
   bool perfect_conductor = false;  // metal
+  // The smaller in-plane size of the planar facet it lies on (m): whether the surface is a plane to the tag
+  // (a shelf's 3 cm front edge is not one to a 16 cm dipole). Infinity when unknown.
+  double facet_extent_m = 1e300;
+  // True when the nearest point is the foot of the perpendicular on the facet (the point faces the facet), false
+  // when it lies on the facet's border (the point is beyond an edge): a plane model then does not describe it.
+  bool faces_facet = true;
 };
 
 // One end of a link: where it is, which way it points, how it radiates.

@@ -67,6 +67,10 @@ struct TagBackingSpec {
   Kind kind = Kind::kNone;
   std::string material;
   double distance_m = 0.0;
+  // kScene: the smaller in-plane size of the facet found (m). The detuning model assumes an infinite plane; a
+  // facet narrower than the antenna (a shelf's front edge) detunes less, so the result is an upper bound there.
+  double facet_extent_m = 1e300;
+  bool faces_facet = true;  // kScene: false when the tag is beyond the facet's edge (not over its face)
 };
 
 // How far a scene backing looks for a surface. The detuning of a half-wave dipole beside metal falls to 0.1 dB at

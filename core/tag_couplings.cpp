@@ -20,6 +20,12 @@ std::string metres(double v) {
 
 }  // namespace
 
+bool plane_backing_ok(const TagParams& tag, const TagBackingSpec& backing) {
+  if (backing.kind != TagBackingSpec::Kind::kScene) return true;
+  if (!backing.faces_facet) return false;
+  return !(tag.antenna.kind == TagAntennaSpec::Kind::kDipole && backing.facet_extent_m < tag.antenna.dipole.length_m);
+}
+
 double coupling_grid_distance_m(double distance_m) {
   return std::exp(std::round(std::log(distance_m) / kGridStep) * kGridStep);
 }
@@ -40,6 +46,8 @@ TagBackingSpec TagCouplingSolver::resolve_backing(const TagParams& tag, const Po
   m.kind = TagBackingSpec::Kind::kScene;
   m.material = "metal";
   m.distance_m = s->distance_m;
+  m.facet_extent_m = s->facet_extent_m;
+  m.faces_facet = s->faces_facet;
   if (tag.antenna.kind == TagAntennaSpec::Kind::kDipole && m.distance_m < tag.antenna.dipole.radius_m) {
     if (notes)
       notes->push_back("tag '" + tag.name + "': the nearest metal is " + metres(s->distance_m) +
@@ -115,7 +123,7 @@ TagCouplings::TagCouplings(const Scenario& scenario, std::span<const Pose> tag_p
   offset_.assign(n_tags, -1);
   backings_.resize(n_tags);
   TagCouplingSolver solver;
-  size_t scene_mounted = 0;
+  size_t scene_backed = 0, narrow = 0;
   double d_min = 1e300, d_max = 0.0;
   for (size_t i = 0; i < n_tags; ++i) {
     const TagSpec& spec = scenario.tags[i];
@@ -123,7 +131,8 @@ TagCouplings::TagCouplings(const Scenario& scenario, std::span<const Pose> tag_p
     if (spec.tag.antenna.kind == TagAntennaSpec::Kind::kNone) continue;
     backings_[i] = solver.resolve_backing(spec.tag, tag_poses[i], channel, &notes_);
     if (spec.tag.backing.kind == TagBackingSpec::Kind::kScene && backings_[i].kind == TagBackingSpec::Kind::kScene) {
-      ++scene_mounted;
+      ++scene_backed;
+      if (!plane_backing_ok(spec.tag, backings_[i])) ++narrow;
       d_min = std::min(d_min, backings_[i].distance_m);
       d_max = std::max(d_max, backings_[i].distance_m);
     }
@@ -132,10 +141,14 @@ TagCouplings::TagCouplings(const Scenario& scenario, std::span<const Pose> tag_p
     for (const AntennaSpec& a : scenario.antennas)
       for (double f : a.reader.frequencies_hz) values_.push_back(solver.coupling(spec.tag, backings_[i], f, field));
   }
-  if (scene_mounted > 0)
-    notes_.push_back(std::to_string(scene_mounted) + " tag(s) detuned by metal found in the scene, " + metres(d_min) +
+  if (scene_backed > 0)
+    notes_.push_back(std::to_string(scene_backed) + " tag(s) detuned by metal found in the scene, " + metres(d_min) +
                      "–" + metres(d_max) + " m behind them (" + std::to_string(solver.solves()) +
                      " moment-method solves)");
+  if (narrow > 0)
+    notes_.push_back(std::to_string(narrow) + " of them beyond a facet's edge or on a facet narrower than the antenna "
+                     "(e.g. a shelf's front edge): the detuning assumes an infinite plane, so for those it is an "
+                     "upper bound");
 }
 
 std::complex<double> backing_image_factor(const TagBackingSpec& backing, const Pose& tag_pose, const Vec3& antenna_position,

@@ -45,6 +45,10 @@ class TagCouplingSolver {
   size_t solves_ = 0;
 };
 
+// Whether the infinite-plane detuning model describes a scene backing: the tag faces the facet (not beyond its
+// edge) and the facet is at least as wide as the dipole. False: the detuning computed is an upper bound.
+bool plane_backing_ok(const TagParams& tag, const TagBackingSpec& backing);
+
 // The distance a solve is made at for a surface `distance_m` away (the 0.5 % grid above).
 double coupling_grid_distance_m(double distance_m);
 

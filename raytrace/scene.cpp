@@ -115,7 +115,17 @@ std::optional<Scene::NearbySurface> Scene::nearest_surface(const Vec3& point, do
   const NearestTriangle t = bvh_->nearest_triangle(point, max_distance_m, meshes_);
   if (!t.found) return std::nullopt;
   const uint32_t triangle = triangle_id(t.geom, t.prim);
-  return NearbySurface{t.distance_m, triangle, material_of(triangle)};
+  NearbySurface out{t.distance_m, triangle, material_of(triangle)};
+  if (const uint32_t f = facet_of(triangle); f != kNoFacet) {
+    // The facet's bounds along the world axes: the normal's axis is ~0 wide, the middle size is the in-plane
+    // minimum for an axis-aligned facet (and a lower bound for a tilted one).
+    Vec3 size = facets_[f].hi - facets_[f].lo;
+    std::array<double, 3> v{size.x(), size.y(), size.z()};
+    std::sort(v.begin(), v.end());
+    out.facet_extent_m = v[1];
+    out.faces_facet = std::abs(facets_[f].signed_distance(point)) >= 0.99 * t.distance_m;
+  }
+  return out;
 }
 
 std::vector<std::string> extrapolation_warnings(const Scene& scene, double frequency_hz) {

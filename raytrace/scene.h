@@ -100,6 +100,8 @@ class Scene {
     double distance_m = 0.0;
     uint32_t triangle = 0;
     uint32_t material = 0;  // index into materials()
+    double facet_extent_m = 1e300;  // the smaller in-plane size of its facet's bounds (no facet: infinity)
+    bool faces_facet = true;        // the nearest point is the perpendicular foot, not on the facet's border
   };
   std::optional<NearbySurface> nearest_surface(const Vec3& point, double max_distance_m) const;
   // Vertex i of mesh `mesh`, world coordinates.

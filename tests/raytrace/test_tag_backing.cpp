@@ -31,17 +31,29 @@ std::shared_ptr<const Scene> plate_scene(const std::string& material) {
       MaterialAssignment{});
 }
 
-TEST(TagMount, NearestSurfaceIsThePlateWithItsMaterial) {
+TEST(TagBacking, NearestSurfaceIsThePlateWithItsMaterial) {
   const RaytracedChannel metal(plate_scene("metal"));
   const auto s = metal.nearest_surface(Vec3(2.99, 0.3, 1.2), 0.15);
   ASSERT_TRUE(s);
   EXPECT_NEAR(s->distance_m, 0.01, 1e-6);
   EXPECT_TRUE(s->perfect_conductor);
   EXPECT_EQ(s->material, "metal");
+  EXPECT_TRUE(s->faces_facet);
+  EXPECT_NEAR(s->facet_extent_m, 4.0, 1e-6);  // the plate is 4 m × 4 m: a plane to a 16.6 cm dipole
   // Off the plate's edge the nearest point is on the edge: (3, 2, 1.2) from (2.9, 2.1, 1.2) is √2·0.1 away.
   const auto e = metal.nearest_surface(Vec3(2.9, 2.1, 1.2), 0.5);
   ASSERT_TRUE(e);
   EXPECT_NEAR(e->distance_m, std::sqrt(0.02), 1e-6);
+  EXPECT_FALSE(e->faces_facet);  // beyond the edge: the plane model does not describe it
+  TagParams t;
+  t.antenna.kind = TagAntennaSpec::Kind::kDipole;
+  t.antenna.dipole = {0.166, 0.0005};
+  TagBackingSpec beyond{TagBackingSpec::Kind::kScene, "metal", e->distance_m, e->facet_extent_m, e->faces_facet};
+  EXPECT_FALSE(plane_backing_ok(t, beyond));
+  TagBackingSpec narrow{TagBackingSpec::Kind::kScene, "metal", 0.01, 0.03, true};  // a 3 cm shelf edge
+  EXPECT_FALSE(plane_backing_ok(t, narrow));
+  TagBackingSpec wide{TagBackingSpec::Kind::kScene, "metal", 0.01, 1.0, true};
+  EXPECT_TRUE(plane_backing_ok(t, wide));
   EXPECT_FALSE(metal.nearest_surface(Vec3(2.5, 0, 1), 0.15));  // 0.5 m away: beyond the search radius
   const RaytracedChannel concrete(plate_scene("concrete"));
   const auto c = concrete.nearest_surface(Vec3(2.99, 0, 1), 0.15);
@@ -89,7 +101,7 @@ Reading only_read(const Scenario& s, const Channel& ch) {
   return r.antennas[0].reads.empty() ? Reading{} : r.antennas[0].reads[0].reading;
 }
 
-TEST(TagMount, MeshedPlateAndGivenMountReadAlike) {
+TEST(TagBacking, MeshedPlateAndGivenBackingReadAlike) {
   for (double gap : {0.005, 0.01, 0.03}) {
     const RaytracedChannel meshed(plate_scene("metal"));
     const Reading on_mesh = only_read(one_link({TagBackingSpec::Kind::kScene, "", 0.0}, gap), meshed);
@@ -110,7 +122,7 @@ TEST(TagMount, MeshedPlateAndGivenMountReadAlike) {
   }
 }
 
-TEST(TagMount, DetuningChangesReadsOnlyWhenTheTagHasAnAntenna) {
+TEST(TagBacking, DetuningChangesReadsOnlyWhenTheTagHasAnAntenna) {
   const RaytracedChannel meshed(plate_scene("metal"));
   Scenario point = one_link({}, 0.01);
   point.tags[0].tag.antenna = {};
