@@ -26,6 +26,9 @@ tag_sets:
   - name: face_{i}
     surface: {material: metal, mesh: rack_east_*, facing: [-1, 0, 0], offset_m: 0.01, step_m: 0.6,
               within: {min: [2.0, -9.5, 0.5], max: [3.0, 1.0, 2.6]}}
+  - name: shelf_{i}
+    surface: {material: metal, mesh: rack_east_*, facing: [0, 0, 1], offset_m: 0.01, step_m: 0.5,
+              within: {min: [3.1, -9.5, 1.0], max: [3.8, 1.0, 1.1]}}
 """
 
 
@@ -46,7 +49,8 @@ def variant(base_text, with_antenna, with_face_set):
     if with_face_set:
         text = text.rstrip() + "\n" + RACK_FACE_SET
         if with_antenna:
-            text = text.replace("  - name: face_{i}\n", "  - name: face_{i}\n    antenna: " + DIPOLE + "\n")
+            for name in ("face_{i}", "shelf_{i}"):
+                text = text.replace(f"  - name: {name}\n", f"  - name: {name}\n    antenna: " + DIPOLE + "\n")
     if with_antenna:
         # every listed tag: {name: tagN, position: [...]} → with the antenna key
         text = re.sub(r"\{name: (tag\d+), position: (\[[^\]]*\])\}", r"{name: \1, position: \2, antenna: '" + DIPOLE + "'}", text)
@@ -74,7 +78,9 @@ def detuning(binary, scene, position):
     j = json.loads(run([binary, "link", "--scene", scene, "--antenna", "0,0,1", "--tag", ",".join(map(str, position)),
                         "--tag-antenna", DIPOLE, "--json"]).stdout)
     t = j["tag_antenna"]
-    return t["backing"]["distance_m"] if t["backing"]["kind"] != "none" else None, t["power_transfer_db"], t["chip_power_factor_db"]
+    b = t["backing"]
+    return (b["distance_m"] if b["kind"] != "none" else None, t["power_transfer_db"], t["chip_power_factor_db"],
+            b["plane_model_ok"])
 
 
 def main():
@@ -104,20 +110,22 @@ def main():
                 out = os.path.join(work, f"out_{int(face)}_{int(antenna)}")
                 results[(face, antenna)] = simulate(a.binary, scen, out, a.channel)
                 if antenna:
-                    notes += [l for l in results[(face, antenna)][2].splitlines() if "detuned" in l]
+                    notes += [l for l in results[(face, antenna)][2].splitlines()
+                              if "detuned" in l or "upper bound" in l]
         scene = os.path.join(work, "paper_warehouse.obj")
         for face in (False, True):
             point_stats, tags, _ = results[(face, False)]
             dip_stats, _, _ = results[(face, True)]
             for name, pos in tags.items():
-                if face != name.startswith("face_"):
+                if face != (name.startswith("face_") or name.startswith("shelf_")):
                     continue
                 p = point_stats.get(name, {"reads": 0, "rssi_sum": 0.0})
                 d = dip_stats.get(name, {"reads": 0, "rssi_sum": 0.0})
-                dist, tau, factor = detuning(a.binary, scene, pos)
-                rows.append({"set": "rack face (1 cm)" if face else "paper tags", "tag": name,
+                dist, tau, factor, plane_ok = detuning(a.binary, scene, pos)
+                group = ("rack face (1 cm)" if name.startswith("face_") else "on a shelf plate (1 cm)") if face else "paper tags"
+                rows.append({"set": group, "tag": name,
                              "x": pos[0], "y": pos[1], "z": pos[2],
-                             "metal_m": dist, "tau_db": tau, "F_db": factor,
+                             "metal_m": dist, "tau_db": tau, "F_db": factor, "plane_model_ok": plane_ok,
                              "reads_point": p["reads"], "rssi_point_dbm": p["rssi_sum"] / p["reads"] if p["reads"] else None,
                              "reads_dipole": d["reads"], "rssi_dipole_dbm": d["rssi_sum"] / d["reads"] if d["reads"] else None})
     finally:
@@ -135,15 +143,17 @@ def main():
                  f" (physical reader model, channel {a.channel}, both antennas, the paper's trajectory and seed).\n\n")
         for n in notes:
             fo.write(f"- simulate: {n.replace('rfidray: note: ', '')}\n")
-        fo.write("\n| set | tag | nearest metal (m) | τ (dB) | F (dB) | reads, point tag | RSSI (dBm), point tag | reads, dipole | RSSI (dBm), dipole |\n")
-        fo.write("|---|---|---|---|---|---|---|---|---|\n")
+        fo.write("\n| set | tag | nearest metal (m) | plane model | τ (dB) | F (dB) | reads, point tag | RSSI (dBm), point tag | reads, dipole | RSSI (dBm), dipole |\n")
+        fo.write("|---|---|---|---|---|---|---|---|---|---|\n")
         for r in rows:
-            fo.write(f"| {r['set']} | {r['tag']} | {f(r['metal_m'], '{:.3f}')} | {r['tau_db']:.1f} | {r['F_db']:+.1f} | "
+            fo.write(f"| {r['set']} | {r['tag']} | {f(r['metal_m'], '{:.3f}')} | "
+                     f"{'ok' if r['plane_model_ok'] else 'upper bound'} | {r['tau_db']:.1f} | {r['F_db']:+.1f} | "
                      f"{r['reads_point']} | {f(r['rssi_point_dbm'], '{:.1f}')} | {r['reads_dipole']} | {f(r['rssi_dipole_dbm'], '{:.1f}')} |\n")
-        for s in ("paper tags", "rack face (1 cm)"):
+        for s in ("paper tags", "rack face (1 cm)", "on a shelf plate (1 cm)"):
             sel = [r for r in rows if r["set"] == s]
             tp, td = sum(r["reads_point"] for r in sel), sum(r["reads_dipole"] for r in sel)
-            fo.write(f"| **{s}: {len(sel)} tags** | | | | | **{tp}** | | **{td}** | |\n")
+            ok = sum(1 for r in sel if r["plane_model_ok"])
+            fo.write(f"| **{s}: {len(sel)} tags** | | | {ok} ok | | | **{tp}** | | **{td}** | |\n")
     print(f"wrote {os.path.join(a.out_dir, 'paper_warehouse.md')} ({len(rows)} tags)")
     return 0
 

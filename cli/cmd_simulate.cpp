@@ -125,6 +125,8 @@ int run(const SimulateOptions& o) {
   sim.threads = o.threads;
   set_progress("during the simulation; no output written");
   const SimulationResult result = simulate(scenario, motion, *channel, sim);
+  if (!o.quiet)
+    for (const std::string& note : result.notes) std::fprintf(stderr, "rfidray: note: %s\n", note.c_str());
 
   const std::filesystem::path dir(o.output_dir);
   std::error_code ec;
