@@ -19,6 +19,7 @@ void bind_scene(pyb::module_& m);     // Scene, Endpoint, Path, Channel
 void bind_simulate(pyb::module_& m);  // _simulate, _load_readings
 void bind_localize(pyb::module_& m);  // _localize
 void bind_calibrate(pyb::module_& m);  // _calibrate
+void bind_tag(pyb::module_& m);        // tag_coupling
 
 // Registers the world-file importer with io when this build has one (world_loader_gazebo.cpp or
 // world_loader_absent.cpp, chosen in CMake).

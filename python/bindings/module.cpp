@@ -11,4 +11,5 @@ PYBIND11_MODULE(_rfidray, m) {
   rfidray::py::bind_simulate(m);
   rfidray::py::bind_localize(m);
   rfidray::py::bind_calibrate(m);
+  rfidray::py::bind_tag(m);
 }

@@ -22,9 +22,9 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from ._rfidray import Channel, Endpoint, InputError, Path, Scene
-from ._rfidray import _calibrate, _load_readings, _localize, _simulate
+from ._rfidray import _calibrate, _load_readings, _localize, _simulate, tag_coupling
 
-__all__ = ["Channel", "Endpoint", "InputError", "Path", "Scene", "Simulation", "READINGS_COLUMNS", "calibrate",
+__all__ = ["Channel", "Endpoint", "InputError", "Path", "Scene", "Simulation", "READINGS_COLUMNS", "calibrate", "tag_coupling",
            "load_readings", "localize", "readings_dtype", "simulate"]
 
 # The readings CSV's columns (io/readings_csv.h), in file order.

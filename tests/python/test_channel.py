@@ -142,3 +142,18 @@ def test_world_scene_matches_rfidray_link_world():
     paths = rfidray.Channel(scene).paths(antennas["reader"].position, tags["tag_1::link"].position)
     assert [(p.kind, p.length_m, p.material) for p in paths] == \
         [(e["kind"], e["length_m"], e["material"]) for e in expected["raytraced"]["paths"]]
+
+
+def test_tag_coupling_beside_metal_matches_link():
+    # The tag antenna model (docs/tag-antenna.md): a half-wave dipole 1 cm from metal, as `rfidray link` gives it.
+    free = rfidray.tag_coupling("dipole:0.166:0.0005", frequency_hz=866e6)
+    assert abs(free["power_transfer"] - 1.0) < 1e-12
+    assert abs(free["modulation_factor"] - 0.25) < 1e-12
+    on_metal = rfidray.tag_coupling("dipole:0.166:0.0005", "matched", "metal:0.01", 866e6)
+    assert abs(on_metal["power_transfer_db"] + 10.3) < 0.3  # NEC-2: -10.3 dB (tests/core/test_tag_antenna.cpp)
+    assert abs(on_metal["impedance_ohm"].real - 1.9) < 0.2
+    assert isinstance(on_metal["impedance_ohm"], complex)
+    with pytest.raises(rfidray.InputError, match="backing"):
+        rfidray.tag_coupling("dipole:0.166:0.0005", "matched", "scene")
+    with pytest.raises(rfidray.InputError, match="antenna"):
+        rfidray.tag_coupling("dipole:0.166")
