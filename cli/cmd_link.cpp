@@ -358,7 +358,12 @@ int run_link(const LinkOptions& o) {
         {"backscatter_phase_rad", c.backscatter_phase_rad},
         {"backing",
          {{"kind", m.kind == TagBackingSpec::Kind::kNone ? "none" : m.kind == TagBackingSpec::Kind::kGiven ? "given" : "scene"},
-          {"material", m.material},
+          {"material", m.material.name},
+          {"perfect_conductor", m.material.perfect_conductor},
+          // ε' − jσ/(ωε0) at this frequency; null for a perfect conductor.
+          {"relative_permittivity", m.kind == TagBackingSpec::Kind::kNone || m.material.perfect_conductor
+                                        ? nlohmann::json(nullptr)
+                                        : complex_json(m.material.complex_permittivity(o.frequency_hz))},
           {"distance_m", m.distance_m},
           {"facet_extent_m", m.kind == TagBackingSpec::Kind::kScene && m.facet_extent_m < 1e299
                                  ? nlohmann::json(m.facet_extent_m) : nlohmann::json(nullptr)},
@@ -402,9 +407,9 @@ std::function<int()> setup_link(CLI::App& app) {
   cmd->add_option("--tag-antenna", o->tag_antenna,
                   "the tag as an antenna: dipole:LENGTH_M:RADIUS_M[:CONDUCTIVITY_S_M] | table:FILE.csv (docs/tag-antenna.md)");
   cmd->add_option("--tag-chip", o->tag_chip, "matched[:DESIGN_HZ] | series:R_OHM:C_F | parallel:R_OHM:C_F (with --tag-antenna)");
-  cmd->add_option("--tag-backing", o->tag_backing,
-                  "what the tag is on: scene (nearest meshed facet; default) | none | MATERIAL:DISTANCE_M, e.g. metal:0.01 "
-                  "(a surface behind the tag, along its local -X)");
+  cmd->add_option("--tag-backing,--tag-mount", o->tag_backing,
+                  "what the tag is on: scene (nearest meshed facet; default) | none | MATERIAL:DISTANCE_M, e.g. metal:0.01, "
+                  "water:0.005 | dielectric:EPS_R:SIGMA_S_M:DISTANCE_M (a surface behind the tag, along its local -X)");
   cmd->add_flag("--json", o->json, "JSON output");
   return [o] { return run_link(*o); };
 }

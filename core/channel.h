@@ -9,6 +9,7 @@
 
 #include "core/antenna_pattern.h"
 #include "core/geometry.h"
+#include "core/material.h"
 #include "core/path.h"
 #include "core/polarization.h"
 
@@ -17,8 +18,7 @@ namespace rfidray {
 // The surface nearest to a point, as a tag's mount sees it (core/tag_antenna.h, TagMountSpec::kScene).
 struct NearbySurface {
   double distance_m = 0.0;
-  std::string material;            // the radio material's name
-  bool perfect_conductor = false;  // metal
+  RadioMaterial material;  // its radio material (perfect_conductor: metal)
   // The smaller in-plane size of the planar facet it lies on (m): whether the surface is a plane to the tag
   // (a shelf's 3 cm front edge is not one to a 16 cm dipole). Infinity when unknown.
   double facet_extent_m = 1e300;

@@ -29,7 +29,8 @@ struct RadioMaterial {
   }
 };
 
-// concrete, brick, plasterboard, wood, glass, metal (P.2040 Table 3). nullopt if unknown.
+// concrete, brick, plasterboard, wood, glass, metal (P.2040 Table 3) and water (Debye; core/material.cpp).
+// nullopt if unknown.
 std::optional<RadioMaterial> builtin_material(const std::string& name);
 std::vector<std::string> builtin_material_names();
 // A user-defined material with fixed ε' and σ (S/m), optional thickness (0: half-space).

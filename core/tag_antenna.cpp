@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/dielectric_half_space.h"
 #include "core/error.h"
+#include "core/fresnel.h"
 #include "core/units.h"
 
 namespace rfidray {
@@ -17,8 +19,6 @@ std::string num(double v) {
 }
 
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
-
-bool is_metal(const std::string& material) { return material == "metal"; }
 
 // Power-wave reflection coefficient of a load Z_l on a source Z_s (Kurokawa 1965).
 std::complex<double> power_wave_reflection(std::complex<double> z_load, std::complex<double> z_source) {
@@ -49,18 +49,20 @@ std::complex<double> antenna_free_space_impedance(const TagAntennaSpec& antenna,
   throw field_error(field, "the paper's point tag has no impedance (give the tag an antenna: dipole or table)");
 }
 
-std::complex<double> antenna_impedance_in_place(const TagAntennaSpec& antenna, const std::string& material,
+std::complex<double> antenna_impedance_in_place(const TagAntennaSpec& antenna, const RadioMaterial* material,
                                                 double distance_m, double frequency_hz, const std::string& field) {
-  if (material.empty() || !(distance_m > 0.0) || antenna.kind != TagAntennaSpec::Kind::kDipole)
+  if (!material || !(distance_m > 0.0) || antenna.kind != TagAntennaSpec::Kind::kDipole)
     return antenna_free_space_impedance(antenna, frequency_hz, field);
-  if (!is_metal(material))
-    throw field_error(field + ".material", "'" + clip(material) +
-                                               "': only metal (a perfect conductor) detunes a tag antenna so far (known: metal)");
   if (!(distance_m >= antenna.dipole.radius_m))
     throw field_error(field + ".distance_m", "must be at least the wire's radius (" +
                                                  num(antenna.dipole.radius_m) + " m; got " + num(distance_m) + ")");
-  const auto plane = perfect_conductor_plane(distance_m, frequency_hz);
-  return dipole_input_impedance(antenna.dipole, frequency_hz, plane.get());
+  if (material->perfect_conductor) {
+    const auto plane = perfect_conductor_plane(distance_m, frequency_hz);
+    return dipole_input_impedance(antenna.dipole, frequency_hz, plane.get());
+  }
+  const auto half_space = dielectric_half_space(distance_m, frequency_hz, material->complex_permittivity(frequency_hz),
+                                                antenna.dipole.length_m);
+  return dipole_input_impedance(antenna.dipole, frequency_hz, half_space.get());
 }
 
 std::complex<double> chip_impedance(const TagChipSpec& chip, const TagAntennaSpec& antenna, double frequency_hz,
@@ -102,7 +104,7 @@ TagCoupling tag_coupling(std::complex<double> z_free_ohm, std::complex<double> z
   return c;
 }
 
-TagCoupling tag_coupling(const TagAntennaSpec& antenna, const TagChipSpec& chip, const std::string& material,
+TagCoupling tag_coupling(const TagAntennaSpec& antenna, const TagChipSpec& chip, const RadioMaterial* material,
                          double distance_m, double frequency_hz, const std::string& field) {
   const std::complex<double> z_free = antenna_free_space_impedance(antenna, frequency_hz, field + ".antenna");
   const std::complex<double> z_in = antenna_impedance_in_place(antenna, material, distance_m, frequency_hz,
@@ -117,8 +119,17 @@ TagCoupling tag_coupling(const TagAntennaSpec& antenna, const TagChipSpec& chip,
 std::complex<double> backing_image_factor(const TagBackingSpec& backing, double cos_psi, double frequency_hz) {
   if (backing.kind != TagBackingSpec::Kind::kGiven) return 1.0;
   if (!(cos_psi > 0.0)) return 0.0;  // behind the surface: the object blocks it
-  // A perfect conductor reverses the image's tangential field (Γ = −1 for a field parallel to the plane).
-  return 1.0 - std::polar(1.0, -2.0 * wavenumber_rad_m(frequency_hz) * backing.distance_m * cos_psi);
+  // The tangential (TE) field's reflection: Γ = −1 for a perfect conductor.
+  const std::complex<double> gamma = material_reflection(backing.material, frequency_hz, std::min(cos_psi, 1.0)).te;
+  return 1.0 + gamma * std::polar(1.0, -2.0 * wavenumber_rad_m(frequency_hz) * backing.distance_m * cos_psi);
+}
+
+RadioMaterial backing_material(const std::string& name, const std::string& field) {
+  if (auto m = builtin_material(name)) return *m;
+  std::string known;
+  for (const std::string& n : builtin_material_names()) known += (known.empty() ? "" : ", ") + n;
+  throw field_error(field, "'" + clip(name) + "': unknown radio material (known: " + known +
+                               "; or dielectric:EPS_R:SIGMA_S_M:DISTANCE_M)");
 }
 
 void validate(const TagAntennaSpec& antenna, const TagChipSpec& chip, const TagBackingSpec& backing,
@@ -155,9 +166,6 @@ void validate(const TagAntennaSpec& antenna, const TagChipSpec& chip, const TagB
     throw field_error(field + ".chip.design_frequency_hz", "must be ≥ 0 and at most 1e11 Hz (0: each carrier)");
   }
   if (backing.kind == TagBackingSpec::Kind::kGiven) {
-    if (!is_metal(backing.material))
-      throw field_error(field + ".backing.material", "'" + clip(backing.material) +
-                                                       "': only metal detunes a tag so far (known: metal)");
     if (!(std::isfinite(backing.distance_m) && backing.distance_m > 0.0 && backing.distance_m <= 10.0))
       throw field_error(field + ".backing.distance_m", "must be > 0 and at most 10 m (got " + num(backing.distance_m) + ")");
     if (antenna.kind == TagAntennaSpec::Kind::kDipole && backing.distance_m < antenna.dipole.radius_m)

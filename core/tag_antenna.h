@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "core/material.h"
 #include "core/thin_wire_dipole.h"
 
 namespace rfidray {
@@ -61,11 +62,14 @@ struct TagChipSpec {
 // to it; the surface's normal along the tag's local −X, the tag facing +X), not in the scene: the model adds its
 // image path and blocks the half-space behind it. kScene: the nearest meshed facet within kSceneBackingSearch_m
 // of the tag (when the channel has a scene), its material and distance; its image path is the ray tracer's.
-// material: "metal" (a perfect conductor). Dielectric materials are not modelled yet: InputError names them.
+// material: a perfect conductor (metal) is an image plane (core/thin_wire_dipole.h); any other radio material
+// (core/material.h: the P.2040 ones, water, a user material) a dielectric half-space of its complex permittivity
+// (core/dielectric_half_space.h). A slab (thickness_m > 0) is taken as the half-space of its material, an upper
+// bound on its detuning.
 struct TagBackingSpec {
   enum class Kind { kNone, kGiven, kScene };
   Kind kind = Kind::kNone;
-  std::string material;
+  RadioMaterial material;
   double distance_m = 0.0;
   // kScene: the smaller in-plane size of the facet found (m). The detuning model assumes an infinite plane; a
   // facet narrower than the antenna (a shelf's front edge) detunes less, so the result is an upper bound there.
@@ -91,7 +95,8 @@ struct TagCoupling {
 // Impedances. Throw InputError naming `field` for unusable parameters.
 std::complex<double> antenna_free_space_impedance(const TagAntennaSpec& antenna, double frequency_hz,
                                                   const std::string& field = "tag.antenna");
-std::complex<double> antenna_impedance_in_place(const TagAntennaSpec& antenna, const std::string& material,
+// `material` null (or distance ≤ 0): free space.
+std::complex<double> antenna_impedance_in_place(const TagAntennaSpec& antenna, const RadioMaterial* material,
                                                 double distance_m, double frequency_hz,
                                                 const std::string& field = "tag.backing");
 std::complex<double> chip_impedance(const TagChipSpec& chip, const TagAntennaSpec& antenna, double frequency_hz,
@@ -100,17 +105,24 @@ std::complex<double> chip_impedance(const TagChipSpec& chip, const TagAntennaSpe
 // τ, F, K and the phase from the three impedances.
 TagCoupling tag_coupling(std::complex<double> z_free_ohm, std::complex<double> z_in_place_ohm,
                          std::complex<double> z_chip_ohm);
-// The same for a tag: antenna, chip and (for kGiven) backing, or an explicit surface (material, distance) found in
-// the scene (material "" or distance ≤ 0: free space).
-TagCoupling tag_coupling(const TagAntennaSpec& antenna, const TagChipSpec& chip, const std::string& material,
+// The same for a tag: antenna, chip and a surface (material, distance) behind it (material null or distance ≤ 0:
+// free space).
+TagCoupling tag_coupling(const TagAntennaSpec& antenna, const TagChipSpec& chip, const RadioMaterial* material,
                          double distance_m, double frequency_hz, const std::string& field = "tag");
 
-// The image path of a kGiven backing, as a factor on the one-way channel: 1 − e^{−j2kd·cosψ} for a metal surface,
-// ψ the angle between the direction to the other end (tag frame) and the tag's +X; 0 behind the surface
-// (cosψ ≤ 0). Exact for an infinite plane in the far field of the pair.
+// The image path of a kGiven backing, as a factor on the one-way channel: 1 + Γ(ψ)·e^{−j2kd·cosψ}, Γ the
+// surface's Fresnel reflection coefficient for the field parallel to it (TE; −1 for metal), ψ the angle between
+// the direction to the other end (tag frame) and the tag's +X; 0 behind the surface (cosψ ≤ 0: the object is
+// taken as opaque: right for metal, roughly right for a box of water, which at 866 MHz costs ~29 dB/m (σ/2·η₀/√ε')
+// plus ~4 dB at each face; wrong for a thin dielectric wall, which a tag behind it reads through). Exact for an
+// infinite plane in the far field of the pair.
 std::complex<double> backing_image_factor(const TagBackingSpec& backing, double cos_psi, double frequency_hz);
 
-// Checks the three specs (finite, positive sizes; known material). Throws InputError naming `field`.
+// The radio material a backing names: a built-in one (core/material.h). Throws InputError naming `field` and the
+// known names.
+RadioMaterial backing_material(const std::string& name, const std::string& field);
+
+// Checks the three specs (finite, positive sizes). Throws InputError naming `field`.
 void validate(const TagAntennaSpec& antenna, const TagChipSpec& chip, const TagBackingSpec& backing,
               const std::string& field);
 

@@ -28,8 +28,8 @@ struct SceneMotion;
 class TagCouplingSolver {
  public:
   // The backing of a tag at `pose`: kGiven and kNone as given; kScene becomes kScene with the nearest surface's
-  // material and distance (within kSceneBackingSearch_m, metal only: a dielectric surface does not detune in this
-  // version and a note says so), or kNone when there is none. `notes` (optional) collects lines for the user.
+  // radio material and distance (within kSceneBackingSearch_m; metal or dielectric), or kNone when there is none.
+  // `notes` (optional) collects lines for the user.
   TagBackingSpec resolve_backing(const TagParams& tag, const Pose& pose, const Channel& channel,
                              std::vector<std::string>* notes = nullptr);
   // The coupling of `tag` with its backing resolved to `backing`, at `frequency_hz`.
@@ -38,9 +38,9 @@ class TagCouplingSolver {
   size_t solves() const { return solves_; }
 
  private:
-  std::complex<double> in_place(const TagAntennaSpec& antenna, const std::string& material, double distance_m,
+  std::complex<double> in_place(const TagAntennaSpec& antenna, const RadioMaterial* material, double distance_m,
                                 double frequency_hz, const std::string& field);
-  using Key = std::tuple<double, double, double, std::string, double, double>;
+  using Key = std::tuple<double, double, double, int, double, double, double, double>;
   std::map<Key, std::complex<double>> memo_;
   size_t solves_ = 0;
 };

@@ -1,11 +1,11 @@
 #include "core/thin_wire_dipole.h"
 
 #include <Eigen/Dense>
-#include <array>
 #include <cmath>
 #include <vector>
 
 #include "core/error.h"
+#include "core/gauss_legendre.h"
 #include "core/units.h"
 
 namespace rfidray {
@@ -13,38 +13,8 @@ namespace {
 
 constexpr double kMu0_H_m = 1.25663706212e-6;
 
-// Gauss–Legendre nodes and weights on (−1, 1) (Newton on P_n; Golub–Welsch would need an eigen-solve).
-template <int N>
-struct GaussLegendre {
-  std::array<double, N> x{}, w{};
-  GaussLegendre() {
-    for (int i = 0; i < N; ++i) {
-      double z = std::cos(kPi * (i + 0.75) / (N + 0.5)), dp = 0.0;
-      for (int it = 0; it < 100; ++it) {
-        double p0 = 1.0, p1 = z;
-        for (int n = 2; n <= N; ++n) {
-          const double p2 = ((2.0 * n - 1.0) * z * p1 - (n - 1.0) * p0) / n;
-          p0 = p1;
-          p1 = p2;
-        }
-        dp = N * (z * p1 - p0) / (z * z - 1.0);
-        const double dz = p1 / dp;
-        z -= dz;
-        if (std::abs(dz) < 1e-15) break;
-      }
-      x[i] = z;
-      w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
-    }
-  }
-};
-const GaussLegendre<6>& gauss6() {
-  static const GaussLegendre<6> g;
-  return g;
-}
-const GaussLegendre<24>& gauss24() {
-  static const GaussLegendre<24> g;
-  return g;
-}
+const GaussLegendre<6>& gauss6() { return gauss_legendre<6>(); }
+const GaussLegendre<24>& gauss24() { return gauss_legendre<24>(); }
 
 // ∫∫ dz dz' / √((z − z')² + ρ²) over [a1, a2] × [b1, b2], from the antiderivative F(u) = u·asinh(u/ρ) − √(u² + ρ²).
 double static_double_integral(double a1, double a2, double b1, double b2, double rho) {

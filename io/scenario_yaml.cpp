@@ -485,14 +485,21 @@ TagChipSpec parse_tag_chip_node(const YamlFile& src, const YAML::Node& n, const 
   return c;
 }
 
-// A tag's `backing:` (the surface behind it): none | scene | {material: metal, distance_m: D}, or the text form
-// MATERIAL:DISTANCE_M. (`mount:` is a robot mounting pose.)
+// A tag's `backing:` (the surface behind it): none | scene | {material: NAME, distance_m: D} |
+// {material: dielectric, relative_permittivity: E, conductivity_s_m: S, distance_m: D}, or the text forms
+// (io/tag_antenna_spec.h). (`mount:` is a robot mounting pose.)
 TagBackingSpec parse_tag_backing_node(const YamlFile& src, const YAML::Node& n, const std::string& field) {
   if (n.IsScalar()) return src.located(n, [&] { return io::parse_tag_backing(n.Scalar(), field); });
   YamlMap m(src, n, field);
   TagBackingSpec mt;
   mt.kind = TagBackingSpec::Kind::kGiven;
-  mt.material = src.scalar(m.required("material"), m.field("material"));
+  const std::string name = src.scalar(m.required("material"), m.field("material"));
+  if (name == "dielectric") {
+    const double eps = m.number("relative_permittivity", 0.0), sigma = m.number("conductivity_s_m", 0.0);
+    mt.material = src.located(n, [&] { return user_material("dielectric", eps, sigma, 0.0); });
+  } else {
+    mt.material = src.located(n, [&] { return backing_material(name, field + ".material"); });
+  }
   mt.distance_m = m.positive({"distance_m"}, 0.0);
   m.finish();
   return mt;

@@ -74,11 +74,23 @@ TagBackingSpec parse_tag_backing(const std::string& text, const std::string& fie
   const auto p = split(text, ':');
   if (p.size() == 2 && !p[0].empty()) {
     m.kind = TagBackingSpec::Kind::kGiven;
-    m.material = p[0];
+    m.material = backing_material(p[0], field + ".material");
     m.distance_m = number(p[1], field, "the distance (m)");
     return m;
   }
-  throw field_error(field, "'" + clip(text) + "': expected none, scene or MATERIAL:DISTANCE_M (e.g. metal:0.01)");
+  if (p.size() == 4 && p[0] == "dielectric") {
+    m.kind = TagBackingSpec::Kind::kGiven;
+    const double eps_r = number(p[1], field, "the relative permittivity");
+    const double sigma_s_m = number(p[2], field, "the conductivity (S/m)");
+    if (!(eps_r >= 1.0)) throw field_error(field, "'" + clip(text) + "': the relative permittivity must be >= 1");
+    if (!(sigma_s_m >= 0.0)) throw field_error(field, "'" + clip(text) + "': the conductivity must be >= 0 S/m");
+    m.material = user_material("dielectric", eps_r, sigma_s_m, 0.0);
+    m.distance_m = number(p[3], field, "the distance (m)");
+    return m;
+  }
+  throw field_error(field, "'" + clip(text) +
+                               "': expected none, scene, MATERIAL:DISTANCE_M (e.g. metal:0.01, water:0.005) or "
+                               "dielectric:EPS_R:SIGMA_S_M:DISTANCE_M");
 }
 
 std::vector<TagAntennaSpec::Point> read_tag_antenna_table(const std::string& file) {

@@ -3,7 +3,8 @@
 // command line (docs/tag-antenna.md):
 //   antenna: dipole:LENGTH_M:RADIUS_M[:CONDUCTIVITY_S_M] | table:FILE.csv
 //   chip:    matched[:DESIGN_FREQUENCY_HZ] | series:R_OHM:C_F | parallel:R_OHM:C_F
-//   backing:   none | scene | MATERIAL:DISTANCE_M        (material: metal)
+//   backing: none | scene | MATERIAL:DISTANCE_M | dielectric:EPS_R:SIGMA_S_M:DISTANCE_M
+//            (MATERIAL: a built-in radio material, core/material.h: metal, water, wood, glass, …)
 // A table file is CSV with a header line and the columns frequency_hz, resistance_ohm, reactance_ohm (the
 // antenna's free-space impedance, e.g. from a datasheet or a NEC run), frequencies increasing.
 // Throws InputError naming `field` (and for a table, its file and line). Thread-safe.

@@ -162,7 +162,7 @@ CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, siz
       if (t.antenna.kind == TagAntennaSpec::Kind::kNone) continue;
       const TagBackingSpec backing = solver.resolve_backing(t, cells.poses[k], channel);
       const double d = backing.kind == TagBackingSpec::Kind::kNone ? 0.0 : coupling_grid_distance_m(backing.distance_m);
-      const auto key = std::make_tuple(param, static_cast<int>(backing.kind), backing.material, d);
+      const auto key = std::make_tuple(param, static_cast<int>(backing.kind), backing.material.name, d);
       auto it = block_index.find(key);
       if (it == block_index.end()) {
         it = block_index.emplace(key, static_cast<uint32_t>(block_backing.size())).first;

@@ -167,7 +167,7 @@ std::optional<NearbySurface> RaytracedChannel::nearest_surface(const Vec3& point
   const auto s = scene().nearest_surface(point, max_distance_m);
   if (!s) return std::nullopt;
   const RadioMaterial& m = scene().materials()[s->material];
-  return NearbySurface{s->distance_m, m.name, m.perfect_conductor, s->facet_extent_m, s->faces_facet};
+  return NearbySurface{s->distance_m, m, s->facet_extent_m, s->faces_facet};
 }
 
 }  // namespace rfidray

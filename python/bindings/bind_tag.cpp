@@ -22,7 +22,7 @@ void bind_tag(pyb::module_& m) {
           throw InputError("backing: 'scene' needs a scene; give none or MATERIAL:DISTANCE_M here");
         validate(a, c, b, "tag");
         if (!(frequency_hz > 0.0 && frequency_hz <= 1e11)) throw InputError("frequency_hz: must be in (0, 1e11] Hz");
-        const TagCoupling t = tag_coupling(a, c, b.material, b.distance_m, frequency_hz);
+        const TagCoupling t = tag_coupling(a, c, b.kind == TagBackingSpec::Kind::kGiven ? &b.material : nullptr, b.distance_m, frequency_hz);
         pyb::dict d;
         d["impedance_ohm"] = t.antenna_impedance_ohm;
         d["free_space_impedance_ohm"] = t.free_space_impedance_ohm;
@@ -38,7 +38,7 @@ void bind_tag(pyb::module_& m) {
       pyb::arg("antenna"), pyb::arg("chip") = "matched", pyb::arg("backing") = "none",
       pyb::arg("frequency_hz") = 866e6,
       "The tag antenna model at one frequency: antenna 'dipole:L:A[:SIGMA]' or 'table:FILE.csv', chip "
-      "'matched[:HZ]' | 'series:R:C' | 'parallel:R:C', backing 'none' | 'metal:DISTANCE_M'. Returns the "
+      "'matched[:HZ]' | 'series:R:C' | 'parallel:R:C', backing 'none' | 'MATERIAL:DISTANCE_M' (metal, water, wood, …) | 'dielectric:EPS:SIGMA:DISTANCE_M'. Returns the "
       "impedances (complex, ohm), the power transfer tau, F (dB), K, the backscatter turn and the image factor "
       "at normal incidence (docs/tag-antenna.md).");
 }

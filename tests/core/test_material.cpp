@@ -84,11 +84,26 @@ TEST(Material, MetalIsPerfectConductor) {
 
 TEST(Material, NamesAndUnknown) {
   const auto names = builtin_material_names();
-  for (const char* n : {"concrete", "brick", "plasterboard", "wood", "glass", "metal"})
+  for (const char* n : {"concrete", "brick", "plasterboard", "wood", "glass", "metal", "water"})
     EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
-  EXPECT_EQ(names.size(), 6u);
+  EXPECT_EQ(names.size(), 7u);
   EXPECT_FALSE(builtin_material("unobtainium"));
   EXPECT_FALSE(builtin_material("Concrete"));
+}
+
+// Water's power law against the Debye relaxation it stands for (Kaatze 1989, 25 °C), computed here.
+TEST(Material, WaterFollowsItsDebyeRelaxation) {
+  const auto m = builtin_material("water");
+  ASSERT_TRUE(m);
+  for (double f : {0.1e9, 0.866e9, 2e9, 3e9}) {
+    const double omega = 2.0 * 3.14159265358979 * f, tau = 8.27e-12, es = 78.36, einf = 5.2;
+    const std::complex<double> debye = einf + (es - einf) / std::complex<double>(1.0, omega * tau);
+    const double sigma = -debye.imag() * omega * 8.8541878128e-12;
+    EXPECT_NEAR(m->relative_permittivity(f), debye.real(), 0.03 * debye.real()) << f;
+    EXPECT_NEAR(m->conductivity_s_m(f), sigma, 0.03 * sigma) << f;
+    EXPECT_FALSE(m->extrapolated(f));
+  }
+  EXPECT_TRUE(m->extrapolated(5e9));
 }
 
 TEST(Material, UserMaterial) {

@@ -41,8 +41,21 @@ TEST(TagAntennaSpec, TextFormsParse) {
   EXPECT_DOUBLE_EQ(parse_tag_chip("matched:915e6", "f").design_frequency_hz, 915e6);
   const TagBackingSpec m = parse_tag_backing("metal:0.01", "f");
   EXPECT_EQ(m.kind, TagBackingSpec::Kind::kGiven);
-  EXPECT_EQ(m.material, "metal");
+  EXPECT_EQ(m.material.name, "metal");
+  EXPECT_TRUE(m.material.perfect_conductor);
   EXPECT_DOUBLE_EQ(m.distance_m, 0.01);
+  const TagBackingSpec w = parse_tag_backing("water:0.005", "f");
+  EXPECT_EQ(w.material.name, "water");
+  EXPECT_FALSE(w.material.perfect_conductor);
+  EXPECT_NEAR(w.material.relative_permittivity(866e6), 78.2, 1e-9);
+  const TagBackingSpec c = parse_tag_backing("dielectric:2.0:0.005:0.003", "f");
+  EXPECT_DOUBLE_EQ(c.material.relative_permittivity(866e6), 2.0);
+  EXPECT_DOUBLE_EQ(c.material.conductivity_s_m(866e6), 0.005);
+  EXPECT_DOUBLE_EQ(c.distance_m, 0.003);
+  EXPECT_NE(message_of([] { parse_tag_backing("dielectric:0.5:0:0.01", "option --tag-backing"); }).find("dielectric"),
+            std::string::npos);
+  EXPECT_NE(message_of([] { parse_tag_backing("cheese:0.01", "option --tag-backing"); }).find("option --tag-backing"),
+            std::string::npos);
   EXPECT_EQ(parse_tag_backing("scene", "f").kind, TagBackingSpec::Kind::kScene);
   EXPECT_EQ(parse_tag_backing("none", "f").kind, TagBackingSpec::Kind::kNone);
   EXPECT_NE(message_of([] { parse_tag_antenna("dipole:0.166", "option --tag-antenna"); }).find("option --tag-antenna"),
@@ -92,9 +105,16 @@ TEST(TagAntennaSpec, ScenarioErrorsNameTheField) {
   };
   EXPECT_NE(err("    antenna: {type: loop}\n").find("tags[0].antenna.type"), std::string::npos);
   EXPECT_NE(err("    antenna: {type: dipole, length_m: 0.166}\n").find("radius_m"), std::string::npos);
-  EXPECT_NE(err("    antenna: dipole:0.166:0.0005\n    backing: {material: wood, distance_m: 0.01}\n")
+  EXPECT_NE(err("    antenna: dipole:0.166:0.0005\n    backing: {material: cheese, distance_m: 0.01}\n")
                 .find("backing.material"),
             std::string::npos);
+  EXPECT_NE(err("    antenna: dipole:0.166:0.0005\n    backing: {material: dielectric, relative_permittivity: 0.5, "
+                "conductivity_s_m: 0, distance_m: 0.01}\n")
+                .find("s.yaml:"),
+            std::string::npos);  // ε' < 1, located in the file
+  EXPECT_NE(err("    antenna: dipole:0.166:0.0005\n    backing: {material: water, relative_permittivity: 2, distance_m: 0.01}\n")
+                .find("relative_permittivity"),
+            std::string::npos);  // only a dielectric takes its own ε
   EXPECT_NE(err("    chip: {type: series, resistance_ohm: 20, capacitance_f: 1e-12}\n").find("antenna"),
             std::string::npos);  // a chip without an antenna
   EXPECT_NE(err("    antenna: dipole:0.166:0.0005\n    backing: {material: metal, distance_m: 0.0001}\n").find("radius"),

@@ -36,8 +36,8 @@ TEST(TagBacking, NearestSurfaceIsThePlateWithItsMaterial) {
   const auto s = metal.nearest_surface(Vec3(2.99, 0.3, 1.2), 0.15);
   ASSERT_TRUE(s);
   EXPECT_NEAR(s->distance_m, 0.01, 1e-6);
-  EXPECT_TRUE(s->perfect_conductor);
-  EXPECT_EQ(s->material, "metal");
+  EXPECT_TRUE(s->material.perfect_conductor);
+  EXPECT_EQ(s->material.name, "metal");
   EXPECT_TRUE(s->faces_facet);
   EXPECT_NEAR(s->facet_extent_m, 4.0, 1e-6);  // the plate is 4 m × 4 m: a plane to a 16.6 cm dipole
   // Off the plate's edge the nearest point is on the edge: (3, 2, 1.2) from (2.9, 2.1, 1.2) is √2·0.1 away.
@@ -48,17 +48,17 @@ TEST(TagBacking, NearestSurfaceIsThePlateWithItsMaterial) {
   TagParams t;
   t.antenna.kind = TagAntennaSpec::Kind::kDipole;
   t.antenna.dipole = {0.166, 0.0005};
-  TagBackingSpec beyond{TagBackingSpec::Kind::kScene, "metal", e->distance_m, e->facet_extent_m, e->faces_facet};
+  TagBackingSpec beyond{TagBackingSpec::Kind::kScene, *builtin_material("metal"), e->distance_m, e->facet_extent_m, e->faces_facet};
   EXPECT_FALSE(plane_backing_ok(t, beyond));
-  TagBackingSpec narrow{TagBackingSpec::Kind::kScene, "metal", 0.01, 0.03, true};  // a 3 cm shelf edge
+  TagBackingSpec narrow{TagBackingSpec::Kind::kScene, *builtin_material("metal"), 0.01, 0.03, true};  // a 3 cm shelf edge
   EXPECT_FALSE(plane_backing_ok(t, narrow));
-  TagBackingSpec wide{TagBackingSpec::Kind::kScene, "metal", 0.01, 1.0, true};
+  TagBackingSpec wide{TagBackingSpec::Kind::kScene, *builtin_material("metal"), 0.01, 1.0, true};
   EXPECT_TRUE(plane_backing_ok(t, wide));
   EXPECT_FALSE(metal.nearest_surface(Vec3(2.5, 0, 1), 0.15));  // 0.5 m away: beyond the search radius
   const RaytracedChannel concrete(plate_scene("concrete"));
   const auto c = concrete.nearest_surface(Vec3(2.99, 0, 1), 0.15);
   ASSERT_TRUE(c);
-  EXPECT_FALSE(c->perfect_conductor);
+  EXPECT_FALSE(c->material.perfect_conductor);
   EXPECT_FALSE(IdealChannel().nearest_surface(Vec3(2.99, 0, 1), 0.15));
 }
 
@@ -106,7 +106,7 @@ TEST(TagBacking, MeshedPlateAndGivenBackingReadAlike) {
     const RaytracedChannel meshed(plate_scene("metal"));
     const Reading on_mesh = only_read(one_link({TagBackingSpec::Kind::kScene, "", 0.0}, gap), meshed);
     const RaytracedChannel empty(std::make_shared<const Scene>(std::vector<TriangleMesh>{}, MaterialAssignment{}));
-    const Reading given = only_read(one_link({TagBackingSpec::Kind::kGiven, "metal", gap}, gap), empty);
+    const Reading given = only_read(one_link({TagBackingSpec::Kind::kGiven, *builtin_material("metal"), gap}, gap), empty);
     // The differences: the traced image path spreads as 1/(r + 2·gap) where the given backing's factor
     // 1 − e^{−j2kd} is the plane-wave limit, which turns the one-way phase by ~1/(kr) (0.003 rad at r = 20 m),
     // and the scene distance's 0.5 % solve grid: together well under 0.05 dB and 0.01 rad round trip.
@@ -115,7 +115,7 @@ TEST(TagBacking, MeshedPlateAndGivenBackingReadAlike) {
     // Counting the plate twice (mesh and backing) would square the image factor |2 sin kd|²: −15 dB at 5 mm,
     // −9 dB at 1 cm (at 3 cm it is ≈ 1 and the test could not tell).
     if (gap < 0.02) {
-      const SimulationResult twice = simulate(one_link({TagBackingSpec::Kind::kGiven, "metal", gap}, gap), meshed);
+      const SimulationResult twice = simulate(one_link({TagBackingSpec::Kind::kGiven, *builtin_material("metal"), gap}, gap), meshed);
       if (!twice.antennas[0].reads.empty())  // (no read at all differs too)
         EXPECT_GT(std::abs(twice.antennas[0].reads[0].reading.rssi_dbm - on_mesh.rssi_dbm), 10.0) << "gap " << gap;
     }
