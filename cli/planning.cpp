@@ -74,7 +74,8 @@ void add_planning_options(CLI::App& cmd, PlanningOptions& o) {
   cmd.add_option("--tag-antenna", o.tag_antenna,
                  "the cells' tag as an antenna: dipole:LENGTH_M:RADIUS_M[:S_M] | table:FILE.csv (docs/tag-antenna.md)");
   cmd.add_option("--tag-chip", o.tag_chip, "with --tag-antenna: matched[:DESIGN_HZ] | series:R_OHM:C_F | parallel:R_OHM:C_F");
-  cmd.add_option("--tag-backing", o.tag_backing, "with --tag-antenna: scene (default) | none | MATERIAL:DISTANCE_M");
+  cmd.add_option("--tag-backing", o.tag_backing, "with --tag-antenna: scene (default) | none | MATERIAL:DISTANCE_M (metal:0.01, water:0.005) | "
+                 "dielectric:EPS_R:SIGMA_S_M:DISTANCE_M");
   cmd.add_option("--view", o.view, "maps seen from: top (x, y) | side (the cells' longer horizontal axis, and z)");
   cmd.add_option("--extent", o.extent, "plane extent X0,Y0,X1,Y1 (m); default: the scene's bounds");
   cmd.add_option("--step", o.step_m, "grid step (m) of --plane and --box");
