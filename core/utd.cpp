@@ -47,16 +47,25 @@ C scaled_tail(double x) {
   return kEmjPi4 * (0.5 * kSqrtPi) * scaled_erfc(kEjPi4 * a);
 }
 
-// cot(u)·F(kL·a) for one of the four terms; on the pole of the cotangent (a shadow boundary, where a → 0) its
-// limit from the side of δ = 2n(u − mπ) ≥ 0: n·√(2πkL)·e^{jπ/4}·sgn δ (KP eq. 29, leading term).
-C cot_f(double u, double n, double kl, double a) {
+// cot(u)·F(kL·a) for one of the four terms. δ = 2n(u − mπ) is the observer's angle from the term's boundary,
+// > 0 on the side where the boundary's geometrical-optics field exists (for each term's pole in 0 ≤ φ, φ' ≤ nπ:
+// φ < φ' + π, φ > φ' − π, φ < π − φ', φ > (2n − 1)π − φ'). `side` (±1, 0: the angles' own) is the side to take
+// within `band` of the boundary. On the pole: the limit n·√(2πkL)·e^{jπ/4}·side (KP eq. 29, leading term).
+// Off it, on the other side than the angles': the term minus twice its jumping part
+// J = cot(u)·j√(πX)·e^{jX}·e^{−jπ/4} (from F(X) = 2j√X e^{jX}(√π e^{−jπ/4}/2 − ∫_0^√X e^{−jτ²}dτ): the
+// rest is continuous through δ = 0), i.e. the analytic continuation from that side.
+C cot_f(double u, double n, double kl, double a, int side, double band) {
   const double s = std::sin(u);
-  if (std::abs(s) < 1e-12) {
-    const double m = std::round(u / kPi);
-    const double delta = 2.0 * n * (u - m * kPi);
-    return (delta < 0.0 ? -1.0 : 1.0) * n * std::sqrt(kTwoPi * kl) * kEjPi4;
-  }
-  return std::cos(u) / s * utd_transition(kl * a);
+  const double m = std::round(u / kPi);
+  const double delta = 2.0 * n * (u - m * kPi);
+  const int geometric = delta < 0.0 ? -1 : 1;
+  const int want = side != 0 && std::abs(delta) < band ? side : geometric;
+  if (std::abs(s) < 1e-12) return double(want) * n * std::sqrt(kTwoPi * kl) * kEjPi4;
+  const double x = kl * a;
+  const double cot = std::cos(u) / s;
+  C term = cot * utd_transition(x);
+  if (want != geometric) term -= 2.0 * cot * C(0.0, 1.0) * std::sqrt(kPi * std::max(x, 0.0)) * std::polar(1.0, x) * kEmjPi4;
+  return term;
 }
 
 // a^±(β) = 2cos²((2nπN^± − β)/2), N^± the integer nearest to (β ± π)/(2nπ).
@@ -89,15 +98,17 @@ C utd_transition(double x) {
 }
 
 UtdCoefficients wedge_diffraction(double n, double phi, double phi_prime, double beta0, double l, double k,
-                                  const FresnelCoefficients& face0, const FresnelCoefficients& facen) {
+                                  const FresnelCoefficients& face0, const FresnelCoefficients& facen,
+                                  const GeometricOpticsSides& sides) {
   const double kl = k * l;
   const double bm = phi - phi_prime, bp = phi + phi_prime;
   const double two_n = 2.0 * n;
+  const double band = sides.band_rad;
   // Incident shadow boundary terms (the same for both polarizations) and the two reflection boundary terms.
-  const C t1 = cot_f((kPi + bm) / two_n, n, kl, a_plus(bm, n));
-  const C t2 = cot_f((kPi - bm) / two_n, n, kl, a_minus(bm, n));
-  const C t0 = cot_f((kPi - bp) / two_n, n, kl, a_minus(bp, n));  // face 0's reflection boundary φ + φ' = π
-  const C tn = cot_f((kPi + bp) / two_n, n, kl, a_plus(bp, n));   // face n's: φ + φ' = (2n − 1)π
+  const C t1 = cot_f((kPi + bm) / two_n, n, kl, a_plus(bm, n), sides.incident, band);
+  const C t2 = cot_f((kPi - bm) / two_n, n, kl, a_minus(bm, n), sides.incident, band);
+  const C t0 = cot_f((kPi - bp) / two_n, n, kl, a_minus(bp, n), sides.reflected_face0, band);  // φ + φ' = π
+  const C tn = cot_f((kPi + bp) / two_n, n, kl, a_plus(bp, n), sides.reflected_facen, band);   // (2n − 1)π
   const C front = -kEmjPi4 / (two_n * std::sqrt(kTwoPi * k) * std::sin(beta0));
   return {front * (t1 + t2 + face0.te * t0 + facen.te * tn), front * (t1 + t2 + face0.tm * t0 + facen.tm * tn)};
 }

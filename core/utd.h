@@ -40,13 +40,30 @@ struct UtdCoefficients {
   std::complex<double> hard;  // D_h, m^½: E component along φ̂
 };
 
+// Which side of its shadow boundary the tracer put each geometrical-optics field, for an observer on or within
+// `band_rad` of that boundary. Each term of D jumps by exactly the field its boundary switches on or off (the
+// part cot(u)·j√(πX)·e^{jX}·e^{−jπ/4} of cot(u)·F(X), odd in the angle δ from the boundary), so the total is
+// continuous only if the term takes the same side as the geometrical-optics path: on a boundary the direct or
+// reflected ray grazes the edge and the tracer decides in float (Embree) whether it is blocked, which the
+// angles computed in double cannot foresee. +1: the field is there (the lit side, δ > 0), −1: it is not,
+// 0: take the side from the angles (as outside the band).
+struct GeometricOpticsSides {
+  int incident = 0;         // the direct path (terms 1, 2: boundary φ = φ' ± π)
+  int reflected_face0 = 0;  // the reflection off face 0 (boundary φ = π − φ')
+  int reflected_facen = 0;  // the reflection off face n (boundary φ = (2n − 1)π − φ')
+  double band_rad = 0.0;    // within this angle of a boundary the sides above decide
+};
+
 // D_s and D_h as above. `face0`, `facen`: Fresnel coefficients of face 0 at grazing angle φ' and of face n at
 // grazing angle nπ − φ (perfect conductor: {−1, +1}); te multiplies the soft, tm the hard reflected terms.
 // n in [1, 2]; wavenumber k > 0, L > 0, 0 < β0 < π. A cot term whose argument sits on its pole is replaced
-// by its finite limit (KP eq. 29), so the result is finite on the shadow boundaries.
+// by its finite limit (KP eq. 29), so the result is finite on the shadow boundaries; within `sides.band_rad`
+// of a boundary the term takes the side `sides` gives (the other side's continuation: the term minus twice
+// its jumping part), so that geometrical optics plus diffraction is continuous whatever the tracer decided.
 UtdCoefficients wedge_diffraction(double n, double phi_rad, double phi_prime_rad, double beta0_rad,
                                   double distance_parameter_m, double wavenumber_rad_m,
-                                  const FresnelCoefficients& face0, const FresnelCoefficients& facen);
+                                  const FresnelCoefficients& face0, const FresnelCoefficients& facen,
+                                  const GeometricOpticsSides& sides = {});
 
 // The smallest argument X = kL·a of the four transition functions of wedge_diffraction (same n, φ, φ' and
 // kL = wavenumber × distance parameter): how far, in the transition function's own measure, the observer is

@@ -14,7 +14,9 @@
 // the direct field, for equal antenna gains along both. The test is a few multiplications and cosines per
 // edge before any transition function is evaluated or any ray shot. The rule errs towards full: should the
 // direct path ever not come first in `out`, every link is taken as shadowed.
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/fresnel.h"
 #include "core/units.h"
@@ -47,6 +49,22 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
   const bool selective = !includes(options_.level, ChannelLevel::kFull) && !out.empty() &&
                          out.front().kind == PathKind::kLineOfSight;
   const double min_x = kPi * options_.diffraction_fresnel_zones * options_.diffraction_fresnel_zones;
+  // What geometrical optics the tracer found (core/utd.h, GeometricOpticsSides): the direct path, and the
+  // single reflections by facet. Near a boundary the diffracted field takes the side these say.
+  const size_t found = out.size();  // the paths before diffraction (a few tens: scanned, not indexed)
+  bool direct_found = false;
+  for (size_t i = 0; i < found; ++i) direct_found |= out[i].kind == PathKind::kLineOfSight;
+  const auto reflected = [&](uint32_t facet) {
+    for (size_t i = 0; i < found; ++i)
+      if (out[i].kind == PathKind::kReflection && out[i].facet == facet) return 1;
+    return -1;
+  };
+  // Where float and double may disagree about a boundary: the tracer's rays are float (Embree), good to a few
+  // ulps of the coordinates' size, and keep surface_epsilon_m off faces; as an angle at the nearer end's
+  // distance from the edge (the band is ~5e-5 rad for 1 m coordinates 4 cm from an edge).
+  const double scale_m = std::max({1.0, a.cwiseAbs().maxCoeff(), t.cwiseAbs().maxCoeff()});
+  const double uncertain_m = std::max(32.0 * std::numeric_limits<float>::epsilon() * scale_m,
+                                      4.0 * options_.surface_epsilon_m);
   for (uint32_t ei = 0; ei < edges_.size(); ++ei) {
     const Edge& e = edges_[ei];
     const Vec3& d = e.direction;
@@ -98,7 +116,16 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
     const RadioMaterial& mn = materials[facets[facen].material];
     const FresnelCoefficients r0 = material_reflection(m0, f, std::abs(std::sin(phi_prime)));
     const FresnelCoefficients rn = material_reflection(mn, f, std::abs(std::sin(n * kPi - phi)));
-    const UtdCoefficients dc = wedge_diffraction(n, phi, phi_prime, beta0, l_utd, k, r0, rn);
+    GeometricOpticsSides sides;
+    sides.band_rad = uncertain_m / std::min(rho_a, rho_t);
+    // Within the band of a boundary (X = kL·a with a ≈ δ²/2 there; twice the margin) the tracer's sides decide.
+    const double kl = k * l_utd;
+    if (utd_min_transition_argument(n, phi, phi_prime, kl) < kl * sides.band_rad * sides.band_rad) {
+      sides.incident = direct_found ? 1 : -1;
+      sides.reflected_face0 = reflected(face0);
+      sides.reflected_facen = reflected(facen);
+    }
+    const UtdCoefficients dc = wedge_diffraction(n, phi, phi_prime, beta0, l_utd, k, r0, rn, sides);
     // Edge-fixed polarization bases (KP): φ̂' = −ê × ŝ' / |·|, β̂0' = φ̂' × ŝ', φ̂ = ê × ŝ / |·|, β̂0 = φ̂ × ŝ.
     const Vec3 phi_in = -(d.cross(s_hat_in)).normalized();
     const Vec3 beta_in = phi_in.cross(s_hat_in);

@@ -105,7 +105,8 @@ void PathFinder::try_plane_pair(uint32_t g1, uint32_t g2, const Endpoint& ant, c
   const double end1 = std::min(options_.endpoint_epsilon_m, 0.25 * len1);
   const double end3 = std::min(options_.endpoint_epsilon_m, 0.25 * len3);
   if (exhaustive) {
-    if (bvh.occluded(a, u1, end1, len1 - plane_margin(clear1, cos1, len1))) return;
+    // From the facet back to the antenna: precision is needed next to the facet (path_finder.cpp, leg 1).
+    if (bvh.occluded(p1, -u1, plane_margin(clear1, cos1, len1), len1 - end1)) return;
     if (bvh.occluded(p1, u2, plane_margin(clear1, cos1, len2), len2 - plane_margin(clear2, cos2, len2))) return;
   }
   if (bvh.occluded(p2, u3, plane_margin(clear2, cos2, len3), len3 - end3)) return;

@@ -896,7 +896,12 @@ void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p
       return;
     }
   }
-  const auto leg1_blocked = [&] { return check_leg1 && bvh.occluded(a, dir1, end_eps1, leg1_far); };
+  // Leg 1 is shot from the reflection point back to the antenna: Embree's float ray is exact to a few ulps of its
+  // origin's coordinates, and precision matters next to the facet (an antenna 50 km away has 4 mm ulps, which
+  // would put the leg's far end through the facet it leaves: issue #33's lost reflection of a distant source).
+  const auto leg1_blocked = [&] {
+    return check_leg1 && bvh.occluded(p, -dir1, plane_margin(clearance, cos_theta, l1), l1 - end_eps1);
+  };
   const auto leg2_blocked = [&] { return bvh.occluded(p, dir2, leg2_near, leg2_far); };
   if (l2 > l1 ? leg2_blocked() || leg1_blocked() : leg1_blocked() || leg2_blocked()) return;
   ++tl_reflections_found;

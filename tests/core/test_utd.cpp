@@ -132,6 +132,40 @@ TEST(Utd, TotalFieldIsContinuousAcrossShadowBoundaries) {
     }
 }
 
+// The tracer decides in float whether a ray grazing an edge is blocked; GeometricOpticsSides lets the diffracted
+// field take that side. The total (geometrical optics as the tracer found it + diffraction) must be continuous
+// whichever side the geometric optics was put on, within the band: here the direct and the reflected field are
+// switched on the "wrong" side of their boundary (1e-7 rad beyond it) and D told so.
+TEST(Utd, ForcedSideKeepsTheTotalContinuous) {
+  const double k = wavenumber_rad_m(866e6), rho = 5.0, phi_prime = 60.0 * kPi / 180.0;
+  const FresnelCoefficients pec{C(-1.0, 0.0), C(1.0, 0.0)};
+  for (bool soft : {true, false}) {
+    const double isb = kPi + phi_prime, rsb = kPi - phi_prime;
+    auto total = [&](double phi, bool direct, bool reflected, GeometricOpticsSides sides) {
+      C u = 0.0;
+      if (direct) u += std::polar(1.0, k * rho * std::cos(phi - phi_prime));
+      if (reflected) u += (soft ? -1.0 : 1.0) * std::polar(1.0, k * rho * std::cos(phi + phi_prime));
+      const UtdCoefficients d = wedge_diffraction(2.0, phi, phi_prime, kPi / 2.0, rho, k, pec, pec, sides);
+      return u + (soft ? d.soft : d.hard) * std::polar(1.0, -k * rho) / std::sqrt(rho);
+    };
+    const double band = 1e-4;
+    // Incident boundary: beyond it (φ > φ' + π) the direct path is "found" anyway.
+    const C lit = total(isb - 1e-7, true, false, {});
+    const C forced = total(isb + 1e-7, true, false, {1, -1, -1, band});
+    EXPECT_LT(std::abs(forced - lit), 1e-4) << (soft ? "soft" : "hard");
+    // Without the side, the same total is off by the whole incident field.
+    EXPECT_GT(std::abs(total(isb + 1e-7, true, false, {}) - lit), 0.9);
+    // Exactly on the boundary, both sides give the same total with their own geometrical optics.
+    EXPECT_LT(std::abs(total(isb, true, false, {1, -1, -1, band}) - total(isb, false, false, {-1, -1, -1, band})), 1e-9);
+    // Reflection boundary: the reflection missed on the lit side (φ < π − φ').
+    const C with = total(rsb + 1e-7, true, false, {});
+    const C missed = total(rsb - 1e-7, true, false, {1, -1, -1, band});
+    EXPECT_LT(std::abs(missed - with), 1e-4) << (soft ? "soft" : "hard");
+    // Outside the band the side is ignored.
+    EXPECT_EQ(total(isb + 0.01, false, false, {1, 1, 1, band}), total(isb + 0.01, false, false, {}));
+  }
+}
+
 // Luebbers' form with perfectly conducting faces is KP's; with lossy faces the reflection-boundary terms
 // are scaled by the faces' Fresnel coefficients, the incident-boundary terms are not.
 TEST(Utd, LuebbersReducesToKpForMetal) {
