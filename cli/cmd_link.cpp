@@ -12,6 +12,7 @@
 
 #include "core/channel.h"
 #include "core/error.h"
+#include "core/level_validity.h"
 #include "core/limits.h"
 #include "core/reader.h"
 #include "core/tag_couplings.h"
@@ -236,6 +237,35 @@ std::optional<Pose> named_pose(const std::string& text, const io::WorldSource* w
                    (antenna ? "an antenna" : "a tag") + " of the world (" + (known.empty() ? "none" : known) + ")");
 }
 
+// How far this link's level can be trusted (core/level_validity.h): the exact wedge at the nearer end's edge, and
+// the difference to `full` computed on the same link (for a level below full).
+nlohmann::json validity_json(const std::shared_ptr<const Scene>& scene, const TraceOptions& trace,
+                             const RaytracedChannel& raytraced, const IdealChannel& ideal, const Endpoint& antenna,
+                             const Endpoint& tag, double frequency_hz) {
+  const std::complex<double> h = sum_paths(raytraced.paths(antenna, tag, frequency_hz));
+  const double free = std::abs(sum_paths(ideal.paths(antenna, tag, frequency_hz)));
+  const double relative = std::abs(h) / free;
+  LevelValidity v = level_validity(trace.level, link_edge_sight(raytraced, antenna, tag, frequency_hz),
+                                   frequency_hz, relative);
+  std::string reference = "the exact wedge series at the nearest edge";
+  if (trace.level != ChannelLevel::kFull) {
+    TraceOptions full_options = trace;
+    full_options.level = ChannelLevel::kFull;
+    const RaytracedChannel full(scene, full_options);
+    const std::complex<double> h_full = sum_paths(full.paths(antenna, tag, frequency_hz));
+    v = with_reference_error(v, std::abs(h - h_full) / free, relative, "full");
+    reference = "the exact wedge series at the nearest edge and full on this link";
+  }
+  return {{"level_ok", v.level_ok},
+          {"reason", v.reason},
+          {"estimated_error", v.estimated_error},
+          {"estimated_error_db", v.estimated_error_db},
+          {"estimated_error_rad", v.estimated_error_rad},
+          {"nearest_edge_m", v.nearest_edge_m ? nlohmann::json(*v.nearest_edge_m) : nlohmann::json(nullptr)},
+          {"nearest_edge_krho", v.nearest_edge_krho},
+          {"reference", reference}};
+}
+
 int run_link(const LinkOptions& o) {
   MaterialAssignment assignment;
   assignment.override_all = o.material;
@@ -374,10 +404,16 @@ int run_link(const LinkOptions& o) {
   }
   j["raytraced"] = channel_json(raytraced, antenna, tag, o.frequency_hz, reader, tag_params, &link_tag);
   j["ideal"] = channel_json(ideal, antenna, tag, o.frequency_hz, reader, tag_params);
-  if (o.json)
+  j["validity"] = validity_json(scene, trace, raytraced, ideal, antenna, tag, o.frequency_hz);
+  if (o.json) {
     std::cout << j.dump(2) << "\n";
-  else
+  } else {
     print_table(j);
+    const auto& v = j["validity"];
+    std::printf("validity: %s (estimated error %.2f of the free-space field)%s%s\n",
+                v["level_ok"].get<bool>() ? "ok" : "OUTSIDE the level's validity", v["estimated_error"].get<double>(),
+                v["reason"].get<std::string>().empty() ? "" : ": ", v["reason"].get<std::string>().c_str());
+  }
   return 0;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/antenna_pattern.h"
+#include "core/edge_sight.h"
 #include "core/geometry.h"
 #include "core/material.h"
 #include "core/path.h"
@@ -57,6 +58,17 @@ class Channel {
   // std::nullopt without a scene or when none is that close. Thread-safe.
   virtual std::optional<NearbySurface> nearest_surface(const Vec3& point, double max_distance_m) const {
     (void)point;
+    (void)max_distance_m;
+    return std::nullopt;
+  }
+
+  // The scene's nearest diffracting edge (a wedge or a sheet's free edge) to `end` within `max_distance_m`, as
+  // `end` sees it lit from `other_end` and its polarization (core/edge_sight.h): where ray optics near an edge is judged
+  // (core/level_validity.h). std::nullopt without a scene or when none is that close. Thread-safe.
+  virtual std::optional<EdgeSight> nearest_edge(const Endpoint& end, const Endpoint& other_end,
+                                                double max_distance_m) const {
+    (void)end;
+    (void)other_end;
     (void)max_distance_m;
     return std::nullopt;
   }

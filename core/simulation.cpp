@@ -1,5 +1,7 @@
 #include "core/simulation.h"
 
+#include "core/level_validity.h"
+
 #include "core/tag_couplings.h"
 
 #include <omp.h>
@@ -7,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <exception>
 #include <optional>
 #include <string>
@@ -192,6 +195,46 @@ SimulationResult simulate(const Scenario& scenario, const Channel& channel, cons
   return simulate(scenario, build_motion(scenario), channel, options);
 }
 
+namespace {
+
+// Tags near metal edges (core/level_validity.h), at their and the antennas' start poses, for the channel's level:
+// counted, and one note naming the worst. Levels are known by the channel's name (a traced level or ideal); another channel
+// (a test double) is not judged.
+template <typename AntennaEndpoint, typename TagEndpoint>
+void count_tags_outside_validity(const Scenario& scenario, const SceneMotion& motion, const Channel& channel,
+                                 AntennaEndpoint&& antenna_endpoint, TagEndpoint&& tag_endpoint,
+                                 SimulationResult& result) {
+  ChannelLevel level;
+  try {
+    level = parse_channel_level(channel.name(), "channel");
+  } catch (const InputError&) {
+    return;
+  }
+  if (level == ChannelLevel::kIdeal || scenario.antennas.empty() || scenario.tags.empty()) return;
+  const double f = scenario.antennas.front().reader.frequencies_hz.front();
+  size_t worst = 0;
+  LevelValidity worst_v;
+  for (size_t i = 0; i < scenario.tags.size(); ++i) {
+    const Endpoint tag = tag_endpoint(i, motion.tags.at(i)->pose_at(scenario.tags[i].start_s));
+    // The tag's worst link among the antennas at their start poses.
+    LevelValidity v;
+    for (size_t a = 0; a < motion.antennas.size(); ++a) {
+      const Endpoint antenna = antenna_endpoint(a, motion.antennas[a]->pose_at(scenario.antennas[a].start_s));
+      const LevelValidity va = level_validity(level, link_edge_sight(channel, antenna, tag, f), f);
+      if (a == 0 || (!va.level_ok && (v.level_ok || va.estimated_error > v.estimated_error))) v = va;
+    }
+    if (v.level_ok) continue;
+    if (result.tags_outside_validity++ == 0 || v.estimated_error > worst_v.estimated_error) worst = i, worst_v = v;
+  }
+  if (result.tags_outside_validity == 0) return;
+  char b[200];
+  std::snprintf(b, sizeof b, "%zu of %zu tags are so close to a metal edge that level %s is outside its validity or what was checked there; the worst, tag '",
+                result.tags_outside_validity, scenario.tags.size(), to_string(level));
+  result.notes.push_back(std::string(b) + scenario.tags[worst].tag.name + "': " + worst_v.reason);
+}
+
+}  // namespace
+
 SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, const Channel& channel,
                           const SimulationOptions& options) {
   SimulationResult result;
@@ -242,6 +285,7 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
   // Tag antennas, chips and backings: resolved once, before the parallel loop (core/tag_couplings.h).
   const TagCouplings couplings(scenario, motion, channel);
   result.notes = couplings.notes();
+  count_tags_outside_validity(scenario, motion, channel, antenna_endpoint, tag_endpoint, result);
 
   // Static links (antenna and tag both static) are computed once per channel frequency, up front.
   // static_h[a][c * n_tags + i]; empty when the antenna moves or does not need h.

@@ -75,6 +75,9 @@ struct SimulationResult {
   std::vector<AntennaResult> antennas;  // index-aligned with Scenario::antennas
   uint64_t channel_evaluations = 0;     // links handed to Channel::one_way (after caching)
   std::vector<std::string> notes;       // for the user: e.g. what tags' scene mounts found (core/tag_couplings.h)
+  // Tags whose start position lies where the channel's level is outside its validity (core/level_validity.h:
+  // too close to a metal edge for the level's measured error to stay within 0.1 of the free-space field).
+  size_t tags_outside_validity = 0;
 };
 
 // Runs the scenario along `motion` (build_motion(scenario), built once per run by the caller). Throws InputError

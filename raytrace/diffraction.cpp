@@ -24,16 +24,6 @@
 #include "raytrace/path_finder.h"
 
 namespace rfidray {
-namespace {
-
-// Angle of v (⟂ the edge) about +e measured from `from`, in [0, 2π).
-double angle_about(const Vec3& v, const Vec3& e, const Vec3& from) {
-  double a = std::atan2(v.dot(e.cross(from)), v.dot(from));
-  if (a < 0.0) a += kTwoPi;
-  return a;
-}
-
-}  // namespace
 
 void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f, double floor,
                               std::vector<TracedPath>& out) const {
@@ -79,27 +69,10 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
     if (zq < 0.0 || zq > e.length_m) continue;
     const Vec3 q = e.start + zq * d;
     // Which exterior region holds both ends: measured from face a over angle α, or from face b over 2π − α.
-    const double psi_a = angle_about(va, d, e.into_a), psi_t = angle_about(vt, d, e.into_a);
-    double n = 0.0, phi_prime = 0.0, phi = 0.0;
-    uint32_t face0 = e.facet_a, facen = e.facet_a;
-    if (e.half_plane()) {
-      n = 2.0;
-      phi_prime = psi_a;
-      phi = psi_t;
-    } else if (psi_a < e.alpha_rad && psi_t < e.alpha_rad) {
-      n = e.alpha_rad / kPi;
-      phi_prime = psi_a;
-      phi = psi_t;
-      facen = e.facet_b;
-    } else if (psi_a > e.alpha_rad && psi_t > e.alpha_rad) {
-      n = (kTwoPi - e.alpha_rad) / kPi;
-      phi_prime = psi_a - e.alpha_rad;
-      phi = psi_t - e.alpha_rad;
-      face0 = e.facet_b;
-    } else {
-      continue;  // the faces separate antenna and tag
-    }
-    if (n <= 1.0 + 1e-9) continue;  // concave or flat: no convex edge seen from this side
+    WedgeAngles w;
+    if (!wedge_angles(e, va, vt, w)) continue;
+    const double n = w.n, phi_prime = w.phi_prime_rad, phi = w.phi_rad;
+    const uint32_t face0 = w.face0, facen = w.facen;
     const Vec3 sa = q - a, st = t - q;
     const double s_in = sa.norm(), s_out = st.norm();
     if (!(s_in > 0.0) || !(s_out > 0.0)) continue;

@@ -170,4 +170,57 @@ std::optional<NearbySurface> RaytracedChannel::nearest_surface(const Vec3& point
   return NearbySurface{s->distance_m, m, s->facet_extent_m, s->faces_facet};
 }
 
+std::optional<EdgeSight> RaytracedChannel::nearest_edge(const Endpoint& end_point, const Endpoint& other_point,
+                                                        double max_distance_m) const {
+  const Vec3& end = end_point.pose.position;
+  const Vec3& other_end = other_point.pose.position;
+  constexpr double kIndexRadius_m = 0.75;  // level_validity_reach_m at UHF is ~0.5 m
+  std::call_once(edge_index_once_, [&] {
+    edge_index_ = std::make_unique<EdgeProximity>(finder_.edges().empty() ? extract_edges(scene()) : finder_.edges(),
+                                                  kIndexRadius_m);
+  });
+  const auto hits = edge_index_->nearest_two(end);
+  const auto& facets = scene().facets();
+  const auto& materials = scene().materials();
+  // The nearest edge that the two ends see from the same exterior region; the other hit, if any, is the second
+  // edge near this end.
+  for (size_t i = 0; i < hits.size(); ++i) {
+    const EdgeProximity::Hit& hit = hits[i];
+    if (hit.edge == kNoEdge || hit.distance_m > max_distance_m) break;
+    const Edge& e = edge_index_->edge(hit.edge);
+    const Vec3 r_end = end - e.start, r_other = other_end - e.start;
+    const Vec3 v_end = r_end - r_end.dot(e.direction) * e.direction;
+    const Vec3 v_other = r_other - r_other.dot(e.direction) * e.direction;
+    WedgeAngles w;
+    if (v_end.norm() < 1e-9 || v_other.norm() < 1e-9 || !wedge_angles(e, v_other, v_end, w)) continue;
+    EdgeSight sight;
+    sight.distance_m = hit.distance_m;
+    sight.n = w.n;
+    sight.phi_rad = w.phi_rad;
+    sight.phi_prime_rad = w.phi_prime_rad;
+    // The diffraction point (Fermat: it divides the feet's span in the ratio of the distances) and the incident
+    // ray's direction there; its polarization split as in raytrace/diffraction.cpp.
+    const double rho_end = v_end.norm(), rho_other = v_other.norm();
+    const double z_end = r_end.dot(e.direction), z_other = r_other.dot(e.direction);
+    const Vec3 q = e.start + (z_other + (z_end - z_other) * rho_other / (rho_other + rho_end)) * e.direction;
+    const Vec3 s_in = (q - other_end).normalized();
+    sight.sin_beta0 = s_in.cross(e.direction).norm();
+    if (sight.sin_beta0 > 1e-9) {
+      const Vec3 phi_in = -(e.direction.cross(s_in)).normalized();
+      const Vec3 beta_in = phi_in.cross(s_in);
+      const CVec3 e_in = other_point.polarization.field(other_point.pose.orientation, s_in);
+      const double soft = std::abs(beta_in.cast<std::complex<double>>().dot(e_in));
+      const double hard = std::abs(phi_in.cast<std::complex<double>>().dot(e_in));
+      if (soft + hard > 0.0) sight.soft_share = soft / std::hypot(soft, hard);
+    }
+    sight.other_distance_m = v_other.norm();
+    sight.metal_faces = materials[facets[w.face0].material].perfect_conductor &&
+                        materials[facets[w.facen].material].perfect_conductor;
+    const EdgeProximity::Hit& other = hits[1 - i];
+    if (other.edge != kNoEdge && other.distance_m <= max_distance_m) sight.second_edge_m = other.distance_m;
+    return sight;
+  }
+  return std::nullopt;
+}
+
 }  // namespace rfidray

@@ -27,8 +27,10 @@
 //     serial loop's at any thread count (chunks aligned to 16 tags).
 #include <atomic>
 #include <memory>
+#include <mutex>
 
 #include "core/channel.h"
+#include "raytrace/edge_proximity.h"
 #include "raytrace/path_finder.h"
 
 namespace rfidray {
@@ -46,6 +48,10 @@ class RaytracedChannel final : public Channel {
 
   // The nearest facet of the scene (Scene::nearest_surface) with its radio material.
   std::optional<NearbySurface> nearest_surface(const Vec3& point, double max_distance_m) const override;
+  // The nearest edge (raytrace/edge_proximity.h) and how `end` sees it lit from `other_end`; the index is built on
+  // the first call (edges extracted then when the level has none); distances up to 0.75 m are answered.
+  std::optional<EdgeSight> nearest_edge(const Endpoint& end, const Endpoint& other_end,
+                                        double max_distance_m) const override;
 
   const PathFinder& finder() const { return finder_; }
   const Scene& scene() const { return finder_.scene(); }
@@ -58,6 +64,8 @@ class RaytracedChannel final : public Channel {
  private:
   PathFinder finder_;
   mutable std::atomic<int> los_packet_width_{0};
+  mutable std::once_flag edge_index_once_;
+  mutable std::unique_ptr<EdgeProximity> edge_index_;
 };
 
 // The fastest of widths 1, 4, 8, 16 for `finder`'s level-los visibility rays from `antenna` to `tags`

@@ -7,6 +7,7 @@
 
 #include "core/units.h"
 #include "core/utd.h"
+#include "tests/support/half_plane_exact.h"
 
 namespace rfidray {
 namespace {
@@ -76,17 +77,8 @@ TEST(Utd, TransitionFunctionLimits) {
   EXPECT_EQ(utd_transition(0.0), C(0.0, 0.0));
 }
 
-// Sommerfeld's exact solution for a plane wave on a perfectly conducting half-plane (Born & Wolf, Principles
-// of Optics, §11.5): with the incident field e^{jkρ cos(φ − φ')} (unit at the edge) and
-//   V(ρ, ξ) = e^{jkρ cos ξ} · e^{jπ/4}/√π · ∫_{−∞}^{√(2kρ) cos(ξ/2)} e^{−jτ²} dτ,
-// the total field is u = V(ρ, φ − φ') ∓ V(ρ, φ + φ') (soft: E ∥ edge, u = 0 on the screen; hard: H ∥ edge).
-// The Fresnel integral here is the one of core/utd.h, independently checked above.
 C sommerfeld(double k, double rho, double phi, double phi_prime, bool soft) {
-  auto v = [&](double xi) {
-    return std::polar(1.0, k * rho * std::cos(xi)) * std::polar(1.0, kPi / 4.0) / std::sqrt(kPi) *
-           fresnel_from_minus_infinity(std::sqrt(2.0 * k * rho) * std::cos(xi / 2.0));
-  };
-  return v(phi - phi_prime) + (soft ? -1.0 : 1.0) * v(phi + phi_prime);
+  return testing::sommerfeld_half_plane(k, rho, phi, phi_prime, soft);
 }
 
 // UTD: geometrical optics (incident where |φ − φ'| < π, reflected off the face φ = 0 where φ + φ' < π, with

@@ -6,6 +6,7 @@
 
 #include "core/units.h"
 #include "core/utd.h"
+#include "tests/support/half_plane_exact.h"
 #include "raytrace/raytraced_channel.h"
 #include "raytrace/warehouse.h"
 
@@ -55,15 +56,9 @@ TEST(Edges, BoxSheetAndJunction) {
   // No edge inside a flat tessellated facet: a 3 × 3 tessellated square still has only its 4 outline edges.
 }
 
-// Sommerfeld's exact total field for a plane wave e^{jkρ cos(φ − φ')} on a perfectly conducting half-plane,
-// E ∥ edge (soft, Dirichlet): u = V(φ − φ') − V(φ + φ'),
-// V(ξ) = e^{jkρ cos ξ} e^{jπ/4}/√π ∫_{−∞}^{√(2kρ) cos(ξ/2)} e^{−jτ²} dτ (Born & Wolf §11.5).
+// Sommerfeld's exact half-plane, E ∥ edge (tests/support/half_plane_exact.h).
 C sommerfeld_soft(double k, double rho, double phi, double phi_prime) {
-  auto v = [&](double xi) {
-    return std::polar(1.0, k * rho * std::cos(xi)) * std::polar(1.0, kPi / 4.0) / std::sqrt(kPi) *
-           fresnel_from_minus_infinity(std::sqrt(2.0 * k * rho) * std::cos(xi / 2.0));
-  };
-  return v(phi - phi_prime) - v(phi + phi_prime);
+  return testing::sommerfeld_half_plane(k, rho, phi, phi_prime, true);
 }
 
 // The knife edge: the metal half-plane y = 0, x ≥ 0 (a 3 km sheet; its far edges add < 1e-3 of the field),

@@ -1,0 +1,75 @@
+#include "raytrace/edge_proximity.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace rfidray {
+
+uint64_t EdgeProximity::key(int64_t i, int64_t j, int64_t k) {
+  // 21 bits per axis (cells of ≥ 2 mm over ±2 km; beyond, cells alias, which costs time, never a wrong answer:
+  // every candidate's distance is measured).
+  const auto m = [](int64_t v) { return static_cast<uint64_t>(v) & 0x1FFFFFu; };
+  return (m(i) << 42) | (m(j) << 21) | m(k);
+}
+
+EdgeProximity::EdgeProximity(const std::vector<Edge>& edges, double radius_m) : edges_(edges), radius_m_(radius_m) {
+  if (!(std::isfinite(radius_m) && radius_m > 0.0))
+    throw std::invalid_argument("EdgeProximity: the radius must be finite and > 0");
+  cell_m_ = 2.0 * radius_m;
+  for (uint32_t e = 0; e < edges_.size(); ++e) {
+    const Edge& edge = edges_[e];
+    const int samples = 1 + static_cast<int>(std::ceil(edge.length_m / radius_m));
+    int64_t last[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
+    for (int s = 0; s <= samples; ++s) {
+      const Vec3 p = edge.start + (edge.length_m * s / samples) * edge.direction;
+      const int64_t c[3] = {static_cast<int64_t>(std::floor(p.x() / cell_m_)),
+                            static_cast<int64_t>(std::floor(p.y() / cell_m_)),
+                            static_cast<int64_t>(std::floor(p.z() / cell_m_))};
+      if (c[0] == last[0] && c[1] == last[1] && c[2] == last[2]) continue;
+      std::copy(c, c + 3, last);
+      std::vector<uint32_t>& cell = cells_[key(c[0], c[1], c[2])];
+      if (cell.empty() || cell.back() != e) cell.push_back(e);
+    }
+  }
+}
+
+std::array<EdgeProximity::Hit, 2> EdgeProximity::nearest_two(const Vec3& point) const {
+  std::array<Hit, 2> best{};
+  if (!point.allFinite()) return best;
+  const int64_t ci = static_cast<int64_t>(std::floor(point.x() / cell_m_));
+  const int64_t cj = static_cast<int64_t>(std::floor(point.y() / cell_m_));
+  const int64_t ck = static_cast<int64_t>(std::floor(point.z() / cell_m_));
+  for (int64_t di = -1; di <= 1; ++di)
+    for (int64_t dj = -1; dj <= 1; ++dj)
+      for (int64_t dk = -1; dk <= 1; ++dk) {
+        const auto it = cells_.find(key(ci + di, cj + dj, ck + dk));
+        if (it == cells_.end()) continue;
+        for (uint32_t e : it->second) {
+          if (e == best[0].edge || e == best[1].edge) continue;  // an edge sampled into several cells
+          const Edge& edge = edges_[e];
+          const double z = std::clamp((point - edge.start).dot(edge.direction), 0.0, edge.length_m);
+          const double d = (point - (edge.start + z * edge.direction)).norm();
+          if (d > radius_m_) continue;
+          // Ties go to the lower index, so the answer does not depend on the cells' order.
+          const auto before = [&](const Hit& h) {
+            return h.edge == kNoEdge || d < h.distance_m || (d == h.distance_m && e < h.edge);
+          };
+          if (before(best[0])) {
+            best[1] = best[0];
+            best[0] = {e, d};
+          } else if (before(best[1])) {
+            best[1] = {e, d};
+          }
+        }
+      }
+  return best;
+}
+
+std::optional<double> EdgeProximity::nearest_m(const Vec3& point) const {
+  const Hit h = nearest_two(point)[0];
+  if (h.edge == kNoEdge) return std::nullopt;
+  return h.distance_m;
+}
+
+}  // namespace rfidray
