@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/edge_near_field.h"
 #include "core/units.h"
 #include "core/wedge_series.h"
 
@@ -66,7 +67,14 @@ LevelValidity level_validity(ChannelLevel level, const std::optional<EdgeSight>&
   v.nearest_edge_krho = k * sight->distance_m;
   const bool diffracts = includes(level, ChannelLevel::kFullSelective);
   const CanonicalErrors canonical = canonical_edge_errors(*sight, frequency_hz);
-  set_error(v, diffracts ? canonical.utd : canonical.geometrical_optics, relative_amplitude);
+  // Level full adds the edge's near field (core/edge_near_field.h) with weight w: what is left is (1 − w) of UTD's
+  // canonical error. full-selective has no near-field term.
+  const double w = level == ChannelLevel::kFull
+                       ? edge_near_field_weight(k * sight->sin_beta0 * sight->distance_m,
+                                                sight->other_distance_m / std::max(sight->distance_m, 1e-12),
+                                                sight->sin_beta0)
+                       : 0.0;
+  set_error(v, diffracts ? (1.0 - w) * canonical.utd : canonical.geometrical_optics, relative_amplitude);
   char b[400];
   char shape[48];
   if (sight->n > 2.0 - 1e-6)
@@ -77,7 +85,10 @@ LevelValidity level_validity(ChannelLevel level, const std::optional<EdgeSight>&
                 "%.3f of the free-space field there (exact wedge series)",
                 centimetres(sight->distance_m).c_str(), shape, v.nearest_edge_krho,
                 100.0 * (1.0 - sight->soft_share * sight->soft_share),
-                diffracts ? "UTD is off by" : "without diffraction this level is off by", v.estimated_error);
+                w >= 1.0     ? "with the edge's near field this level is exact for the canonical wedge, off by"
+                : diffracts ? "rays with UTD are off by"
+                            : "without diffraction this level is off by",
+                v.estimated_error);
   v.reason = b;
   v.level_ok = v.estimated_error <= kLevelErrorLimit;
   // What the canonical check does not cover: flagged, with the canonical error as a lower bound.

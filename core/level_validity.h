@@ -7,8 +7,10 @@
 // this end's distance and angle (core/wedge_series.h, the eigenfunction series, exact at any kρ). The incident
 // field is split as UTD splits it: along the edge (soft: ray optics is right to ~1e-2 down to kρ ≈ 0.25, and exact
 // on a sheet's edge) and across it (hard: the electric field near the edge has a radial part growing as (kρ)^−½,
-// which no ray carries; GO + UTD is off by ~0.38 of the incident field at kρ = 0.73, 0.10 at kρ = 2.9). The FDTD
-// runs of bench/fullwave/ measure the same for a finite sheet (docs/fullwave.md).
+// which no ray carries; GO + UTD is off by ~0.38 of the incident field at kρ = 0.73, 0.10 at kρ = 2.9). Level full
+// adds that near field (core/edge_near_field.h) where the canonical problem holds; its estimate is what the
+// near field's weight leaves out. The FDTD runs of bench/fullwave/ measure the same for a finite sheet
+// (docs/fullwave.md).
 //
 // What that canonical check covers and what it does not (docs/fullwave.md, with the full-wave FDTD runs of
 // bench/fullwave/ that check the geometries it leaves out):

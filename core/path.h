@@ -10,7 +10,9 @@
 
 namespace rfidray {
 
-enum class PathKind { kLineOfSight, kBlocked, kReflection, kReflection2, kDiffraction };
+// kEdgeNearField: level full's near field of an edge at an end a few centimetres from it (core/edge_near_field.h),
+// listed beside the edge's diffracted ray with the same point and length.
+enum class PathKind { kLineOfSight, kBlocked, kReflection, kReflection2, kDiffraction, kEdgeNearField };
 
 inline const char* to_string(PathKind k) {
   switch (k) {
@@ -19,6 +21,7 @@ inline const char* to_string(PathKind k) {
     case PathKind::kReflection: return "reflection";
     case PathKind::kReflection2: return "reflection2";
     case PathKind::kDiffraction: return "diffraction";
+    case PathKind::kEdgeNearField: return "edge-near-field";
   }
   return "?";
 }

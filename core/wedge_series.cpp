@@ -37,7 +37,9 @@ WedgeField wedge_plane_wave_exact(double n, double rho_m, double phi_rad, double
   for (int m = 1; m / n <= nu_max; ++m) {
     const double nu = m / n;
     const double jn = std::cyl_bessel_j(nu, x);
-    if (jn == 0.0) break;  // underflow: every later term is smaller still
+    // Past ν = x, J_ν(x) falls monotonically and faster than geometrically: once a term is below 1e-16 of the
+    // incident field the rest add less than that (and the derivative terms, ~(ν/x)·J_ν, follow within a few terms).
+    if (nu > x + 2.0 && std::abs(jn) * std::max(1.0, nu / std::max(x, 1e-300)) < 1e-16) break;
     const C jnu = std::polar(1.0, kPi / 2.0 * nu);  // j^ν
     const double cos_source = std::cos(nu * phi_prime_rad);
     u.soft += (4.0 / n) * jnu * jn * std::sin(nu * phi_prime_rad) * std::sin(nu * phi_rad);
@@ -79,7 +81,14 @@ WedgeField wedge_plane_wave_utd(double n, double rho_m, double phi_rad, double p
   if (k * rho_m <= 0.0) return u;
   const FresnelCoefficients pec{C(-1.0, 0.0), C(1.0, 0.0)};
   // Plane wave: L = ρ (KP eq. 26 with s' → ∞, β0 = 90°); the diffracted ray leaves the edge as a cylindrical wave.
-  const UtdCoefficients d = wedge_diffraction(n, phi_rad, phi_prime_rad, kPi / 2.0, rho_m, k, pec, pec);
+  // On (or within rounding of) a shadow boundary each UTD term takes the side geometrical optics took above, so
+  // that GO + UTD is continuous there as the tracer's is (core/utd.h, GeometricOpticsSides).
+  GeometricOpticsSides sides;
+  sides.incident = std::abs(phi_rad - phi_prime_rad) < kPi ? 1 : -1;
+  sides.reflected_face0 = phi_rad + phi_prime_rad < kPi ? 1 : -1;
+  sides.reflected_facen = phi_rad > (2.0 * n - 1.0) * kPi - phi_prime_rad ? 1 : -1;
+  sides.band_rad = 1e-9;
+  const UtdCoefficients d = wedge_diffraction(n, phi_rad, phi_prime_rad, kPi / 2.0, rho_m, k, pec, pec, sides);
   const C spread = std::polar(1.0, -k * rho_m) / std::sqrt(rho_m);
   u.soft += d.soft * spread;
   u.hard += d.hard * spread;

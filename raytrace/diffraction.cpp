@@ -18,12 +18,62 @@
 #include <cmath>
 #include <limits>
 
+#include "core/edge_near_field.h"
 #include "core/fresnel.h"
 #include "core/units.h"
 #include "core/utd.h"
 #include "raytrace/path_finder.h"
 
 namespace rfidray {
+namespace {
+
+// The received voltage of a near field `e` (not a ray: it may have a part along the arrival direction) at an
+// antenna: a linear antenna takes the field along its axis (a short dipole's open-circuit voltage is l·E); others
+// as a ray arriving along `arrival` (core/polarization.h).
+std::complex<double> receive_near_field(const CVec3& e, const Endpoint& rx, const Vec3& arrival) {
+  if (rx.polarization.kind == PolarizationKind::kLinear)
+    return (rx.pose.orientation * rx.polarization.axis_local).cast<std::complex<double>>().dot(e);
+  return polarization_match(e, rx.polarization, rx.pose.orientation, arrival);
+}
+
+// Level full: the edge's near field at whichever end is close to the edge (core/edge_near_field.h), a path of its
+// own (kind edge-near-field) with the diffracted ray's legs and length, its coefficient relative to that length. The canonical problem is
+// placed at the near end N, lit by the far end F as a plane wave of F's polarization and amplitude at the edge:
+//   h_N = w · √(G_F G_N) · λ/(4π s_F) e^{−jk s_F} · p_N · [ (E_F·ê) ΔE_z ê − (E_F·φ̂') (ΔE_ρ ρ̂_N + ΔE_φ φ̂_N) ],
+// with H^i_z = −(E_F·φ̂')/η for the hard part (φ̂' = −ê × ŝ / |ê × ŝ|, the tracer's basis), ρ̂_N, φ̂_N the near
+// end's cylindrical unit vectors about ê (the canonical problem's ẑ).
+std::complex<double> near_field_coefficient(const Edge& e, double n, double phi, double phi_prime, double sin_beta,
+                                            const Vec3& va, const Vec3& vt, const Endpoint& ant, const Endpoint& tag,
+                                            const Vec3& s_hat_in, double s_in, double length, double k) {
+  const double rho_a = va.norm(), rho_t = vt.norm();
+  const bool tag_near = rho_t <= rho_a;
+  const double rho_near = tag_near ? rho_t : rho_a, rho_far = tag_near ? rho_a : rho_t;
+  const double k_t = k * sin_beta;  // the transverse problem of oblique incidence
+  const double w = edge_near_field_weight(k_t * rho_near, rho_far / rho_near, sin_beta);
+  if (w <= 0.0) return 0.0;
+  const Endpoint& near = tag_near ? tag : ant;
+  const Endpoint& far = tag_near ? ant : tag;
+  // The far end's ray to the edge point: for the antenna the incoming leg; for the tag the outgoing leg reversed.
+  const Vec3 q = ant.pose.position + s_in * s_hat_in;
+  const Vec3 s_far = (q - far.pose.position).normalized();
+  const double s_far_m = (q - far.pose.position).norm();
+  const EdgeNearField c = edge_near_field(n, rho_near, tag_near ? phi : phi_prime, tag_near ? phi_prime : phi, k_t);
+  const Vec3& z = e.direction;
+  const Vec3 rho_hat = (tag_near ? vt : va) / rho_near, phi_hat = z.cross(rho_hat);
+  const Vec3 phi_in = -(z.cross(s_far)).normalized();
+  const CVec3 e_far = far.polarization.field(far.pose.orientation, s_far);
+  const std::complex<double> e_z = z.cast<std::complex<double>>().dot(e_far);
+  const std::complex<double> e_phi = phi_in.cast<std::complex<double>>().dot(e_far);
+  const CVec3 delta = (e_z * c.soft) * z.cast<std::complex<double>>() -
+                      e_phi * (c.hard_e_rho * rho_hat.cast<std::complex<double>>() +
+                               c.hard_e_phi * phi_hat.cast<std::complex<double>>());
+  const double gain = std::sqrt(far.pattern.gain_linear_world(far.pose.orientation, s_far) *
+                                near.pattern.gain_linear_world(near.pose.orientation, -s_far));
+  // Relative to the diffracted path: λ/(4π s_F) e^{−jk s_F} over λ/(4π L) e^{−jkL}.
+  return w * gain * (length / s_far_m) * std::polar(1.0, k * (length - s_far_m)) * receive_near_field(delta, near, s_far);
+}
+
+}  // namespace
 
 void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f, double floor,
                               std::vector<TracedPath>& out) const {
@@ -130,6 +180,15 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
     p.edge = ei;
     p.coefficient = coefficient;
     p.contribution = contribution;
+    out.push_back(p);
+    // Level full: the edge's near field at an end close to it, beside its diffracted ray (same legs, same length).
+    if (!includes(options_.level, ChannelLevel::kFull)) continue;
+    const std::complex<double> near = near_field_coefficient(e, n, phi, phi_prime, sin_beta, va, vt, ant, tag,
+                                                             s_hat_in, s_in, length, k);
+    if (near == 0.0) continue;
+    p.kind = PathKind::kEdgeNearField;
+    p.coefficient = near;
+    p.contribution = path_contribution(length, near, f);
     out.push_back(p);
   }
 }

@@ -99,7 +99,10 @@ def link(binary: str, scene: str, case: Case, position, level: str, thickness_m:
         pts = [np.array(q) for q in p["points"]] if p["kind"] not in ("los", "blocked") else []
         first = (pts[0] if pts else tag) - src
         last = tag - (pts[-1] if pts else src)
-        w = _hertz_weight(axis, first) * _hertz_weight(axis, last) / w_los
+        # The edge's near field (level full, kind edge-near-field) is read by the tag as p·E already (its radial
+        # part is not transverse to any ray): only the source's Hertzian amplitude applies.
+        probe = 1.0 if p["kind"] == "edge-near-field" else _hertz_weight(axis, last)
+        w = _hertz_weight(axis, first) * probe / w_los
         h += complex(p["contribution"]["re"], p["contribution"]["im"]) * w
     return {"ratio": h / h0, "ratio_isotropic": h_raw / h0, "paths": [p["kind"] for p in j["raytraced"]["paths"]]}
 
