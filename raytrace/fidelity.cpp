@@ -1,11 +1,14 @@
 #include "raytrace/fidelity.h"
 
+#include "core/level_validity.h"
+
 #include <omp.h>
 
 #include <cstdio>
 #include <exception>
 
 #include "core/error.h"
+#include "core/level_validity.h"
 #include "raytrace/path_finder.h"
 #include "raytrace/raytraced_channel.h"
 
@@ -136,6 +139,19 @@ FidelityChoice choose_fidelity(std::shared_ptr<const Scene> scene, const std::ve
                      " readable, vs " + ladder.back().label + ")";
     break;
   }
+  // How far the reference itself can be trusted: the sampled links whose reference level is outside its validity
+  // near a metal edge (core/level_validity.h). The ladder is judged against the reference all the same; the count
+  // says how much of the comparison rests on links where no level is checked.
+  const RaytracedChannel reference_channel(scene, ladder.back().options);
+  for (const LinkBatch& b : batches)
+    for (const Endpoint& tag : b.tag_ends)
+      choice.links_outside_validity +=
+          !level_validity(ladder.back().level, link_edge_sight(reference_channel, b.antenna_end, tag, b.frequency_hz),
+                          b.frequency_hz)
+               .level_ok;
+  if (choice.links_outside_validity > 0)
+    choice.reason += "; " + std::to_string(choice.links_outside_validity) + " of the sampled links are outside " +
+                     ladder.back().label + "'s own validity near metal edges (docs/fullwave.md)";
   return choice;
 }
 

@@ -50,6 +50,8 @@ struct FidelityChoice {
   std::vector<FidelityRow> rows;  // the rungs evaluated, in ladder order (evaluation stops at the pick)
   size_t links = 0;               // sampled links
   std::string reason;             // one line for the user
+  // Sampled links where the reference rung is itself outside its validity near a metal edge (core/level_validity.h).
+  size_t links_outside_validity = 0;
 };
 
 // The ladder for user settings `base` (drop threshold, epsilons, max path length and candidate rays are
