@@ -164,7 +164,15 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
     const std::complex<double> coefficient = gain * std::sqrt(length / (s_in * s_out)) *
                                              polarization_match(e_out, tag.polarization, tag.pose.orientation, s_hat_out);
     const std::complex<double> contribution = path_contribution(length, coefficient, f);
-    if (std::norm(contribution) < floor) continue;  // would be dropped: no ray for it
+    // Level full: the edge's near field at an end close to it, beside its diffracted ray (same legs, same length).
+    // It can matter where the ray itself is nothing (a tag's axis along the diffracted ray).
+    const std::complex<double> near =
+        includes(options_.level, ChannelLevel::kFull)
+            ? near_field_coefficient(e, n, phi, phi_prime, sin_beta, va, vt, ant, tag, s_hat_in, s_in, length, k)
+            : 0.0;
+    const std::complex<double> near_contribution = path_contribution(length, near, f);
+    const bool keep_ray = std::norm(contribution) >= floor, keep_near = std::norm(near_contribution) >= floor;
+    if (!keep_ray && !keep_near) continue;  // would be dropped: no ray for it
     // Both legs clear, each shot from the edge (Embree works in float: the ray's origin is where its precision
     // matters, next to the faces that meet at the edge), starting and ending just off the edge and the ends.
     const double end_in = std::min(options_.endpoint_epsilon_m, 0.25 * s_in);
@@ -180,15 +188,11 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
     p.edge = ei;
     p.coefficient = coefficient;
     p.contribution = contribution;
-    out.push_back(p);
-    // Level full: the edge's near field at an end close to it, beside its diffracted ray (same legs, same length).
-    if (!includes(options_.level, ChannelLevel::kFull)) continue;
-    const std::complex<double> near = near_field_coefficient(e, n, phi, phi_prime, sin_beta, va, vt, ant, tag,
-                                                             s_hat_in, s_in, length, k);
-    if (near == 0.0) continue;
+    if (keep_ray) out.push_back(p);
+    if (!keep_near) continue;
     p.kind = PathKind::kEdgeNearField;
     p.coefficient = near;
-    p.contribution = path_contribution(length, near, f);
+    p.contribution = near_contribution;
     out.push_back(p);
   }
 }
