@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/run_rfidray.h"
+#include "tests/support/scratch_dir.h"
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -48,6 +50,43 @@ TEST(LinkLevelsCli, DoubleBounceAndFullListTheNewPaths) {
     }
     EXPECT_GT(found, 0u) << "no " << kind << " path listed";
   }
+}
+
+// link's validity object (core/level_validity.h): a tag 2.2 cm beside a metal sheet's edge is outside
+// single-bounce's validity (no diffraction), within full's when polarized along the edge, and, across the edge,
+// within full's only because full lists the edge's near field; at full, a tag far from every edge is not judged.
+TEST(LinkLevelsCli, ValidityNearASheetEdge) {
+  const testing::ScratchDir dir("link_validity");
+  const std::string obj =
+      dir.write("sheet.obj", "v 0 0 -0.4\nv 0.9 0 -0.4\nv 0.9 0 0.4\nv 0 0 0.4\nf 1 2 3\nf 1 3 4\n").string();
+  const auto link = [&](const std::string& level, const std::string& tag, const std::string& pol) {
+    const auto r = testing::run_rfidray("link --json --scene " + obj + " --material metal --level " + level +
+                                        " --antenna 3,-2,0 --tag " + tag + " --antenna-pol " + pol +
+                                        " --tag-pol " + pol);
+    EXPECT_EQ(r.status, 0) << r.output;
+    return nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  };
+  const nlohmann::json single = link("single-bounce", "-0.02,0.01,0", "linear:0,0,1");
+  const auto& v = single["validity"];
+  EXPECT_FALSE(v["level_ok"].get<bool>());
+  EXPECT_GT(v["estimated_error"].get<double>(), 0.3);
+  EXPECT_NEAR(v["nearest_edge_m"].get<double>(), std::hypot(0.02, 0.01), 1e-9);
+  EXPECT_NE(v["reason"].get<std::string>().find("edge"), std::string::npos);
+  for (const char* key : {"estimated_error_db", "estimated_error_rad", "nearest_edge_krho"})
+    EXPECT_TRUE(std::isfinite(v[key].get<double>())) << key;
+  EXPECT_TRUE(link("full", "-0.02,0.01,0", "linear:0,0,1")["validity"]["level_ok"].get<bool>());
+  const nlohmann::json across = link("full", "-0.02,0.01,0", "linear:1,0,0");
+  EXPECT_TRUE(across["validity"]["level_ok"].get<bool>()) << across["validity"]["reason"];
+  bool near_field = false;
+  for (const auto& p : across["raytraced"]["paths"]) near_field |= p["kind"] == "edge-near-field";
+  EXPECT_TRUE(near_field);
+  EXPECT_FALSE(link("full-selective", "-0.02,0.01,0", "linear:1,0,0")["validity"]["level_ok"].get<bool>());
+  // 1.5 m in front of the sheet no edge is within reach: full is not judged (below full, link still compares the
+  // level with full on the link itself).
+  const nlohmann::json far = link("full", "0.45,-1.5,0", "linear:0,0,1");
+  EXPECT_TRUE(far["validity"]["level_ok"].get<bool>());
+  EXPECT_EQ(far["validity"]["reason"], "");
+  EXPECT_TRUE(far["validity"]["nearest_edge_m"].is_null());
 }
 
 }  // namespace
