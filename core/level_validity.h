@@ -9,8 +9,9 @@
 // on a sheet's edge) and across it (hard: the electric field near the edge has a radial part growing as (kρ)^−½,
 // which no ray carries; GO + UTD is off by ~0.38 of the incident field at kρ = 0.73, 0.10 at kρ = 2.9). Level full
 // adds that near field (core/edge_near_field.h) where the canonical problem holds; its estimate is what the
-// near field's weight leaves out. The FDTD runs of bench/fullwave/ measure the same for a finite sheet
-// (docs/fullwave.md).
+// near field's weight leaves out, and never less than what the FDTD runs of bench/fullwave/ measured for `full`
+// beside a finite sheet lit from 1 m (docs/fullwave.md: 0.03 along the edge, 0.14 / 0.12 / 0.06 / 0.05 across it
+// at kρ ≤ 1.1 / 2.2 / 4.4 / 9).
 //
 // What that canonical check covers and what it does not (docs/fullwave.md, with the full-wave FDTD runs of
 // bench/fullwave/ that check the geometries it leaves out):

@@ -199,12 +199,15 @@ TEST(LevelValidity, SheetEdgeVerdicts) {
   EXPECT_FALSE(single.level_ok) << single.reason;
   EXPECT_GT(single.estimated_error, 0.3);
   EXPECT_TRUE(diffracting.level_ok) << diffracting.reason;
-  EXPECT_LT(diffracting.estimated_error, 1e-6);
+  // Exact for the canonical wedge; the estimate is what the FDTD runs measured beside a finite sheet.
+  EXPECT_LT(diffracting.estimated_error, 0.05);
+  EXPECT_NE(diffracting.reason.find("FDTD"), std::string::npos) << diffracting.reason;
   EXPECT_NE(diffracting.reason.find("2.2 cm"), std::string::npos) << diffracting.reason;
   EXPECT_TRUE(std::isfinite(single.estimated_error_db) && std::isfinite(single.estimated_error_rad));
   EXPECT_LE(single.estimated_error_db, 40.0);
   // The same link with the antenna polarized across the edge (x): the edge's radial near field, which no ray
-  // carries, puts every level below full outside its validity; full adds it (core/edge_near_field.h).
+  // carries, puts every level below full far outside its validity; full adds it (core/edge_near_field.h) and is
+  // left with what the FDTD runs measured at that kρ across the edge (0.14: outside, but by far less).
   Endpoint across = z_dipole_at(antenna);
   across.polarization.axis_local = Vec3::UnitX();
   const auto hard_sight = link_edge_sight(full, across, z_dipole_at(near_edge), kF);
@@ -214,8 +217,8 @@ TEST(LevelValidity, SheetEdgeVerdicts) {
   EXPECT_FALSE(rays_only.level_ok) << rays_only.reason;
   EXPECT_GT(rays_only.estimated_error, 0.3);
   const LevelValidity with_near_field = level_validity(ChannelLevel::kFull, hard_sight, kF);
-  EXPECT_TRUE(with_near_field.level_ok) << with_near_field.reason;
-  EXPECT_LT(with_near_field.estimated_error, 1e-9);
+  EXPECT_FALSE(with_near_field.level_ok) << with_near_field.reason;
+  EXPECT_LT(with_near_field.estimated_error, 0.5 * rays_only.estimated_error);
   // Ideal ignores the scene: not judged.
   EXPECT_TRUE(level_validity(ChannelLevel::kIdeal, sight, kF).reason.empty());
   // A metre in front of the sheet's middle: no edge within reach of either end.
