@@ -264,9 +264,9 @@ int run_link(const LinkOptions& o) {
   for (const auto& w : warnings) std::cerr << "rfidray: warning: " << w << "\n";
 
   TraceOptions trace;
-  trace.level = parse_channel_level(o.level, "--level");
+  trace.level = parse_channel_level(o.level, "--channel");
   if (!is_traced(trace.level))
-    throw InputError("option --level: '" + o.level + "' is not traced (link shows one of los, los+blocked, "
+    throw InputError("option --channel: '" + o.level + "' is not traced (link shows one of los, los+blocked, "
                      "single-bounce, double-bounce, full-selective, full; the ideal channel is printed beside it)");
   trace.candidates = parse_candidate_mode(o.candidates, "--candidates");
   if (!(o.drop_db >= 0.0 && o.drop_db <= 1000.0)) throw InputError("option --drop-db: must be in [0, 1000] dB");
@@ -401,7 +401,8 @@ std::function<int()> setup_link(CLI::App& app) {
   cmd->add_option("--tag-pattern", o->tag_pattern, "tag pattern, same syntax");
   cmd->add_option("--antenna-rpy", o->antenna_rpy, "antenna orientation roll,pitch,yaw (deg); boresight = local +X");
   cmd->add_option("--tag-rpy", o->tag_rpy, "tag orientation roll,pitch,yaw (deg)");
-  cmd->add_option("--level", o->level, "los | los+blocked | single-bounce | double-bounce | full-selective | full");
+  cmd->add_option("--channel,--level", o->level,
+                  "los | los+blocked | single-bounce | double-bounce | full-selective | full (--level is an alias of --channel)");
   cmd->add_option("--candidates", o->candidates, "exhaustive | fast (reflection candidate search)");
   cmd->add_option("--drop-db", o->drop_db, "drop paths this many dB below the strongest");
   cmd->add_option("--tag-antenna", o->tag_antenna,

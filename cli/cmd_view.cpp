@@ -32,7 +32,7 @@ struct ViewOptions {
   std::vector<std::string> antennas, tags;  // X,Y,Z with --scene; names with a scenario or world
   std::optional<double> time_s;
   std::optional<uint64_t> tick;
-  std::string level;  // "" = the scenario's channel, or single-bounce
+  std::string level;  // --channel; "" = the scenario's channel, or single-bounce
   double frequency_hz = ReaderParams{}.frequencies_hz.front();
   std::string output = "view.html";
   io::WorldSourceOptions world;
@@ -92,7 +92,7 @@ int run_view(const ViewOptions& o) {
     }
     scene = load_scene(std::vector<std::filesystem::path>(o.scene.begin(), o.scene.end()), assignment, {}, &warnings);
     for (const auto& w : warnings) std::cerr << "rfidray: warning: " << w << "\n";
-    const ChannelLevel level = parse_channel_level(o.level.empty() ? "single-bounce" : o.level, "--level");
+    const ChannelLevel level = parse_channel_level(o.level.empty() ? "single-bounce" : o.level, "--channel");
     channel = make_channel(level, ChannelOptionsSpec{}, scene);
     std::vector<Endpoint> ants, tags;
     for (size_t i = 0; i < o.antennas.size(); ++i) {
@@ -128,7 +128,7 @@ int run_view(const ViewOptions& o) {
       for (const auto& w : warnings) std::cerr << "rfidray: warning: " << w << "\n";
       view.title = o.scenario;
     }
-    if (!o.level.empty()) scenario.channel = parse_channel_level(o.level, "--level");
+    if (!o.level.empty()) scenario.channel = parse_channel_level(o.level, "--channel");
     else if (!is_traced(scenario.channel)) scenario.channel = ChannelLevel::kSingleBounce;  // paths worth seeing
     const SceneMotion motion = build_motion(scenario);
     std::vector<std::string> report;
@@ -195,8 +195,9 @@ std::function<int()> setup_view(CLI::App& app) {
   cmd->add_option("--tag", o->tags, "--scene: tag position X,Y,Z; scenario/world: a tag's name");
   cmd->add_option("--time", o->time_s, "scenario time (s) of the poses shown (default 0)");
   cmd->add_option("--tick", o->tick, "read tick of the first antenna shown (t = N / its update rate)");
-  cmd->add_option("--level", o->level, "los | los+blocked | single-bounce | ideal | auto (default: the scenario's "
-                                       "channel when traced, else single-bounce)");
+  cmd->add_option("--channel,--level", o->level,
+                  "los | los+blocked | single-bounce | ideal | auto (default: the scenario's channel when traced, else "
+                  "single-bounce; --level is an alias of --channel)");
   cmd->add_option("--frequency", o->frequency_hz, "carrier (Hz) with --scene (a scenario's antennas give theirs)");
   cmd->add_option("-o,--output", o->output, "HTML file to write")->capture_default_str();
   return [o] { return run_view(*o); };
