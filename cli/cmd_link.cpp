@@ -207,7 +207,7 @@ struct LinkOptions {
   std::vector<std::string> scene;
   std::string material, default_material, antenna, tag, antenna_pol = "linear:0,0,1", tag_pol = "linear:0,0,1";
   std::string pattern = "isotropic", tag_pattern = "isotropic", antenna_rpy = "0,0,0", tag_rpy = "0,0,0";
-  std::string level = "single-bounce", candidates = "fast";
+  std::string level = "single-bounce", candidates = "exact";
   double frequency_hz = ReaderParams{}.frequencies_hz.front();
   double tx_power_dbm = ReaderParams{}.tx_power_dbm;
   double thickness_m = -1.0;
@@ -403,7 +403,7 @@ std::function<int()> setup_link(CLI::App& app) {
   cmd->add_option("--tag-rpy", o->tag_rpy, "tag orientation roll,pitch,yaw (deg)");
   cmd->add_option("--channel,--level", o->level,
                   "los | los+blocked | single-bounce | double-bounce | full-selective | full (--level is an alias of --channel)");
-  cmd->add_option("--candidates", o->candidates, "exhaustive | fast (reflection candidate search)");
+  cmd->add_option("--candidates", o->candidates, "exact | exhaustive (reflection candidate search; fast = exact)");
   cmd->add_option("--drop-db", o->drop_db, "drop paths this many dB below the strongest");
   cmd->add_option("--tag-antenna", o->tag_antenna,
                   "the tag as an antenna: dipole:LENGTH_M:RADIUS_M[:CONDUCTIVITY_S_M] | table:FILE.csv (docs/tag-antenna.md)");

@@ -207,7 +207,7 @@ std::function<int()> setup_simulate(CLI::App& app) {
       "\n"
       "Scenario YAML (example: scenes/paper_warehouse.yaml):\n"
       "  seed, duration_s (default: until the robots / moving tags finish), channel, model (paper|physical),\n"
-      "  channel_options: {candidates: fast|exhaustive, candidate_rays, candidate_spread, drop_below_db,\n"
+      "  channel_options: {candidates: exact|exhaustive, candidate_rays, candidate_spread, drop_below_db,\n"
       "         max_path_length_m, auto_phase_tolerance_rad, auto_rssi_tolerance_db, auto_sample_links}\n"
       "  (channel: ideal|los|los+blocked|single-bounce|double-bounce|full-selective|full|auto; auto samples the scenario's\n"
       "  links and picks the cheapest of ideal, los, los+blocked, single-bounce, double-bounce, full-selective, full whose p95\n"

@@ -108,6 +108,19 @@ TEST(LinkCli, LevelIsAnAliasOfChannel) {
   EXPECT_NE(help.out.find("--level is an alias of --channel"), std::string::npos) << help.out;
 }
 
+// The default search is named exact; "fast", its former name, gives the same paths and reports itself as exact.
+TEST(LinkCli, CandidatesExactByDefaultAndFastIsItsAlias) {
+  const std::string where = " --json --scene " + kScene + " --antenna=-1,-3,0.6 --tag 2.9,-2.35,2.05";
+  const CliRun plain = run("link" + where), fast = run("link --candidates fast" + where);
+  ASSERT_EQ(plain.status, 0) << plain.out;
+  ASSERT_EQ(fast.status, 0) << fast.out;
+  const auto jp = nlohmann::json::parse(plain.out.substr(plain.out.find('{')));
+  const auto jf = nlohmann::json::parse(fast.out.substr(fast.out.find('{')));
+  EXPECT_EQ(jp["candidates"], "exact");
+  EXPECT_EQ(jf["candidates"], "exact");
+  EXPECT_EQ(jp["raytraced"], jf["raytraced"]);
+}
+
 TEST(LinkCli, BadInputFailsWithAMessage) {
   const std::string ok = " --antenna 0,0,1 --tag 1,0,1";
   struct Case {

@@ -34,7 +34,7 @@ TEST(LargeCoordinates, UtmSizedSceneGivesTheSamePathsAsTheSceneNearTheOrigin) {
   const auto near_scene = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
   const auto far_scene = std::make_shared<const Scene>(shifted(paper_warehouse_meshes(), utm), MaterialAssignment{});
   ASSERT_EQ(near_scene->facets().size(), far_scene->facets().size());
-  for (CandidateMode mode : {CandidateMode::kFast, CandidateMode::kExhaustive}) {
+  for (CandidateMode mode : {CandidateMode::kExact, CandidateMode::kExhaustive}) {
     o.candidates = mode;
     const RaytracedChannel near_ch(near_scene, o), far_ch(far_scene, o);
     const Vec3 antennas[] = {{-1.0, -3.0, 0.6}, {3.5, -4.0, 2.0}, {-1.0, 5.0, 1.68}};
