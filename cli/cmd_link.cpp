@@ -288,7 +288,7 @@ int run_link(const LinkOptions& o) {
       for (int k = 0; k < 3; ++k)
         if (!limits::coordinate_ok(e.pose.position[k]))
           throw InputError("option --" + prefix + ": coordinates must be within ±" +
-                           limits::num(limits::kMaxCoordinateM) + " m (got '" + clip(where) + "')");
+                           num(limits::kMaxCoordinateM) + " m (got '" + clip(where) + "')");
       e.pose.orientation = parse_rpy(rpy, "--" + prefix + "-rpy");
     }
     e.polarization = parse_polarization(pol, "--" + prefix + "-pol");

@@ -21,6 +21,7 @@
 #include "io/world_source.h"
 #include "raytrace/material_map.h"
 #include "raytrace/scene.h"
+#include "core/number_text.h"
 
 namespace rfidray::cli {
 namespace {
@@ -159,11 +160,11 @@ int run_view(const ViewOptions& o) {
         const Endpoint end{view.tags[ti].pose, tag.tag.pattern, tag.tag.polarization};
         if (!((antenna.pose.position - end.pose.position).norm() >= kMinLinkDistance_m))
           throw InputError(view.title + ": tag '" + tag.tag.name + "' is at antenna '" + spec.reader.name + "' at t = " +
-                           io::num(t_s) + " s");
+                           num(t_s) + " s");
         view.links.push_back({ai, ti, f, antenna.pose.position, end.pose.position, channel->paths(antenna, end, f)});
       }
     }
-    view.title += " at t = " + io::num(t_s) + " s";
+    view.title += " at t = " + num(t_s) + " s";
   }
   view.level = channel->name();
   view.scene = scene.get();

@@ -23,6 +23,7 @@
 #include "core/error.h"
 #include "core/reader_model.h"
 #include "core/units.h"
+#include "core/number_text.h"
 
 namespace rfidray::io {
 namespace {

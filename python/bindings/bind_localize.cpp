@@ -16,6 +16,7 @@
 #include "localization/methods.h"
 #include "python/bindings/bindings.h"
 #include "python/bindings/readings_arg.h"
+#include "core/number_text.h"
 
 namespace rfidray::py {
 namespace {
@@ -40,7 +41,7 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
   else if (mirror_prior == "truth") prior = loc::MirrorPrior::kPoint;
   else if (mirror_prior != "none") throw field_error("mirror_prior", "must be none, boresight or truth (got '" + mirror_prior + "')");
   auto positive = [](double v, const char* name) {
-    if (!(v > 0.0) || !std::isfinite(v)) throw field_error(name, "must be a finite number > 0 (got " + io::num(v) + ")");
+    if (!(v > 0.0) || !std::isfinite(v)) throw field_error(name, "must be a finite number > 0 (got " + num(v) + ")");
   };
   positive(frequency_hz, "frequency_hz");
   positive(max_range_m, "max_range_m");
