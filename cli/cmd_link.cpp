@@ -401,8 +401,7 @@ std::function<int()> setup_link(CLI::App& app) {
   cmd->add_option("--tag-pattern", o->tag_pattern, "tag pattern, same syntax");
   cmd->add_option("--antenna-rpy", o->antenna_rpy, "antenna orientation roll,pitch,yaw (deg); boresight = local +X");
   cmd->add_option("--tag-rpy", o->tag_rpy, "tag orientation roll,pitch,yaw (deg)");
-  cmd->add_option("--channel,--level", o->level,
-                  "los | los+blocked | single-bounce | double-bounce | full-selective | full (--level is an alias of --channel)");
+  add_channel_option_with_level_alias(*cmd, o->level, "los | los+blocked | single-bounce | double-bounce | full-selective | full");
   cmd->add_option("--candidates", o->candidates, "exact | exhaustive (reflection candidate search; fast = exact)");
   cmd->add_option("--drop-db", o->drop_db, "drop paths this many dB below the strongest");
   cmd->add_option("--tag-antenna", o->tag_antenna,

@@ -26,27 +26,9 @@ struct LocalizeState {
   std::vector<std::string> readings;
   std::string truth, antenna_file, scenario, channel;  // "" = not given
   loc::LocalizeRequest request;  // the options, checked by loc::validate (shared with Python's localize)
+  loc::LocalizeFieldNames names;  // of the options below, as CLI11 has them ("--max-range")
   bool json = false;
 };
-
-// The option names of this command, for loc::validate's messages.
-loc::LocalizeFieldNames field_names() {
-  loc::LocalizeFieldNames n;
-  n.method = "--method";
-  n.mirror_prior = "--mirror-prior";
-  n.mirror_prior_truth = "--mirror-prior truth";
-  n.frequency_hz = "--frequency-hz";
-  n.max_range_m = "--max-range";
-  n.stride_m = "--stride";
-  n.max_residual_rad = "--max-residual-rad";
-  n.max_uncertainty_m = "--max-uncertainty-m";
-  n.systematic_phase_rad = "--systematic-phase-rad";
-  n.height_known = "--height-known";
-  n.truth = "--truth";
-  n.scenario = "--scenario";
-  n.channel = "--channel";
-  return n;
-}
 
 nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
@@ -55,7 +37,7 @@ int run_localize(LocalizeState s) {
   s.request.has_antenna_file = !s.antenna_file.empty();
   s.request.has_scenario = !s.scenario.empty();
   s.request.has_channel = !s.channel.empty();
-  const loc::LocalizeFieldNames names = field_names();
+  const loc::LocalizeFieldNames& names = s.names;
   loc::LocalizePlan plan = loc::validate(s.request, names);
   const std::vector<loc::Method>& methods = plan.methods;
   if (!s.antenna_file.empty()) plan.options.calibration = io::read_antenna_file(s.antenna_file);
@@ -172,6 +154,7 @@ int run_localize(LocalizeState s) {
 
 std::function<int()> setup_localize(CLI::App& app) {
   auto state = std::make_shared<LocalizeState>();
+  loc::LocalizeFieldNames& n = state->names;
   CLI::App* sub = app.add_subcommand(
       "localize",
       "Locate tags from readings CSVs (of `rfidray simulate`) with unwrapping + hyperbolic intersection (the "
@@ -182,50 +165,51 @@ std::function<int()> setup_localize(CLI::App& app) {
                   "frequency_hz,...]; one phase history per (file, antenna, channel, frequency)")
       ->required()
       ->check(CLI::ExistingFile);
-  sub->add_option("--truth", state->truth, "ground truth CSV name,x,y,z: adds error_m and the summary")
-      ->check(CLI::ExistingFile);
-  sub->add_option("--method", state->request.method, "hyperbolic | nlls | sar | all")->capture_default_str();
-  sub->add_flag("--height-known", state->request.height_known,
-                "2-D localization (the paper's case): each tag's z is taken from --truth and held fixed");
-  sub->add_option("--mirror-prior", state->request.mirror_prior,
+  n.truth = sub->add_option("--truth", state->truth, "ground truth CSV name,x,y,z: adds error_m and the summary")
+      ->check(CLI::ExistingFile)->get_name();
+  n.method = sub->add_option("--method", state->request.method, "hyperbolic | nlls | sar | all")->capture_default_str()->get_name();
+  n.height_known = sub->add_flag("--height-known", state->request.height_known,
+                "2-D localization (the paper's case): each tag's z is taken from --truth and held fixed")->get_name();
+  n.mirror_prior = sub->add_option("--mirror-prior", state->request.mirror_prior,
                   "how to settle a detected mirror ambiguity (straight path): none (report failed), boresight "
                   "(the side the antenna +X axis faces), truth (the side of the --truth position: an oracle)")
-      ->capture_default_str();
+      ->capture_default_str()->get_name();
   sub->add_option("--antenna-file", state->antenna_file,
                   "antenna calibration (YAML, from `rfidray calibrate`): phase centre, carrier offsets and phase "
                   "pattern applied by the joint model of nlls and sar and by the uncertainty of all methods")
       ->check(CLI::ExistingFile);
-  sub->add_option("--scenario", state->scenario,
+  n.scenario = sub->add_option("--scenario", state->scenario,
                   "the scenario the readings come from (or a survey of the site): its scene's extra paths at each "
                   "estimate, over the tag's antenna positions, bound the bias a fit cannot see in its residuals "
                   "(multipath_phase_rad in the JSON; status failed, reason multipath, when they make the region "
                   "too large)")
-      ->check(CLI::ExistingFile);
-  sub->add_option("--channel", state->channel,
+      ->check(CLI::ExistingFile)->get_name();
+  n.channel = sub->add_option("--channel", state->channel,
                   "with --scenario: the channel level the readings were simulated with, overrides the scenario's "
                   "`channel` as `simulate --channel` does (ideal, los, los+blocked, single-bounce, double-bounce, "
-                  "full-selective, full, auto)");
+                  "full-selective, full, auto)")->get_name();
   sub->add_flag("--fold-pi", state->request.fold_pi, "the reader reports phase modulo pi: fit twice the phase");
-  sub->add_option("--max-residual-rad", state->request.max_residual_rad,
+  n.max_residual_rad = sub->add_option("--max-residual-rad", state->request.max_residual_rad,
                   "status ok needs the robust sigma of the wrapped-phase residuals below this (rad)")
-      ->capture_default_str();
-  sub->add_option("--max-uncertainty-m", state->request.max_uncertainty_m,
+      ->capture_default_str()->get_name();
+  n.max_uncertainty_m = sub->add_option("--max-uncertainty-m", state->request.max_uncertainty_m,
                   "status ok needs the 95 % radius uncertainty_m at most this (m): the largest region the "
                   "application accepts")
-      ->capture_default_str();
-  sub->add_option(
+      ->capture_default_str()->get_name();
+  n.systematic_phase_rad = sub->add_option(
       "--systematic-phase-rad", state->request.systematic_phase_rad,
       "model-error allowance (rad RMS of an unmodelled smooth phase error) in uncertainty_m; default 0.1 with "
-      "--antenna-file, 0.2 without (an uncalibrated antenna's phase pattern is model error too)");
-  sub->add_option("--frequency-hz", state->request.frequency_hz, "carrier when the CSV has no frequency column")
-      ->capture_default_str();
-  sub->add_option("--max-range", state->request.max_range_m, "search region: within this distance (m) of the path")
-      ->capture_default_str();
-  sub->add_option("--stride", state->request.stride_m, "hyperbolic: antenna move (m) between conics (minimum)")
-      ->capture_default_str();
+      "--antenna-file, 0.2 without (an uncalibrated antenna's phase pattern is model error too)")->get_name();
+  n.frequency_hz = sub->add_option("--frequency-hz", state->request.frequency_hz, "carrier when the CSV has no frequency column")
+      ->capture_default_str()->get_name();
+  n.max_range_m = sub->add_option("--max-range", state->request.max_range_m, "search region: within this distance (m) of the path")
+      ->capture_default_str()->get_name();
+  n.stride_m = sub->add_option("--stride", state->request.stride_m, "hyperbolic: antenna move (m) between conics (minimum)")
+      ->capture_default_str()->get_name();
   sub->add_flag("--json", state->json, "print JSON: results[] {name, method, status, reason?, x, y, z, error_m?, "
                                        "uncertainty_m (95 % radius, null when failed), time_ms} and summary per "
                                        "method (with ok_outside_uncertainty when --truth is given)");
+  n.mirror_prior_truth = n.mirror_prior + " truth";
   return [state] { return run_localize(*state); };
 }
 

@@ -196,9 +196,8 @@ std::function<int()> setup_view(CLI::App& app) {
   cmd->add_option("--tag", o->tags, "--scene: tag position X,Y,Z; scenario/world: a tag's name");
   cmd->add_option("--time", o->time_s, "scenario time (s) of the poses shown (default 0)");
   cmd->add_option("--tick", o->tick, "read tick of the first antenna shown (t = N / its update rate)");
-  cmd->add_option("--channel,--level", o->level,
-                  "los | los+blocked | single-bounce | ideal | auto (default: the scenario's channel when traced, else "
-                  "single-bounce; --level is an alias of --channel)");
+  add_channel_option_with_level_alias(*cmd, o->level, "los | los+blocked | single-bounce | ideal | auto (default: the "
+                                                     "scenario's channel when traced, else single-bounce)");
   cmd->add_option("--frequency", o->frequency_hz, "carrier (Hz) with --scene (a scenario's antennas give theirs)");
   cmd->add_option("-o,--output", o->output, "HTML file to write")->capture_default_str();
   return [o] { return run_view(*o); };

@@ -14,21 +14,12 @@ namespace rfidray::loc {
 namespace {
 
 LocalizeFieldNames names_with_prefix(const std::string& p) {
-  LocalizeFieldNames n;
-  n.method = p + "method";
-  n.mirror_prior = p + "mirror_prior";
-  n.mirror_prior_truth = p + "mirror_prior=truth";
-  n.frequency_hz = p + "frequency_hz";
-  n.max_range_m = p + "max_range_m";
-  n.stride_m = p + "stride_m";
-  n.max_residual_rad = p + "max_residual_rad";
-  n.max_uncertainty_m = p + "max_uncertainty_m";
-  n.systematic_phase_rad = p + "systematic_phase_rad";
-  n.height_known = p + "height_known";
-  n.truth = p + "truth";
-  n.scenario = p + "scenario";
-  n.channel = p + "channel";
-  return n;
+  const char* fields[] = {"method", "mirror_prior", "mirror_prior=truth", "frequency_hz", "max_range_m", "stride_m",
+                          "max_residual_rad", "max_uncertainty_m", "systematic_phase_rad", "height_known", "truth",
+                          "scenario", "channel"};
+  std::string name[13];
+  for (int i = 0; i < 13; ++i) name[i] = p + fields[i];
+  return {name[0], name[1], name[2], name[3], name[4], name[5], name[6], name[7], name[8], name[9], name[10], name[11], name[12]};
 }
 
 std::string error_of(const LocalizeRequest& r, const LocalizeFieldNames& n) {
