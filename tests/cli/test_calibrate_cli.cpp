@@ -18,6 +18,7 @@
 
 #include "io/antenna_file.h"
 #include "tests/localization/hardware_reads.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray::io {
 namespace {
@@ -25,10 +26,10 @@ namespace {
 namespace fs = std::filesystem;
 using loc::testing::Hardware;
 
+// One scratch directory for this test program, removed when it exits.
 fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("rfidray_calibrate_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+  static const testing::ScratchDir dir("calibrate_test");
+  return dir.path();
 }
 
 std::string run(const std::string& args, int& exit_code) {

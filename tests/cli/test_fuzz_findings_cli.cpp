@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/run_rfidray.h"
+#include "tests/support/scratch_dir.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -29,22 +30,15 @@ bool contains(const std::string& s, const std::string& what) { return s.find(wha
 class FuzzCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("rfidray_fuzz_" + std::to_string(getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    std::ofstream(dir_ / "ground_wall.obj") << "o ground\nv -10 -10 0\nv 10 -10 0\nv -10 10 0\nv 10 10 0\n"
-                                               "usemtl concrete\nf 1 2 4\nf 1 4 3\n";
+    scratch_.write("ground_wall.obj", "o ground\nv -10 -10 0\nv 10 -10 0\nv -10 10 0\nv 10 10 0\n"
+                                      "usemtl concrete\nf 1 2 4\nf 1 4 3\n");
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return (dir_ / name).string();
-  }
+  std::string write(const std::string& name, const std::string& text) { return scratch_.write(name, text).string(); }
   std::string link(const std::string& extra) {
     return "link --scene " + (dir_ / "ground_wall.obj").string() + " " + extra;
   }
-  fs::path dir_;
+  const testing::ScratchDir scratch_{testing::ScratchDir::current_test_name("fuzz")};
+  const fs::path dir_ = scratch_.path();
 };
 
 // --- crash / hang ---

@@ -10,6 +10,7 @@
 
 #include "raytrace/raytraced_channel.h"
 #include "tests/support/run_rfidray.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray {
 namespace {
@@ -17,8 +18,10 @@ namespace {
 const std::string kSource = RFIDRAY_SOURCE_DIR;
 const std::filesystem::path kThree = "/usr/share/javascript/three/three.min.js";
 
+// Output files of this test program, in a directory removed when it exits.
 std::filesystem::path scratch(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("rfidray_view_cli_" + std::to_string(::getpid()) + "_" + name);
+  static const testing::ScratchDir dir("view_cli");
+  return dir / name;
 }
 
 // "N links, M paths" from the summary line.

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/simulation.h"
 #include "core/units.h"
+#include "tests/support/input_error.h"
 
 namespace rfidray::io {
 namespace {
@@ -18,12 +19,7 @@ const std::string kPaper = std::string(RFIDRAY_SOURCE_DIR) + "/scenes/paper_ware
 
 // The message of the InputError that parsing `text` throws ("" if none).
 std::string error_of(const std::string& text) {
-  try {
-    parse_scenario(text, "s.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return testing::input_error_of([&] { parse_scenario(text, "s.yaml"); });
 }
 
 TEST(ScenarioYaml, PaperWarehouseHasTable1AndTheTenTags) {

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "io/view_html.h"
 #include "raytrace/raytraced_channel.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray {
 namespace {
@@ -92,8 +93,8 @@ TEST(ViewHtml, ScriptEndTagsInTextCannotBreakThePage) {
 
 TEST(ViewHtml, MissingThreeJsIsAnInputErrorAndWritesNothing) {
   const auto scene = load_scene({kGroundWall}, MaterialAssignment{});
-  const auto out = std::filesystem::temp_directory_path() / ("rfidray_view_" + std::to_string(::getpid()) + ".html");
-  std::filesystem::remove(out);
+  const testing::ScratchDir dir("view_html");
+  const auto out = dir / "view.html";
   io::ThreeJsFiles files;
   files.three = "/nonexistent/three.min.js";
   try {

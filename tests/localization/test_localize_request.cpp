@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "localization/localize_request.h"
+#include "tests/support/input_error.h"
 
 namespace rfidray::loc {
 namespace {
@@ -23,12 +24,7 @@ LocalizeFieldNames names_with_prefix(const std::string& p) {
 }
 
 std::string error_of(const LocalizeRequest& r, const LocalizeFieldNames& n) {
-  try {
-    validate(r, n);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return testing::input_error_of([&] { validate(r, n); });
 }
 
 TEST(LocalizeRequest, EachBadFieldIsNamedAsTheFrontEndCallsIt) {

@@ -13,6 +13,7 @@
 #include "raytrace/raytraced_channel.h"
 #include "tests/support/endpoint_at.h"
 #include "raytrace/warehouse.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray {
 namespace {
@@ -76,13 +77,8 @@ TEST(LargeCoordinates, VerticesOutsideTheCoordinateRangeNameTheMesh) {
 
 class ObjFiles : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("rfidray_large_" + std::to_string(getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  const testing::ScratchDir scratch_{testing::ScratchDir::current_test_name("large")};
+  const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(ObjFiles, FortyThousandGroupsLoadInLinearMemory) {
