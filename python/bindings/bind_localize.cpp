@@ -21,26 +21,12 @@ namespace rfidray::py {
 namespace {
 
 // The keyword names of rfidray.localize, for loc::validate's messages.
-const loc::LocalizeFieldNames& keyword_names() {
-  static const loc::LocalizeFieldNames names = [] {
-    loc::LocalizeFieldNames n;
-    n.method = "method";
-    n.mirror_prior = "mirror_prior";
-    n.mirror_prior_truth = "mirror_prior='truth'";
-    n.frequency_hz = "frequency_hz";
-    n.max_range_m = "max_range_m";
-    n.stride_m = "stride_m";
-    n.max_residual_rad = "max_residual_rad";
-    n.max_uncertainty_m = "max_uncertainty_m";
-    n.systematic_phase_rad = "systematic_phase_rad";
-    n.height_known = "height_known";
-    n.truth = "truth";
-    n.scenario = "scenario";
-    n.channel = "channel";
-    return n;
-  }();
-  return names;
-}
+const loc::LocalizeFieldNames kKeywordNames{
+    .method = "method", .mirror_prior = "mirror_prior", .mirror_prior_truth = "mirror_prior='truth'",
+    .frequency_hz = "frequency_hz", .max_range_m = "max_range_m", .stride_m = "stride_m",
+    .max_residual_rad = "max_residual_rad", .max_uncertainty_m = "max_uncertainty_m",
+    .systematic_phase_rad = "systematic_phase_rad", .height_known = "height_known", .truth = "truth",
+    .scenario = "scenario", .channel = "channel"};
 
 pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std::string& method,
                        bool height_known, const std::string& mirror_prior, double frequency_hz, double max_range_m,
@@ -49,22 +35,14 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
                        std::optional<double> systematic_phase_rad,
                        std::optional<std::string> scenario_file, std::optional<std::string> channel) {
   // The request of `rfidray localize` (localization/localize_request.h), with the keyword names of this API.
-  loc::LocalizeRequest request;
-  request.method = method;
-  request.mirror_prior = mirror_prior;
-  request.frequency_hz = frequency_hz;
-  request.max_range_m = max_range_m;
-  request.stride_m = stride_m;
-  request.max_residual_rad = max_residual_rad;
-  request.max_uncertainty_m = max_uncertainty_m;
-  request.systematic_phase_rad = systematic_phase_rad;
-  request.height_known = height_known;
-  request.fold_pi = fold_pi;
-  request.has_truth = !truth_arg.is_none();
-  request.has_antenna_file = antenna_file.has_value();
-  request.has_scenario = scenario_file.has_value();
-  request.has_channel = channel.has_value();
-  const loc::LocalizeFieldNames& names = keyword_names();
+  const loc::LocalizeRequest request{.method = method, .mirror_prior = mirror_prior, .frequency_hz = frequency_hz,
+                                     .max_range_m = max_range_m, .stride_m = stride_m,
+                                     .max_residual_rad = max_residual_rad, .max_uncertainty_m = max_uncertainty_m,
+                                     .systematic_phase_rad = systematic_phase_rad, .height_known = height_known,
+                                     .fold_pi = fold_pi, .has_truth = !truth_arg.is_none(),
+                                     .has_antenna_file = antenna_file.has_value(),
+                                     .has_scenario = scenario_file.has_value(), .has_channel = channel.has_value()};
+  const loc::LocalizeFieldNames& names = kKeywordNames;
   loc::LocalizePlan plan = loc::validate(request, names);
   if (antenna_file) plan.options.calibration = io::read_antenna_file(*antenna_file);
   // The known scene (io/scene_multipath.h), as `rfidray localize --scenario [--channel]`.

@@ -26,11 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 using loc::testing::Hardware;
 
-// One scratch directory for this test program, removed when it exits.
-fs::path temp_dir() {
-  static const testing::ScratchDir dir("calibrate_test");
-  return dir.path();
-}
+fs::path temp_dir() { return testing::program_scratch_dir("calibrate_test"); }
 
 std::string run(const std::string& args, int& exit_code) {
   const rfidray::testing::CliResult r = rfidray::testing::run_rfidray(args);

@@ -25,11 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One scratch directory for this test program, removed when it exits.
-fs::path temp_dir() {
-  static const testing::ScratchDir dir("import_cli_test");
-  return dir.path();
-}
+fs::path temp_dir() { return testing::program_scratch_dir("import_cli_test"); }
 
 using testing::write_file;
 

@@ -21,11 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One scratch directory for this test program, removed when it exits.
-fs::path temp_dir() {
-  static const testing::ScratchDir dir("localize_test");
-  return dir.path();
-}
+fs::path temp_dir() { return testing::program_scratch_dir("localize_test"); }
 
 using testing::write_file;
 

@@ -21,11 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One scratch directory for this test program, removed when it exits.
-fs::path temp_dir() {
-  static const testing::ScratchDir dir("real_log_test");
-  return dir.path();
-}
+fs::path temp_dir() { return testing::program_scratch_dir("real_log_test"); }
 
 using testing::write_file;
 fs::path write(const std::string& name, const std::string& text) { return write_file(temp_dir() / name, text); }

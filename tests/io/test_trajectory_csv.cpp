@@ -18,11 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One scratch directory for this test program, removed when it exits.
-fs::path temp_dir() {
-  static const testing::ScratchDir dir("trajectory_test");
-  return dir.path();
-}
+fs::path temp_dir() { return testing::program_scratch_dir("trajectory_test"); }
 
 fs::path write(const std::string& name, const std::string& text) { return testing::write_file(temp_dir() / name, text); }
 

@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <map>
+#include <memory>
 #include <string>
 #include <system_error>
 
@@ -43,5 +45,14 @@ class ScratchDir {
  private:
   std::filesystem::path path_;
 };
+
+// A scratch directory shared by the tests of one program under `name`, made on first use and removed when the
+// program exits. Not thread-safe (gtest runs the tests of a program one after the other).
+inline const std::filesystem::path& program_scratch_dir(const std::string& name) {
+  static std::map<std::string, std::unique_ptr<ScratchDir>> dirs;
+  std::unique_ptr<ScratchDir>& dir = dirs[name];
+  if (!dir) dir = std::make_unique<ScratchDir>(name);
+  return dir->path();
+}
 
 }  // namespace rfidray::testing
