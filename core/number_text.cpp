@@ -1,6 +1,7 @@
 #include "core/number_text.h"
 
 #include <charconv>
+#include <cstdio>
 
 namespace rfidray {
 
@@ -9,6 +10,12 @@ std::string num(double v) {
   const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
   (void)ec;  // cannot fail: 32 characters hold every double
   return std::string(buf, end);
+}
+
+std::string rounded_text(double v, int significant_digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", significant_digits, v);
+  return buf;
 }
 
 }  // namespace rfidray

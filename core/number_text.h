@@ -11,4 +11,9 @@ namespace rfidray {
 
 std::string num(double v);
 
+// An estimate or a display value, rounded to `significant_digits` (printf %.*g): 1.408e7 at 4 digits →
+// "1.408e+07". For numbers that are approximate by nature ("about N triangles", "0.0671 GB"); values a user gave
+// or a result computed exactly are num()'s.
+std::string rounded_text(double v, int significant_digits);
+
 }  // namespace rfidray

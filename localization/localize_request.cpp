@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "core/number_text.h"
 
 namespace rfidray::loc {
@@ -32,6 +33,10 @@ LocalizePlan validate(const LocalizeRequest& r, const LocalizeFieldNames& names)
     throw field_error(names.mirror_prior, "must be none, boresight or truth (got '" + clip(r.mirror_prior) + "')");
   check_positive(r.frequency_hz, names.frequency_hz);
   check_positive(r.max_range_m, names.max_range_m);
+  // A search region wider than the coordinate range is no position at all (and its grids would not fit an int).
+  if (r.max_range_m > limits::kMaxCoordinateM)
+    throw field_error(names.max_range_m, "must be at most " + num(limits::kMaxCoordinateM) + " m, the coordinate range (got " +
+                                             num(r.max_range_m) + ")");
   check_positive(r.stride_m, names.stride_m);
   check_positive(r.max_residual_rad, names.max_residual_rad);
   check_positive(r.max_uncertainty_m, names.max_uncertainty_m);

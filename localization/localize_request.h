@@ -49,7 +49,7 @@ struct LocalizePlan {
 };
 
 // Throws InputError "field 'NAME': …" naming the first bad field (NAME from `names`): an unknown method or
-// mirror prior, a number that is not finite or out of range, channel without scenario, height_known or
+// mirror prior, a number that is not finite or out of range (max_range_m at most limits::kMaxCoordinateM), channel without scenario, height_known or
 // mirror_prior truth without truth.
 LocalizePlan validate(const LocalizeRequest& request, const LocalizeFieldNames& names);
 

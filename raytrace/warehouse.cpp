@@ -149,10 +149,10 @@ void validate(const WarehouseParams& p) {
   limits::check_range(p.aisle_m, 1e-3, 1e4, "aisle_m", "m");
   const double tri = triangle_estimate(p);
   if (tri > limits::kMaxTriangles)
-    throw field_error("size", "would generate about " + num(tri) + " triangles (~" +
+    throw field_error("size", "would generate about " + rounded_text(tri, 6) + " triangles (~" +
                                   num(tri * kGeneratedBytesPerTriangle / 1e9) + " GB in memory); at most " +
                                   num(limits::kMaxTriangles) + " (rows × racks × (12·shelves + 40) × tessellation²)");
-  check_memory_estimate(tri * kGeneratedBytesPerTriangle, "field 'size': about " + num(tri) + " triangles",
+  check_memory_estimate(tri * kGeneratedBytesPerTriangle, "field 'size': about " + rounded_text(tri, 6) + " triangles",
                         num(kGeneratedBytesPerTriangle) + " bytes per generated triangle");
   const double extent = std::max({double(p.rows) * (p.rack_depth_m + p.aisle_m) + 2 * p.aisle_m,
                                   double(p.racks_per_row) * (p.rack_length_m + 0.1) + 2 * p.aisle_m,

@@ -43,6 +43,12 @@ TEST(NumberText, RoundTripsRandomDoubles) {
             std::numeric_limits<double>::denorm_min());
 }
 
+TEST(NumberText, RoundedTextIsForEstimates) {
+  EXPECT_EQ(rounded_text(14080000.0, 6), "1.408e+07");
+  EXPECT_EQ(rounded_text(0.067108864, 3), "0.0671");
+  EXPECT_EQ(num(14080000.0), "14080000");  // the exact value, for contrast
+}
+
 // A range message shows the value given, not a rounded one that looks in range.
 TEST(NumberText, RangeMessagesShowTheExactValue) {
   try {

@@ -37,6 +37,8 @@ TEST(LocalizeRequest, EachBadFieldIsNamedAsTheFrontEndCallsIt) {
       {[](LocalizeRequest& r) { r.mirror_prior = "left"; }, "field 'X.mirror_prior': must be none, boresight or truth (got 'left')"},
       {[&](LocalizeRequest& r) { r.frequency_hz = nan; }, "field 'X.frequency_hz': must be a finite number > 0 (got nan)"},
       {[&](LocalizeRequest& r) { r.max_range_m = inf; }, "field 'X.max_range_m': must be a finite number > 0 (got inf)"},
+      {[](LocalizeRequest& r) { r.max_range_m = 1e308; },
+       "field 'X.max_range_m': must be at most 1e+08 m, the coordinate range (got 1e+308)"},
       {[](LocalizeRequest& r) { r.stride_m = 0.0; }, "field 'X.stride_m': must be a finite number > 0 (got 0)"},
       {[](LocalizeRequest& r) { r.max_residual_rad = -1.0; }, "field 'X.max_residual_rad': must be a finite number > 0 (got -1)"},
       {[](LocalizeRequest& r) { r.max_uncertainty_m = 0.0; }, "field 'X.max_uncertainty_m': must be a finite number > 0 (got 0)"},
