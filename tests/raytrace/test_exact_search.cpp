@@ -17,6 +17,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/error.h"
 #include "raytrace/raytraced_channel.h"
 #include "raytrace/warehouse.h"
 
