@@ -208,7 +208,7 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
       throw InputError(where(scenario, scenario.duration_s ? 0 : scenario.antennas[a].source_line) +
                        "field '" + (scenario.duration_s ? std::string("duration_s") : "antennas[" + std::to_string(a) + "].update_rate") +
                        "': " + num(result.duration_s) + " s at " + num(r.update_rate_hz) + " Hz is " + num(ticks) +
-                       " ticks for antenna '" + r.name + "' (up to " + num(ticks * double(std::max<size_t>(1, n_tags)) * double(sizeof(ReadRecord)) / 1e9) +
+                       " ticks for antenna '" + r.name + "' (up to " + rounded_text(ticks * double(std::max<size_t>(1, n_tags)) * double(sizeof(ReadRecord)) / 1e9, 3) +
                        " GB of readings); at most " + num(limits::kMaxTicks) + " ticks per antenna");
   }
 

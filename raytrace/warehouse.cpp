@@ -150,7 +150,7 @@ void validate(const WarehouseParams& p) {
   const double tri = triangle_estimate(p);
   if (tri > limits::kMaxTriangles)
     throw field_error("size", "would generate about " + rounded_text(tri, 6) + " triangles (~" +
-                                  num(tri * kGeneratedBytesPerTriangle / 1e9) + " GB in memory); at most " +
+                                  rounded_text(tri * kGeneratedBytesPerTriangle / 1e9, 3) + " GB in memory); at most " +
                                   num(limits::kMaxTriangles) + " (rows × racks × (12·shelves + 40) × tessellation²)");
   check_memory_estimate(tri * kGeneratedBytesPerTriangle, "field 'size': about " + rounded_text(tri, 6) + " triangles",
                         num(kGeneratedBytesPerTriangle) + " bytes per generated triangle");
