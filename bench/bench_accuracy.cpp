@@ -269,7 +269,7 @@ int main(int argc, char** argv) {
   };
   std::vector<SceneCase> cases{{"paper", bench::find_bench_scene("paper"), quick ? 60 : 200, quick ? 8 : 20, true,
                                 size_t(quick ? 60 : 200), CandidateMode::kExhaustive}};
-  if (!quick) cases.push_back({"w1m", bench::find_bench_scene("w1m"), 250, 4, false, size_t(w1m_full_tags), CandidateMode::kFast});
+  if (!quick) cases.push_back({"w1m", bench::find_bench_scene("w1m"), 250, 4, false, size_t(w1m_full_tags), CandidateMode::kExact});
 
   std::vector<io::Panel> panels;
   for (const SceneCase& sc : cases) {

@@ -4,7 +4,7 @@
 // (core/channel_error.h: p95 round-trip phase and RSSI errors over links readable in either, read flips).
 //
 //   bench_levels [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes paper,w10k,w1m] [--reference LEVEL]
-//                [--reference-candidates exhaustive|fast] [--zones 1,3,5]
+//                [--reference-candidates exhaustive|exact] [--zones 1,3,5]
 // (--reference double-bounce: what double reflections alone add, without diffraction. --reference-candidates
 // fast: the same paths, for scenes where the exhaustive search is too slow (w1m: ~1 s per link at full).
 // --zones: full-selective once per Fresnel-zone count N, TraceOptions::diffraction_fresnel_zones.)
@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
   app.add_option("--poses", poses, "antenna poses")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--scenes", scene_list, "comma-separated subset of paper,w10k,w100k")->capture_default_str();
   app.add_option("--reference", reference_level, "reference level (exhaustive candidates)")->capture_default_str();
-  app.add_option("--reference-candidates", reference_candidates, "candidate search of the reference: exhaustive | fast")
+  app.add_option("--reference-candidates", reference_candidates, "candidate search of the reference: exhaustive | exact")
       ->capture_default_str();
   app.add_option("--zones", zones_list, "full-selective: Fresnel-zone counts N, comma-separated")->capture_default_str();
   CLI11_PARSE(app, argc, argv);

@@ -23,6 +23,7 @@
 #include "core/error.h"
 #include "core/simulation.h"
 #include "core/units.h"
+#include "core/thread_count.h"
 
 namespace rfidray::cli {
 namespace {
@@ -83,7 +84,9 @@ int run_compare(const CompareOptions& o) {
   const IdealChannel ideal;
   const std::unique_ptr<Channel> traced = make_channel(level, scenario, motion);
   SimulationOptions sim;
-  sim.threads = o.threads;
+  const ThreadCount threads = startable_threads(o.threads, "--threads");
+  if (!threads.note.empty()) std::cerr << "rfidray: warning: " << threads.note << "\n";
+  sim.threads = threads.threads;
   const SimulationResult ri = simulate(scenario, motion, ideal, sim);
   const SimulationResult rt = simulate(scenario, motion, *traced, sim);
 

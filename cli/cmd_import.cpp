@@ -19,6 +19,7 @@
 #include "io/readings_csv.h"
 #include "io/real_log.h"
 #include "io/trajectory_csv.h"
+#include "core/number_text.h"
 
 namespace rfidray::cli {
 
@@ -80,7 +81,7 @@ void write_atomically(const fs::path& target, const std::function<void(std::ostr
   }
 }
 
-std::string mhz(double hz) { return io::num(hz / 1e6); }
+std::string mhz(double hz) { return num(hz / 1e6); }
 
 // Times to the millisecond (epoch times have ten digits before the point).
 std::string seconds(double t) {
@@ -145,7 +146,7 @@ int run_import(const ImportState& s) {
           last = std::max(last, r->time_s);
           max_rssi = std::max(max_rssi, r->rssi);
         }
-        out << tag << ',' << reads.size() << ',' << io::num(first) << ',' << io::num(last) << ',' << io::num(max_rssi)
+        out << tag << ',' << reads.size() << ',' << num(first) << ',' << num(last) << ',' << num(max_rssi)
             << '\n';
       }
     });

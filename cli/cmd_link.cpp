@@ -208,7 +208,7 @@ struct LinkOptions {
   std::vector<std::string> scene;
   std::string material, default_material, antenna, tag, antenna_pol = "linear:0,0,1", tag_pol = "linear:0,0,1";
   std::string pattern = "isotropic", tag_pattern = "isotropic", antenna_rpy = "0,0,0", tag_rpy = "0,0,0";
-  std::string level = "single-bounce", candidates = "fast";
+  std::string level = "single-bounce", candidates = "exact";
   double frequency_hz = ReaderParams{}.frequencies_hz.front();
   double tx_power_dbm = ReaderParams{}.tx_power_dbm;
   double thickness_m = -1.0;
@@ -294,9 +294,9 @@ int run_link(const LinkOptions& o) {
   for (const auto& w : warnings) std::cerr << "rfidray: warning: " << w << "\n";
 
   TraceOptions trace;
-  trace.level = parse_channel_level(o.level, "--level");
+  trace.level = parse_channel_level(o.level, "--channel");
   if (!is_traced(trace.level))
-    throw InputError("option --level: '" + o.level + "' is not traced (link shows one of los, los+blocked, "
+    throw InputError("option --channel: '" + o.level + "' is not traced (link shows one of los, los+blocked, "
                      "single-bounce, double-bounce, full-selective, full; the ideal channel is printed beside it)");
   trace.candidates = parse_candidate_mode(o.candidates, "--candidates");
   if (!(o.drop_db >= 0.0 && o.drop_db <= 1000.0)) throw InputError("option --drop-db: must be in [0, 1000] dB");
@@ -318,7 +318,7 @@ int run_link(const LinkOptions& o) {
       for (int k = 0; k < 3; ++k)
         if (!limits::coordinate_ok(e.pose.position[k]))
           throw InputError("option --" + prefix + ": coordinates must be within ±" +
-                           limits::num(limits::kMaxCoordinateM) + " m (got '" + clip(where) + "')");
+                           num(limits::kMaxCoordinateM) + " m (got '" + clip(where) + "')");
       e.pose.orientation = parse_rpy(rpy, "--" + prefix + "-rpy");
     }
     e.polarization = parse_polarization(pol, "--" + prefix + "-pol");
@@ -437,8 +437,8 @@ std::function<int()> setup_link(CLI::App& app) {
   cmd->add_option("--tag-pattern", o->tag_pattern, "tag pattern, same syntax");
   cmd->add_option("--antenna-rpy", o->antenna_rpy, "antenna orientation roll,pitch,yaw (deg); boresight = local +X");
   cmd->add_option("--tag-rpy", o->tag_rpy, "tag orientation roll,pitch,yaw (deg)");
-  cmd->add_option("--level", o->level, "los | los+blocked | single-bounce | double-bounce | full-selective | full");
-  cmd->add_option("--candidates", o->candidates, "exhaustive | fast (reflection candidate search)");
+  add_channel_option_with_level_alias(*cmd, o->level, "los | los+blocked | single-bounce | double-bounce | full-selective | full");
+  cmd->add_option("--candidates", o->candidates, "exact | exhaustive (reflection candidate search; fast = exact)");
   cmd->add_option("--drop-db", o->drop_db, "drop paths this many dB below the strongest");
   cmd->add_option("--tag-antenna", o->tag_antenna,
                   "the tag as an antenna: dipole:LENGTH_M:RADIUS_M[:CONDUCTIVITY_S_M] | table:FILE.csv (docs/tag-antenna.md)");

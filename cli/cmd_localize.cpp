@@ -14,6 +14,7 @@
 #include "io/readings_csv.h"
 #include "io/scene_multipath.h"
 #include "core/error.h"
+#include "localization/localize_request.h"
 #include "localization/methods.h"
 #include "localization/summary.h"
 
@@ -23,96 +24,45 @@ namespace {
 
 struct LocalizeState {
   std::vector<std::string> readings;
-  std::string truth;
-  std::string method = "all";
-  std::string mirror_prior = "none";
-  std::string antenna_file;
-  std::string scenario;
-  std::string channel;
-  bool fold_pi = false;
-  double max_residual_rad = loc::LocalizeOptions{}.max_residual_rad;
-  double max_uncertainty_m = loc::LocalizeOptions{}.max_uncertainty_m;
-  // Unset: loc::default_systematic_phase_rad (0.1 rad with an antenna file, 0.2 without).
-  double systematic_phase_rad = std::numeric_limits<double>::quiet_NaN();
-  bool height_known = false;
+  std::string truth, antenna_file, scenario, channel;  // "" = not given
+  loc::LocalizeRequest request;  // the options, checked by loc::validate (shared with Python's localize)
+  loc::LocalizeFieldNames names;  // of the options below, as CLI11 has them ("--max-range")
   bool json = false;
-  bool systematic_phase_rad_given = false;
-  double frequency_hz = 865.7e6;
-  double max_range_m = 10.0;
-  double stride_m = 0.10;
 };
 
 nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
-int run_localize(const LocalizeState& s) {
-  std::vector<loc::Method> methods;
-  if (s.method == "all") {
-    methods = {loc::Method::kHyperbolic, loc::Method::kNlls, loc::Method::kSar};
-  } else {
-    loc::Method m;
-    if (!loc::parse_method(s.method, m))
-      throw field_error("--method", "must be hyperbolic, nlls, sar or all (got '" + s.method + "')");
-    methods = {m};
-  }
-  loc::MirrorPrior prior = loc::MirrorPrior::kNone;
-  if (s.mirror_prior == "boresight") prior = loc::MirrorPrior::kBoresight;
-  else if (s.mirror_prior == "truth") prior = loc::MirrorPrior::kPoint;
-  else if (s.mirror_prior != "none")
-    throw field_error("--mirror-prior", "must be none, boresight or truth (got '" + s.mirror_prior + "')");
-  // `!(v > 0)` also rejects NaN (CLI11 parses "nan"); inf is no usable value either.
-  if (!(s.frequency_hz > 0.0) || !std::isfinite(s.frequency_hz)) throw field_error("--frequency-hz", "must be a finite number > 0");
-  if (!(s.max_range_m > 0.0) || !std::isfinite(s.max_range_m)) throw field_error("--max-range", "must be a finite number > 0");
-  if (!(s.stride_m > 0.0) || !std::isfinite(s.stride_m)) throw field_error("--stride", "must be a finite number > 0");
-  if (!(s.max_residual_rad > 0.0) || !std::isfinite(s.max_residual_rad)) throw field_error("--max-residual-rad", "must be a finite number > 0");
-  if (!(s.max_uncertainty_m > 0.0) || !std::isfinite(s.max_uncertainty_m)) throw field_error("--max-uncertainty-m", "must be a finite number > 0");
-  if (s.systematic_phase_rad_given &&
-      (!(s.systematic_phase_rad >= 0.0) || !std::isfinite(s.systematic_phase_rad)))
-    throw field_error("--systematic-phase-rad", "must be a finite number >= 0");
-  const double systematic_phase_rad = s.systematic_phase_rad_given
-                                          ? s.systematic_phase_rad
-                                          : loc::default_systematic_phase_rad(!s.antenna_file.empty());
-  std::optional<loc::AntennaCalibration> calibration;
-  if (!s.antenna_file.empty()) calibration = io::read_antenna_file(s.antenna_file);
+int run_localize(LocalizeState s) {
+  s.request.has_truth = !s.truth.empty();
+  s.request.has_antenna_file = !s.antenna_file.empty();
+  s.request.has_scenario = !s.scenario.empty();
+  s.request.has_channel = !s.channel.empty();
+  const loc::LocalizeFieldNames& names = s.names;
+  loc::LocalizePlan plan = loc::validate(s.request, names);
+  const std::vector<loc::Method>& methods = plan.methods;
+  if (!s.antenna_file.empty()) plan.options.calibration = io::read_antenna_file(s.antenna_file);
 
   // The known scene: its multipath allowance bounds what a fit cannot see (io/scene_multipath.h).
   std::optional<io::SceneMultipath> scene;
-  if (!s.channel.empty() && s.scenario.empty()) throw field_error("--channel", "needs --scenario");
   if (!s.scenario.empty())
     scene = io::load_scene_multipath(s.scenario, s.channel.empty() ? std::nullopt : std::optional(s.channel),
                                      "--channel");
 
   std::map<std::string, Vec3> truth;
   if (!s.truth.empty()) truth = io::read_truth_csv(s.truth);
-  if (s.height_known && s.truth.empty()) throw field_error("--height-known", "needs --truth (the tag z comes from it)");
-  if (prior == loc::MirrorPrior::kPoint && s.truth.empty()) throw field_error("--mirror-prior truth", "needs --truth");
 
   std::vector<std::vector<io::ReadingRow>> files;
   for (const std::string& f : s.readings) files.push_back(io::read_readings_csv(f));
-  std::vector<loc::TagReads> tags = io::group_by_tag(files, s.frequency_hz);
+  std::vector<loc::TagReads> tags = io::group_by_tag(files, s.request.frequency_hz);
   io::label_groups_by_antenna(tags);
 
   nlohmann::json results = nlohmann::json::array();
   std::map<loc::Method, std::vector<double>> errors, times;
   std::map<loc::Method, int> failed, outside;
   for (const loc::TagReads& tag : tags) {
-    loc::LocalizeOptions o;
-    o.max_range_m = s.max_range_m;
-    o.stride_m = s.stride_m;
-    o.mirror_prior = prior;
-    o.calibration = calibration;
-    o.fold_pi = s.fold_pi;
-    o.max_residual_rad = s.max_residual_rad;
-    o.max_uncertainty_m = s.max_uncertainty_m;
-    o.systematic_phase_rad = systematic_phase_rad;
-    if (scene) o.multipath_phase_rad = scene->allowance_for(tag);
+    const loc::LocalizeOptions o =
+        loc::tag_options(plan, tag.tag, truth, s.truth, names, scene ? scene->allowance_for(tag) : nullptr);
     const auto t = truth.find(tag.tag);
-    if (s.height_known || prior == loc::MirrorPrior::kPoint) {
-      if (t == truth.end())
-        throw InputError(s.truth + ": no ground truth for tag '" + tag.tag + "' (needed by --height-known / --mirror-prior truth)");
-      o.height_known = s.height_known;
-      o.tag_height_m = t->second.z();
-      o.prior_point = t->second;
-    }
     for (loc::Method m : methods) {
       const auto start = std::chrono::steady_clock::now();
       const loc::LocalizeResult r = loc::localize(m, tag, o);
@@ -204,6 +154,7 @@ int run_localize(const LocalizeState& s) {
 
 std::function<int()> setup_localize(CLI::App& app) {
   auto state = std::make_shared<LocalizeState>();
+  loc::LocalizeFieldNames& n = state->names;
   CLI::App* sub = app.add_subcommand(
       "localize",
       "Locate tags from readings CSVs (of `rfidray simulate`) with unwrapping + hyperbolic intersection (the "
@@ -214,54 +165,52 @@ std::function<int()> setup_localize(CLI::App& app) {
                   "frequency_hz,...]; one phase history per (file, antenna, channel, frequency)")
       ->required()
       ->check(CLI::ExistingFile);
-  sub->add_option("--truth", state->truth, "ground truth CSV name,x,y,z: adds error_m and the summary")
-      ->check(CLI::ExistingFile);
-  sub->add_option("--method", state->method, "hyperbolic | nlls | sar | all")->capture_default_str();
-  sub->add_flag("--height-known", state->height_known,
-                "2-D localization (the paper's case): each tag's z is taken from --truth and held fixed");
-  sub->add_option("--mirror-prior", state->mirror_prior,
+  n.truth = sub->add_option("--truth", state->truth, "ground truth CSV name,x,y,z: adds error_m and the summary")
+      ->check(CLI::ExistingFile)->get_name();
+  n.method = sub->add_option("--method", state->request.method, "hyperbolic | nlls | sar | all")->capture_default_str()->get_name();
+  n.height_known = sub->add_flag("--height-known", state->request.height_known,
+                "2-D localization (the paper's case): each tag's z is taken from --truth and held fixed")->get_name();
+  n.mirror_prior = sub->add_option("--mirror-prior", state->request.mirror_prior,
                   "how to settle a detected mirror ambiguity (straight path): none (report failed), boresight "
                   "(the side the antenna +X axis faces), truth (the side of the --truth position: an oracle)")
-      ->capture_default_str();
+      ->capture_default_str()->get_name();
   sub->add_option("--antenna-file", state->antenna_file,
                   "antenna calibration (YAML, from `rfidray calibrate`): phase centre, carrier offsets and phase "
                   "pattern applied by the joint model of nlls and sar and by the uncertainty of all methods")
       ->check(CLI::ExistingFile);
-  sub->add_option("--scenario", state->scenario,
+  n.scenario = sub->add_option("--scenario", state->scenario,
                   "the scenario the readings come from (or a survey of the site): its scene's extra paths at each "
                   "estimate, over the tag's antenna positions, bound the bias a fit cannot see in its residuals "
                   "(multipath_phase_rad in the JSON; status failed, reason multipath, when they make the region "
                   "too large)")
-      ->check(CLI::ExistingFile);
-  sub->add_option("--channel", state->channel,
+      ->check(CLI::ExistingFile)->get_name();
+  n.channel = sub->add_option("--channel", state->channel,
                   "with --scenario: the channel level the readings were simulated with, overrides the scenario's "
                   "`channel` as `simulate --channel` does (ideal, los, los+blocked, single-bounce, double-bounce, "
-                  "full-selective, full, auto)");
-  sub->add_flag("--fold-pi", state->fold_pi, "the reader reports phase modulo pi: fit twice the phase");
-  sub->add_option("--max-residual-rad", state->max_residual_rad,
+                  "full-selective, full, auto)")->get_name();
+  sub->add_flag("--fold-pi", state->request.fold_pi, "the reader reports phase modulo pi: fit twice the phase");
+  n.max_residual_rad = sub->add_option("--max-residual-rad", state->request.max_residual_rad,
                   "status ok needs the robust sigma of the wrapped-phase residuals below this (rad)")
-      ->capture_default_str();
-  sub->add_option("--max-uncertainty-m", state->max_uncertainty_m,
+      ->capture_default_str()->get_name();
+  n.max_uncertainty_m = sub->add_option("--max-uncertainty-m", state->request.max_uncertainty_m,
                   "status ok needs the 95 % radius uncertainty_m at most this (m): the largest region the "
                   "application accepts")
-      ->capture_default_str();
-  CLI::Option* systematic = sub->add_option(
-      "--systematic-phase-rad", state->systematic_phase_rad,
+      ->capture_default_str()->get_name();
+  n.systematic_phase_rad = sub->add_option(
+      "--systematic-phase-rad", state->request.systematic_phase_rad,
       "model-error allowance (rad RMS of an unmodelled smooth phase error) in uncertainty_m; default 0.1 with "
-      "--antenna-file, 0.2 without (an uncalibrated antenna's phase pattern is model error too)");
-  sub->add_option("--frequency-hz", state->frequency_hz, "carrier when the CSV has no frequency column")
-      ->capture_default_str();
-  sub->add_option("--max-range", state->max_range_m, "search region: within this distance (m) of the path")
-      ->capture_default_str();
-  sub->add_option("--stride", state->stride_m, "hyperbolic: antenna move (m) between conics (minimum)")
-      ->capture_default_str();
+      "--antenna-file, 0.2 without (an uncalibrated antenna's phase pattern is model error too)")->get_name();
+  n.frequency_hz = sub->add_option("--frequency-hz", state->request.frequency_hz, "carrier when the CSV has no frequency column")
+      ->capture_default_str()->get_name();
+  n.max_range_m = sub->add_option("--max-range", state->request.max_range_m, "search region: within this distance (m) of the path")
+      ->capture_default_str()->get_name();
+  n.stride_m = sub->add_option("--stride", state->request.stride_m, "hyperbolic: antenna move (m) between conics (minimum)")
+      ->capture_default_str()->get_name();
   sub->add_flag("--json", state->json, "print JSON: results[] {name, method, status, reason?, x, y, z, error_m?, "
                                        "uncertainty_m (95 % radius, null when failed), time_ms} and summary per "
                                        "method (with ok_outside_uncertainty when --truth is given)");
-  return [state, systematic] {
-    state->systematic_phase_rad_given = systematic->count() > 0;
-    return run_localize(*state);
-  };
+  n.mirror_prior_truth = n.mirror_prior + " truth";
+  return [state] { return run_localize(*state); };
 }
 
 }  // namespace rfidray::cli

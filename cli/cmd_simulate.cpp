@@ -24,6 +24,7 @@
 #include "io/world_source.h"
 #include "core/error.h"
 #include "core/simulation.h"
+#include "core/thread_count.h"
 
 namespace rfidray::cli {
 namespace {
@@ -122,7 +123,9 @@ int run(const SimulateOptions& o) {
       world_scene ? make_channel(scenario.channel, scenario, motion, world_scene, &channel_report)
                   : make_channel(scenario.channel, scenario, motion, &channel_report);
   SimulationOptions sim;
-  sim.threads = o.threads;
+  const ThreadCount threads = startable_threads(o.threads, "--threads");
+  if (!threads.note.empty()) std::fprintf(stderr, "rfidray: warning: %s\n", threads.note.c_str());
+  sim.threads = threads.threads;
   set_progress("during the simulation; no output written");
   const SimulationResult result = simulate(scenario, motion, *channel, sim);
   if (!o.quiet)
@@ -148,7 +151,6 @@ int run(const SimulateOptions& o) {
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (o.quiet) return 0;
 
-  const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
   std::printf("rfidray simulate %s: channel %s, seed %llu, %.3f s simulated\n",
               (o.world.file.empty() ? o.scenario : o.world.file).c_str(),
               (scenario.channel == ChannelLevel::kAuto ? "auto -> " + channel->name()
@@ -183,7 +185,7 @@ int run(const SimulateOptions& o) {
                 channel->name().c_str(), static_cast<unsigned long long>(result.channel_evaluations));
   std::printf("  ground truth -> %s%s\n", (dir / "tags.csv").string().c_str(),
               moving ? (", " + (dir / "tags_trajectory.csv").string()).c_str() : "");
-  std::printf("  wall time %.3f s (%d thread%s)\n", wall_s, threads, threads == 1 ? "" : "s");
+  std::printf("  wall time %.3f s (%d thread%s)\n", wall_s, threads.threads, threads.threads == 1 ? "" : "s");
   return 0;
 }
 
@@ -207,7 +209,7 @@ std::function<int()> setup_simulate(CLI::App& app) {
       "\n"
       "Scenario YAML (example: scenes/paper_warehouse.yaml):\n"
       "  seed, duration_s (default: until the robots / moving tags finish), channel, model (paper|physical),\n"
-      "  channel_options: {candidates: fast|exhaustive, candidate_rays, candidate_spread, drop_below_db,\n"
+      "  channel_options: {candidates: exact|exhaustive, candidate_rays, candidate_spread, drop_below_db,\n"
       "         max_path_length_m, auto_phase_tolerance_rad, auto_rssi_tolerance_db, auto_sample_links}\n"
       "  (channel: ideal|los|los+blocked|single-bounce|double-bounce|full-selective|full|auto; auto samples the scenario's\n"
       "  links and picks the cheapest of ideal, los, los+blocked, single-bounce, double-bounce, full-selective, full whose p95\n"

@@ -21,6 +21,7 @@
 #include "io/world_source.h"
 #include "raytrace/material_map.h"
 #include "raytrace/scene.h"
+#include "core/number_text.h"
 
 namespace rfidray::cli {
 namespace {
@@ -32,7 +33,7 @@ struct ViewOptions {
   std::vector<std::string> antennas, tags;  // X,Y,Z with --scene; names with a scenario or world
   std::optional<double> time_s;
   std::optional<uint64_t> tick;
-  std::string level;  // "" = the scenario's channel, or single-bounce
+  std::string level;  // --channel; "" = the scenario's channel, or single-bounce
   double frequency_hz = ReaderParams{}.frequencies_hz.front();
   std::string output = "view.html";
   io::WorldSourceOptions world;
@@ -92,7 +93,7 @@ int run_view(const ViewOptions& o) {
     }
     scene = load_scene(std::vector<std::filesystem::path>(o.scene.begin(), o.scene.end()), assignment, {}, &warnings);
     for (const auto& w : warnings) std::cerr << "rfidray: warning: " << w << "\n";
-    const ChannelLevel level = parse_channel_level(o.level.empty() ? "single-bounce" : o.level, "--level");
+    const ChannelLevel level = parse_channel_level(o.level.empty() ? "single-bounce" : o.level, "--channel");
     channel = make_channel(level, ChannelOptionsSpec{}, scene);
     std::vector<Endpoint> ants, tags;
     for (size_t i = 0; i < o.antennas.size(); ++i) {
@@ -128,7 +129,7 @@ int run_view(const ViewOptions& o) {
       for (const auto& w : warnings) std::cerr << "rfidray: warning: " << w << "\n";
       view.title = o.scenario;
     }
-    if (!o.level.empty()) scenario.channel = parse_channel_level(o.level, "--level");
+    if (!o.level.empty()) scenario.channel = parse_channel_level(o.level, "--channel");
     else if (!is_traced(scenario.channel)) scenario.channel = ChannelLevel::kSingleBounce;  // paths worth seeing
     const SceneMotion motion = build_motion(scenario);
     std::vector<std::string> report;
@@ -159,11 +160,11 @@ int run_view(const ViewOptions& o) {
         const Endpoint end{view.tags[ti].pose, tag.tag.pattern, tag.tag.polarization};
         if (!((antenna.pose.position - end.pose.position).norm() >= kMinLinkDistance_m))
           throw InputError(view.title + ": tag '" + tag.tag.name + "' is at antenna '" + spec.reader.name + "' at t = " +
-                           io::num(t_s) + " s");
+                           num(t_s) + " s");
         view.links.push_back({ai, ti, f, antenna.pose.position, end.pose.position, channel->paths(antenna, end, f)});
       }
     }
-    view.title += " at t = " + io::num(t_s) + " s";
+    view.title += " at t = " + num(t_s) + " s";
   }
   view.level = channel->name();
   view.scene = scene.get();
@@ -195,8 +196,8 @@ std::function<int()> setup_view(CLI::App& app) {
   cmd->add_option("--tag", o->tags, "--scene: tag position X,Y,Z; scenario/world: a tag's name");
   cmd->add_option("--time", o->time_s, "scenario time (s) of the poses shown (default 0)");
   cmd->add_option("--tick", o->tick, "read tick of the first antenna shown (t = N / its update rate)");
-  cmd->add_option("--level", o->level, "los | los+blocked | single-bounce | ideal | auto (default: the scenario's "
-                                       "channel when traced, else single-bounce)");
+  add_channel_option_with_level_alias(*cmd, o->level, "los | los+blocked | single-bounce | ideal | auto (default: the "
+                                                     "scenario's channel when traced, else single-bounce)");
   cmd->add_option("--frequency", o->frequency_hz, "carrier (Hz) with --scene (a scenario's antennas give theirs)");
   cmd->add_option("-o,--output", o->output, "HTML file to write")->capture_default_str();
   return [o] { return run_view(*o); };

@@ -77,6 +77,10 @@ int run_selected(CLI::App& app) {
   return 1;
 }
 
+void add_channel_option_with_level_alias(CLI::App& cmd, std::string& level, const std::string& levels_help) {
+  cmd.add_option("--channel,--level", level, levels_help + " (--level is an alias of --channel)");
+}
+
 void add_world_options(CLI::App& cmd, io::WorldSourceOptions& o) {
   cmd.add_option("--world", o.file, "Gazebo SDF world (.world/.sdf): collisions, RFID antennas and tags (see README)");
   cmd.add_option("--resource-path", o.resource_path,

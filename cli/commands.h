@@ -19,6 +19,10 @@ int run_selected(CLI::App& app);
 // A subcommand: `setup` adds it (options bound to state it owns) and returns the runner.
 using CommandSetup = std::function<std::function<int()>(CLI::App& app)>;
 
+// Adds --channel (the channel level, as every command calls it) with --level, its former name in link and view,
+// as an alias that --help names as such.
+void add_channel_option_with_level_alias(CLI::App& cmd, std::string& level, const std::string& levels_help);
+
 // Adds --world, --resource-path and --materials (a world file instead of a scenario) to a subcommand.
 void add_world_options(CLI::App& cmd, io::WorldSourceOptions& options);
 

@@ -18,6 +18,7 @@
 #include "io/tag_antenna_spec.h"
 #include "io/tag_generators.h"
 #include "parallel/ranks.h"
+#include "core/thread_count.h"
 
 namespace rfidray::cli {
 namespace {
@@ -120,6 +121,9 @@ Planning prepare_planning(const PlanningOptions& o) {
   if (!(std::isfinite(o.pass_step_s) && o.pass_step_s >= 0.0 && o.pass_step_s <= 1e6))
     throw InputError("option --pass-step: must be in [0, 1e6] s");
   if (o.threads < 0 || o.threads > 4096) throw InputError("option --threads: must be in [0, 4096]");
+  const ThreadCount threads = startable_threads(o.threads, "--threads");
+  if (!threads.note.empty()) std::fprintf(stderr, "rfidray: warning: %s\n", threads.note.c_str());
+  p.threads = threads.threads;
 
   p.motion = build_motion(p.scenario);
   // Cells.
@@ -222,7 +226,7 @@ std::vector<planning::CoverageValues> sharded_coverage(const Planning& p, const 
   planning::CoverageOptions opt;
   opt.pass_step_s = o.pass_step_s;
   opt.height_known = !o.three_d;
-  opt.threads = o.threads;
+  opt.threads = p.threads;
   opt.information = information;
   size_t work = 0;
   for (size_t a : antennas) work += planning::coverage_work(p.scenario, p.motion, a, mine.size(), opt);

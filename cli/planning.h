@@ -53,6 +53,7 @@ struct Planning {
   size_t nx = 0, ny = 0;
   double plane_z = 0.0;                    // plane height, or the tags' median height (floor plan cut)
   std::string source;                      // scenario or world file
+  int threads = 1;                         // OpenMP threads per process: --threads, or what this process can start
 };
 
 // Loads everything; `candidates` (place) are extra antennas whose links `channel: auto` may sample.

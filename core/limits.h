@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/number_text.h"
 
 namespace rfidray::limits {
 
@@ -24,12 +25,6 @@ inline constexpr double kMaxCoordinateM = 1e8;
 inline constexpr double kMaxTicks = 1e9;
 // Triangles of one scene (a generated warehouse, or all meshes loaded): at most 2e8 (≈ 40 GB of BVH).
 inline constexpr double kMaxTriangles = 2e8;
-
-inline std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
 
 // "field 'F': must be in [lo, hi] UNIT (got v)"
 inline void check_range(double v, double lo, double hi, const std::string& field, const char* unit) {

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/number_text.h"
 
 namespace rfidray {
 namespace {
@@ -22,11 +23,7 @@ double physical_memory_bytes() {
 std::atomic<double> g_budget{-1.0};
 std::string g_source = "this machine's memory";
 
-std::string gb(double bytes) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g GB", bytes / 1e9);
-  return buf;
-}
+std::string gb(double bytes) { return rounded_text(bytes / 1e9, 3) + " GB"; }
 
 }  // namespace
 

@@ -9,17 +9,11 @@
 #include "core/distribution.h"
 #include "core/error.h"
 #include "core/limits.h"
+#include "core/number_text.h"
 #include "core/units.h"
 
 namespace rfidray {
 namespace {
-
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
 
 std::string link_field(const ReaderParams& reader, const char* what) {
   return (reader.name.empty() ? std::string("link") : "antenna '" + reader.name + "' link") + "." + what;

@@ -84,7 +84,7 @@ struct TagSpec {
 // Settings of the ray-traced channels and of `channel: auto` (raytrace/trace_options.h, raytrace/fidelity.h).
 // Unset fields keep the ray tracer's defaults.
 struct ChannelOptionsSpec {
-  std::optional<std::string> candidates;      // "fast" | "exhaustive"
+  std::optional<std::string> candidates;      // "exact" (also "fast", its former name) | "exhaustive"
   std::optional<int> candidate_rays;          // per-pose candidate search rays (0: exact)
   std::optional<double> candidate_spread;
   std::optional<double> drop_below_db;

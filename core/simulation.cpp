@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/limits.h"
 #include "core/mast.h"
+#include "core/number_text.h"
 #include "core/random.h"
 #include "core/reader_model.h"
 #include "core/waypoint_trajectory.h"
@@ -37,12 +38,6 @@ auto located(const Scenario& s, int line, F&& f) {
   } catch (const InputError& e) {
     throw InputError(where(s, line) + e.what());
   }
-}
-
-std::string fmt(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
 }
 
 struct CachedLink {
@@ -108,7 +103,7 @@ std::vector<ReadRecord> simulate_tick(const Scenario& scenario, const Channel& c
     dist[i] = (tag_poses[i].position - centre.position).norm();
     if (!(dist[i] >= kMinLinkDistance_m))
       throw InputError("tag '" + scenario.tags[i].tag.name + "' is at antenna '" + reader.name + "' at t = " +
-                       fmt(t_s) + " s (distance " + fmt(dist[i]) + " m; the models need D > 0)");
+                       num(t_s) + " s (distance " + num(dist[i]) + " m; the models need D > 0)");
     batch.push_back({tag_poses[i], scenario.tags[i].tag.pattern, scenario.tags[i].tag.polarization});
   }
   if (reader.model == ReaderModelKind::kPhysical && !batch.empty()) {
@@ -162,7 +157,7 @@ double scenario_duration_s(const Scenario& scenario, const SceneMotion& motion) 
   if (scenario.duration_s) {
     const double d = *scenario.duration_s;
     if (!(d >= 0.0) || !std::isfinite(d))
-      throw InputError(where(scenario, 0) + "field 'duration_s': must be >= 0 and finite (got " + fmt(d) + ")");
+      throw InputError(where(scenario, 0) + "field 'duration_s': must be >= 0 and finite (got " + num(d) + ")");
     return d;
   }
   double end = 0.0;
@@ -255,9 +250,9 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
     if (!(ticks <= limits::kMaxTicks))
       throw InputError(where(scenario, scenario.duration_s ? 0 : scenario.antennas[a].source_line) +
                        "field '" + (scenario.duration_s ? std::string("duration_s") : "antennas[" + std::to_string(a) + "].update_rate") +
-                       "': " + fmt(result.duration_s) + " s at " + fmt(r.update_rate_hz) + " Hz is " + fmt(ticks) +
-                       " ticks for antenna '" + r.name + "' (up to " + fmt(ticks * double(std::max<size_t>(1, n_tags)) * double(sizeof(ReadRecord)) / 1e9) +
-                       " GB of readings); at most " + fmt(limits::kMaxTicks) + " ticks per antenna");
+                       "': " + num(result.duration_s) + " s at " + num(r.update_rate_hz) + " Hz is " + num(ticks) +
+                       " ticks for antenna '" + r.name + "' (up to " + rounded_text(ticks * double(std::max<size_t>(1, n_tags)) * double(sizeof(ReadRecord)) / 1e9, 3) +
+                       " GB of readings); at most " + num(limits::kMaxTicks) + " ticks per antenna");
   }
 
   for (size_t i = 0; i < n_tags; ++i)
@@ -277,8 +272,8 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
   };
   auto coincident_error = [&](size_t a, size_t i, double t_s, double d) {
     return InputError(where(scenario, scenario.tags[i].source_line) + "tag '" + scenario.tags[i].tag.name +
-                      "' is at antenna '" + scenario.antennas[a].reader.name + "' at t = " + fmt(t_s) +
-                      " s (distance " + fmt(d) + " m; the models need D > 0)");
+                      "' is at antenna '" + scenario.antennas[a].reader.name + "' at t = " + num(t_s) +
+                      " s (distance " + num(d) + " m; the models need D > 0)");
   };
   auto needs_h = [&](size_t a) { return scenario.antennas[a].reader.model == ReaderModelKind::kPhysical; };
 

@@ -7,16 +7,11 @@
 #include "core/dielectric_half_space.h"
 #include "core/error.h"
 #include "core/fresnel.h"
+#include "core/number_text.h"
 #include "core/units.h"
 
 namespace rfidray {
 namespace {
-
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
 
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 

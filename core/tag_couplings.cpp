@@ -6,17 +6,14 @@
 
 #include "core/error.h"
 #include "core/simulation.h"
+#include "core/number_text.h"
 
 namespace rfidray {
 namespace {
 
 constexpr double kGridStep = 0.005;  // relative spacing of the distance grid (0.5 %)
 
-std::string metres(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
-}
+std::string metres(double v) { return rounded_text(v, 4); }
 
 }  // namespace
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "io/checked_yaml.h"
+#include "core/number_text.h"
 
 namespace rfidray::io {
 

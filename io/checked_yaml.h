@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/geometry.h"
 #include "core/limits.h"
+#include "core/number_text.h"
 
 namespace rfidray::io {
 
@@ -25,13 +26,6 @@ namespace rfidray::io {
 YAML::Node load_yaml_file(const std::string& path, const std::string& what);
 // The same on text already read; `source` names it.
 YAML::Node parse_yaml_text(const std::string& text, const std::string& source);
-
-// "%.10g"
-inline std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
 
 // Edit distance, for "did you mean" on unknown keys.
 inline size_t edit_distance(const std::string& a, const std::string& b) {

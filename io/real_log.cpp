@@ -14,6 +14,7 @@
 #include "core/units.h"
 #include "io/checked_yaml.h"
 #include "io/csv_fields.h"
+#include "core/number_text.h"
 
 namespace rfidray::io {
 

@@ -23,6 +23,7 @@
 #include "core/error.h"
 #include "core/reader_model.h"
 #include "core/units.h"
+#include "core/number_text.h"
 
 namespace rfidray::io {
 namespace {
@@ -657,8 +658,9 @@ ChannelOptionsSpec parse_channel_options(const YamlFile& src, const YAML::Node& 
   c.source_line = src.line(node);
   if (auto n = m.get("candidates")) {
     const std::string v = src.scalar(*n, m.field("candidates"));
-    if (v != "fast" && v != "exhaustive")
-      throw src.error(*n, m.field("candidates"), "must be fast or exhaustive (got '" + clip(v) + "')");
+    // "fast" is the former name of "exact" (raytrace/trace_options.h), still read.
+    if (v != "exact" && v != "fast" && v != "exhaustive")
+      throw src.error(*n, m.field("candidates"), "must be exact or exhaustive (got '" + clip(v) + "')");
     c.candidates = v;
   }
   if (auto n = m.get("candidate_rays")) {

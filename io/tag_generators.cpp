@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/limits.h"
 #include "core/units.h"
+#include "core/number_text.h"
 
 namespace rfidray::io {
 namespace {
@@ -51,22 +52,22 @@ Quat surface_orientation(const Vec3& n) {
 std::vector<Vec3> grid_points(const TagGrid& grid, const std::string& field, size_t max_points,
                               std::array<size_t, 3>* counts) {
   if (!(std::isfinite(grid.step_m) && grid.step_m > 0.0))
-    throw field_error(field + ".step_m", "must be > 0 (got " + limits::num(grid.step_m) + ")");
+    throw field_error(field + ".step_m", "must be > 0 (got " + num(grid.step_m) + ")");
   std::array<size_t, 3> n{};
   double total = 1.0;
   for (int k = 0; k < 3; ++k) {
     if (!(limits::coordinate_ok(grid.min[k]) && limits::coordinate_ok(grid.max[k])))
-      throw field_error(field, "corners must be finite coordinates within ±" + limits::num(limits::kMaxCoordinateM) + " m");
+      throw field_error(field, "corners must be finite coordinates within ±" + num(limits::kMaxCoordinateM) + " m");
     const double span = grid.max[k] - grid.min[k];
     if (span < 0.0)
       throw field_error(field + ".max", "must be ≥ min on every axis (axis " + std::string(1, "xyz"[k]) + ": " +
-                                            limits::num(grid.min[k]) + " > " + limits::num(grid.max[k]) + ")");
+                                            num(grid.min[k]) + " > " + num(grid.max[k]) + ")");
     // The last point is kept when it falls within a millionth of a step of max (rounding of e.g. 0.1 steps).
     const double cells = std::floor(span / grid.step_m + 1e-6) + 1.0;
     total *= cells;
     if (total > static_cast<double>(max_points))
       throw field_error(field, "would hold more than " + count_text(static_cast<double>(max_points)) +
-                                   " points (step " + limits::num(grid.step_m) + " m); use a larger step or a smaller box");
+                                   " points (step " + num(grid.step_m) + " m); use a larger step or a smaller box");
     n[k] = static_cast<size_t>(cells);
   }
   // What a point costs downstream (its position, a pose, the per-cell results of coverage), checked before
@@ -119,9 +120,9 @@ std::vector<TagSpec> generate_tags(const TagSetSpec& set, const Scene* scene, si
   const SurfaceSelection& s = *set.surface;
   const std::string field = set.field + ".surface";
   if (!(std::isfinite(s.step_m) && s.step_m > 0.0))
-    throw field_error(field + ".step_m", "must be > 0 (got " + limits::num(s.step_m) + ")");
+    throw field_error(field + ".step_m", "must be > 0 (got " + num(s.step_m) + ")");
   if (!(std::isfinite(s.offset_m) && std::abs(s.offset_m) <= 100.0))
-    throw field_error(field + ".offset_m", "must be within ±100 m (got " + limits::num(s.offset_m) + ")");
+    throw field_error(field + ".offset_m", "must be within ±100 m (got " + num(s.offset_m) + ")");
   Vec3 facing = Vec3::Zero();
   if (s.facing) {
     if (!(s.facing->allFinite() && s.facing->norm() > 0.0)) throw field_error(field + ".facing", "must be a non-zero direction");

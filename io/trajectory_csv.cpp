@@ -8,6 +8,7 @@
 #include "io/checked_yaml.h"
 #include "io/csv_fields.h"
 #include "io/readings_csv.h"
+#include "core/number_text.h"
 
 namespace rfidray::io {
 

@@ -128,6 +128,7 @@ table { border-collapse: collapse; width: 100%; font-size: 11px; } td, th { padd
 th { color: #aaa; font-weight: normal; } td.l, th.l { text-align: left; }
 tr.path:hover, tr.path.hot { background: #3b4452; cursor: default; }
 #tip { position: absolute; pointer-events: none; background: #000c; padding: 5px 7px; border-radius: 4px; display: none; white-space: pre; font-size: 12px; }
+#nowebgl { margin: 40px auto; max-width: 520px; padding: 12px 16px; background: #3a2a1c; border: 1px solid #c98a3a; border-radius: 4px; font-size: 14px; }
 #help { position: absolute; left: 8px; bottom: 6px; color: #999; font-size: 11px; }
 )CSS";
 
@@ -147,11 +148,35 @@ constexpr const char* kScript = R"JS(
     return fmt(mag, digits) + '\u2220' + fmt(deg, digits > 3 ? 2 : 0) + '\u00b0';
   }
 
-  var renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
-  renderer.setPixelRatio(window.devicePixelRatio || 1);
-  renderer.setSize(view.clientWidth, view.clientHeight);
-  renderer.setClearColor(0x1d2127);
-  view.appendChild(renderer.domElement);
+  // WebGL may be missing (turned off, a blocklisted GPU, headless Chromium without --enable-unsafe-swiftshader).
+  // Then the view says so and why, and the side panel (materials, paths) is still filled: never a blank page.
+  // The probe comes first because three.js reports a failed context through console.error before throwing.
+  function createRenderer() {
+    var gl = null;
+    try {
+      var probe = document.createElement('canvas');
+      gl = window.WebGLRenderingContext &&
+        (probe.getContext('webgl2') || probe.getContext('webgl') || probe.getContext('experimental-webgl'));
+    } catch (e) { gl = null; }
+    if (!gl) return null;
+    try { return new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true }); } catch (e) { return null; }
+  }
+  var renderer = createRenderer();
+  if (renderer) {
+    renderer.setPixelRatio(window.devicePixelRatio || 1);
+    renderer.setSize(view.clientWidth, view.clientHeight);
+    renderer.setClearColor(0x1d2127);
+    view.appendChild(renderer.domElement);
+  } else {
+    var note = document.createElement('div');
+    note.id = 'nowebgl';
+    note.textContent = 'This browser cannot draw the 3-D view: WebGL is not available (it may be turned off in ' +
+      'the browser\'s settings, or the graphics driver is blocklisted; headless Chromium needs ' +
+      '--enable-unsafe-swiftshader). The materials and the table of paths on the right are complete; open the ' +
+      'page in a browser with WebGL to see the scene.';
+    view.appendChild(note);
+    body.dataset.webgl = 'no';
+  }
   var scene = new THREE.Scene();
   scene.add(new THREE.AmbientLight(0xffffff, 0.55));
   var sun = new THREE.DirectionalLight(0xffffff, 0.6);
@@ -239,11 +264,7 @@ constexpr const char* kScript = R"JS(
   var camera = new THREE.PerspectiveCamera(45, view.clientWidth / view.clientHeight, size * 0.001, size * 20);
   camera.up.set(0, 0, 1);  // rfidray's world is Z up
   camera.position.copy(centre).add(new THREE.Vector3(0.45, -0.75, 0.55).multiplyScalar(size));
-  var controls = new THREE.OrbitControls(camera, renderer.domElement);
-  controls.target.copy(centre);
-  controls.update();
-
-  function render() { renderer.render(scene, camera); }
+  function render() { if (renderer) renderer.render(scene, camera); }
   function highlight(index) {
     lines.forEach(function (l, i) {
       l.material.color.copy(index < 0 || i === index ? l.userData.colour : new THREE.Color(0x444444));
@@ -251,6 +272,14 @@ constexpr const char* kScript = R"JS(
     rows.forEach(function (r, i) { r.classList.toggle('hot', i === index); });
     render();
   }
+  body.dataset.paths = String(lines.length);
+  if (!renderer) {
+    if (body.dataset.status !== 'error') body.dataset.status = 'no-webgl';
+    return;
+  }
+  var controls = new THREE.OrbitControls(camera, renderer.domElement);
+  controls.target.copy(centre);
+  controls.update();
   controls.addEventListener('change', render);
   window.addEventListener('resize', function () {
     camera.aspect = view.clientWidth / view.clientHeight;
@@ -282,7 +311,6 @@ constexpr const char* kScript = R"JS(
     renderer.domElement.dispatchEvent(new MouseEvent('mousemove', {
       clientX: rect.left + (mid.x + 1) / 2 * rect.width, clientY: rect.top + (1 - mid.y) / 2 * rect.height }));
   }
-  body.dataset.paths = String(lines.length);
   if (body.dataset.status !== 'error') body.dataset.status = 'ready';
 })();
 )JS";

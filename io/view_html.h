@@ -5,8 +5,9 @@
 // strongest path of its link; hovering a path shows its kind, length, material and coefficient; orbit controls.
 // three.js (r111) and its OrbitControls come from Debian's libjs-three and are inlined, so the page needs no
 // network. The page lists every path in a table (rows `tr.path`) and reports itself on <body>:
-// data-status="ready" | "error", data-paths (paths drawn), data-errors (uncaught script errors and console.error
-// calls). Opened as view.html#hover=N it moves the mouse over path N (so a test can read the tooltip).
+// data-status="ready" | "error" | "no-webgl", data-paths (paths listed), data-errors (uncaught script errors and
+// console.error calls). Without WebGL the view shows a message saying so (#nowebgl) and data-webgl="no"; the
+// legend and the path table are still filled. Opened as view.html#hover=N it moves the mouse over path N (so a test can read the tooltip).
 // Functions are thread-safe (no shared state).
 #include <filesystem>
 #include <string>

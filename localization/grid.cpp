@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
 
 namespace rfidray::loc {
 
@@ -10,12 +11,18 @@ Grid make_grid(const Vec3& lo, const Vec3& hi, double min_step_m, long max_point
   Grid g;
   g.origin = lo;
   g.step_m = min_step_m;
+  const Vec3 span = hi - lo;
+  if (!span.allFinite() || !(span.minCoeff() >= 0.0) || !(min_step_m > 0.0) || max_points < 1)
+    throw std::invalid_argument("make_grid: a finite box and a positive step and budget are needed");
   for (;;) {
-    const Vec3 span = hi - lo;
-    g.nx = static_cast<int>(std::floor(span.x() / g.step_m)) + 1;
-    g.ny = static_cast<int>(std::floor(span.y() / g.step_m)) + 1;
-    g.nz = static_cast<int>(std::floor(span.z() / g.step_m)) + 1;
-    if (g.size() <= max_points) break;
+    // Counted in double: a wide box at a fine step has more points per axis than an int holds.
+    const Vec3 n = (span / g.step_m).array().floor() + 1.0;
+    if (n.prod() <= static_cast<double>(max_points)) {
+      g.nx = static_cast<int>(n.x());
+      g.ny = static_cast<int>(n.y());
+      g.nz = static_cast<int>(n.z());
+      break;
+    }
     g.step_m *= 1.25;
   }
   // Centre the grid in the box.

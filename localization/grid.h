@@ -17,7 +17,9 @@ struct Grid {
   }
 };
 
-// Grid covering [lo, hi] with step ≥ min_step_m, coarsened until it has at most max_points points.
+// Grid covering [lo, hi] with step ≥ min_step_m, coarsened until it has at most max_points points (any finite box:
+// the counts are taken in double). Throws std::invalid_argument for a non-finite or inverted box, a step ≤ 0 or
+// max_points < 1 (callers check their inputs first: localize_request.h).
 Grid make_grid(const Vec3& lo, const Vec3& hi, double min_step_m, long max_points);
 
 // Indices of the `count` best (smallest) values that are at least `separation_m` apart, best first.

@@ -92,14 +92,14 @@ std::vector<FidelityRung> fidelity_ladder(const TraceOptions& base, double tags_
     o.candidate_rays = rays;
     ladder.push_back({to_string(level) + suffix, level, o});
   };
-  rung(ChannelLevel::kLos, CandidateMode::kFast, 0, "");
-  rung(ChannelLevel::kLosBlocked, CandidateMode::kFast, 0, "");
+  rung(ChannelLevel::kLos, CandidateMode::kExact, 0, "");
+  rung(ChannelLevel::kLosBlocked, CandidateMode::kExact, 0, "");
   const int rays = base.candidate_rays > 0 ? base.candidate_rays : tags_per_pose >= 1000.0 ? 4096 : 0;
-  if (rays > 0) rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, rays, " rays=" + std::to_string(rays));
-  rung(ChannelLevel::kSingleBounce, CandidateMode::kFast, 0, "");
-  rung(ChannelLevel::kDoubleBounce, CandidateMode::kFast, 0, "");
-  rung(ChannelLevel::kFullSelective, CandidateMode::kFast, 0, "");
-  rung(ChannelLevel::kFull, CandidateMode::kFast, 0, "");
+  if (rays > 0) rung(ChannelLevel::kSingleBounce, CandidateMode::kExact, rays, " rays=" + std::to_string(rays));
+  rung(ChannelLevel::kSingleBounce, CandidateMode::kExact, 0, "");
+  rung(ChannelLevel::kDoubleBounce, CandidateMode::kExact, 0, "");
+  rung(ChannelLevel::kFullSelective, CandidateMode::kExact, 0, "");
+  rung(ChannelLevel::kFull, CandidateMode::kExact, 0, "");
   rung(ChannelLevel::kFull, CandidateMode::kExhaustive, 0, " exhaustive");
   return ladder;
 }

@@ -3,7 +3,7 @@
 // (core/link_sample.h) every rung of a ladder of channel settings, cheapest first, is compared with the
 // reference (full: double reflections and edge diffraction, exhaustive candidate search); the first rung whose
 // errors on what a reader reports stay within the tolerance is picked:
-//   ideal → los → los+blocked → [single-bounce with per-pose candidate rays] → single-bounce (fast, exact)
+//   ideal → los → los+blocked → [single-bounce with per-pose candidate rays] → single-bounce (exact search)
 //   → double-bounce → full-selective → full → full exhaustive (the reference itself, always within).
 // full-selective is a rung of its own, judged like the others: it is full's physics with diffraction skipped
 // where UTD's transition function says it is small (raytrace/diffraction.cpp), so whether that is within the

@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "core/limits.h"
+#include "core/number_text.h"
 
 namespace rfidray {
 namespace {
@@ -78,8 +79,8 @@ std::vector<FaceRecord> validate_obj(const std::filesystem::path& path) {
         if (!parse_double(tok[i], x))
           throw fail(line_no, "malformed number '" + clip(tok[i]) + "' in '" + std::string(key) + "' line");
         if (key == "v" && i <= 3 && !limits::coordinate_ok(x))
-          throw fail(line_no, "vertex coordinate " + limits::num(x) + " m is outside ±" +
-                                  limits::num(limits::kMaxCoordinateM) + " m");
+          throw fail(line_no, "vertex coordinate " + num(x) + " m is outside ±" +
+                                  num(limits::kMaxCoordinateM) + " m");
       }
       (key == "v" ? nv : key == "vt" ? nvt : nvn)++;
     } else if (key == "f") {

@@ -46,7 +46,7 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
   if (!(options_.candidate_spread > 0.0)) throw field_error("candidate_spread", "must be > 0");
   drop_power_ratio_ = db_to_linear(-options_.drop_below_db);
   max_length2_ = options_.max_path_length_m * options_.max_path_length_m;
-  // Plane groups of the fast mode.
+  // Plane groups of the exact mode.
   const auto& facets = scene_->facets();
   std::map<std::tuple<int64_t, int64_t, int64_t, int64_t>, uint32_t> group_of_key;
   plane_of_facet_.resize(facets.size());
@@ -97,9 +97,9 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     }
   }
   build_exact_groups();
-  if (options_.candidates == CandidateMode::kFast && includes(options_.level, ChannelLevel::kSingleBounce))
+  if (options_.candidates == CandidateMode::kExact && includes(options_.level, ChannelLevel::kSingleBounce))
     build_full_rects();
-  if (options_.cull_covered && options_.candidates == CandidateMode::kFast &&
+  if (options_.cull_covered && options_.candidates == CandidateMode::kExact &&
       includes(options_.level, ChannelLevel::kSingleBounce) && !scene_->empty()) {
     const auto t0 = std::chrono::steady_clock::now();
     covered_ = std::make_unique<CoveredRects>(scene_->meshes(), scene_->local_origin());
@@ -154,7 +154,7 @@ void PathFinder::mark_seen(const PlaneGroup& g, const Vec3& p, const Vec3& dir, 
 
 void PathFinder::prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const {
   out.planes.clear();
-  out.all = options_.candidates != CandidateMode::kFast || candidate_directions_.empty();
+  out.all = options_.candidates != CandidateMode::kExact || candidate_directions_.empty();
   if (out.all || !includes(options_.level, ChannelLevel::kSingleBounce)) return;  // nothing to search for
   if (out.seen_cells.size() != occupancy_.size()) {
     out.seen_cells.assign(occupancy_.size(), 0);
@@ -298,7 +298,7 @@ void PathFinder::trace_impl(const Endpoint& antenna, const Endpoint& tag, double
     if (options_.candidates == CandidateMode::kExhaustive)
       reflections_exhaustive(antenna, tag, frequency_hz, out);
     else
-      reflections_fast(antenna, tag, frequency_hz, candidates, exact_groups, out);
+      reflections_by_plane(antenna, tag, frequency_hz, candidates, exact_groups, out);
     std::sort(out.begin() + first, out.end(), [](const TracedPath& x, const TracedPath& y) {
       return std::tie(x.length_m, x.facet) < std::tie(y.length_m, y.facet);
     });
@@ -826,7 +826,7 @@ void PathFinder::exact_groups_near(const Vec3& a, const Vec3& lo, const Vec3& hi
   }
 }
 
-void PathFinder::reflections_fast(const Endpoint& ant, const Endpoint& tag, double f, const PoseCandidates& c,
+void PathFinder::reflections_by_plane(const Endpoint& ant, const Endpoint& tag, double f, const PoseCandidates& c,
                                   const std::vector<uint32_t>* exact_groups, std::vector<TracedPath>& out) const {
   if (c.all) {
     reflections_exact(ant, tag, f, exact_groups, out);

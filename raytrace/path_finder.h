@@ -99,7 +99,7 @@ class PathFinder {
   // The diffracting edges (extracted at level full only, else empty).
   const std::vector<Edge>& edges() const { return edges_; }
 
-  // Per-pose candidate search (shoots options().candidate_rays rays when > 0 in fast mode).
+  // Per-pose candidate search (shoots options().candidate_rays rays when > 0 in exact mode).
   void prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const;
   // Every path of one link into `out` (cleared first; reuse it across calls to avoid allocation).
   // Throws InputError if the endpoints coincide or are not finite.
@@ -127,7 +127,7 @@ class PathFinder {
   Path to_path(const TracedPath& p) const;
 
  private:
-  // Facets sharing one plane (fast mode): one image per plane, Embree says which facet is hit.
+  // Facets sharing one plane (exact mode): one image per plane, Embree says which facet is hit.
   // A conservative occupancy bitmap over the plane (facet bounds rasterised, in the two world coordinates
   // the plane projects onto without degeneracy) rejects most image points with no facet near them before
   // any ray is shot.
@@ -191,7 +191,7 @@ class PathFinder {
   static void check_link(const Endpoint& antenna, const Endpoint& tag, double frequency_hz);
   void direct_path(const Endpoint& a, const Endpoint& t, double f, int los_hint, std::vector<TracedPath>& out) const;
   void reflections_exhaustive(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
-  void reflections_fast(const Endpoint& a, const Endpoint& t, double f, const PoseCandidates& c,
+  void reflections_by_plane(const Endpoint& a, const Endpoint& t, double f, const PoseCandidates& c,
                         const std::vector<uint32_t>* exact_groups, std::vector<TracedPath>& out) const;
   void try_plane(uint32_t group, const Endpoint& a, const Endpoint& t, double f, const PoseCandidates& c,
                  std::vector<TracedPath>& out) const;

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/limits.h"
 #include "raytrace/obj_loader.h"
+#include "core/number_text.h"
 
 namespace rfidray {
 namespace {
@@ -34,8 +35,8 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
     total_triangles += m.triangles.size();
     for (const Vec3& v : m.vertices) {
       if (!(limits::coordinate_ok(v.x()) && limits::coordinate_ok(v.y()) && limits::coordinate_ok(v.z())))
-        throw InputError("mesh '" + clip(m.name) + "': vertex (" + limits::num(v.x()) + ", " + limits::num(v.y()) +
-                         ", " + limits::num(v.z()) + ") is outside ±" + limits::num(limits::kMaxCoordinateM) +
+        throw InputError("mesh '" + clip(m.name) + "': vertex (" + num(v.x()) + ", " + num(v.y()) +
+                         ", " + num(v.z()) + ") is outside ±" + num(limits::kMaxCoordinateM) +
                          " m (check its position, scale and pose)");
       lo = lo.cwiseMin(v);
       hi = hi.cwiseMax(v);
@@ -43,10 +44,10 @@ Scene::Scene(std::vector<TriangleMesh> meshes, const MaterialAssignment& assignm
   }
   if (double(total_triangles) > limits::kMaxTriangles || total_triangles >= kNoFacet)
     throw InputError("scene: " + std::to_string(total_triangles) + " triangles; at most " +
-                     limits::num(limits::kMaxTriangles));
+                     num(limits::kMaxTriangles));
   check_memory_estimate(double(total_triangles) * Scene::kSceneBytesPerTriangle,
                         "scene: " + std::to_string(total_triangles) + " triangles",
-                        limits::num(Scene::kSceneBytesPerTriangle) + " bytes per triangle: meshes, facets and the BVH");
+                        num(Scene::kSceneBytesPerTriangle) + " bytes per triangle: meshes, facets and the BVH");
   if (lo.x() <= hi.x()) {
     const Vec3 centre = 0.5 * (lo + hi);
     if (centre.cwiseAbs().maxCoeff() > kRecentreBeyondM) origin_ = centre;

@@ -5,13 +5,13 @@
 namespace rfidray {
 
 const char* to_string(CandidateMode mode) {
-  return mode == CandidateMode::kExhaustive ? "exhaustive" : "fast";
+  return mode == CandidateMode::kExhaustive ? "exhaustive" : "exact";
 }
 
 CandidateMode parse_candidate_mode(const std::string& name, const std::string& field) {
   if (name == "exhaustive") return CandidateMode::kExhaustive;
-  if (name == "fast") return CandidateMode::kFast;
-  throw field_error(field, "unknown candidate mode '" + clip(name) + "' (exhaustive, fast)");
+  if (name == "exact" || name == "fast") return CandidateMode::kExact;  // "fast": its former name
+  throw field_error(field, "unknown candidate mode '" + clip(name) + "' (exact, exhaustive; fast = exact)");
 }
 
 }  // namespace rfidray

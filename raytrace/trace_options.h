@@ -8,16 +8,19 @@
 namespace rfidray {
 
 
+// How reflection candidates are searched. Both are exact: they find the same paths (tests/raytrace/
+// test_exact_search.cpp); kExact is the default because it is the faster of the two.
 enum class CandidateMode {
   kExhaustive,  // reference: every facet, point-in-triangle on its triangles, rtcOccluded1 on both legs
-  kFast,        // without candidate rays: the same paths as kExhaustive, found through per-plane grids
-                // (path_finder.h); with candidate rays: planes grouped, Embree says which facet is there
+  kExact,       // the same paths as kExhaustive, found through per-plane grids (path_finder.h). Only
+                // TraceOptions::candidate_rays > 0 (off by default) makes it approximate: planes grouped,
+                // Embree says which facet is there
 };
 
 struct TraceOptions {
   ChannelLevel level = ChannelLevel::kSingleBounce;  // a traced level (is_traced)
-  CandidateMode candidates = CandidateMode::kFast;
-  // Fast mode, optional: shoot this many rays (spherical Fibonacci) from each antenna pose and test only the
+  CandidateMode candidates = CandidateMode::kExact;
+  // Exact mode, optional: shoot this many rays (spherical Fibonacci) from each antenna pose and test only the
   // parts of planes they hit. 0 = off (exact: every plane is tested). Reflections off regions the rays
   // missed (small or distant reflectors, slivers behind occluders) are lost when > 0.
   int candidate_rays = 0;
@@ -49,7 +52,7 @@ struct TraceOptions {
   // change such a link's result from one run to the next, and rfidray's output depends only on its inputs
   // and --seed. With it off every ray is rtcOccluded1, as before packets existed.
   bool los_packets_by_timing = false;
-  // Fast mode: before a reflection leg's Embree ray, test it against the rectangles that the scene's
+  // Exact mode: before a reflection leg's Embree ray, test it against the rectangles that the scene's
   // axis-aligned triangles cover entirely (raytrace/covered_rects.h); a leg crossing one is blocked for
   // certain and needs no ray. Changes the number of rays, never a path. Off by default: on the 1 M-triangle
   // warehouse it cuts the rays per link from 20.5 to ~3.3 but the grid walk costs more than the rays it saves
@@ -57,8 +60,10 @@ struct TraceOptions {
   bool cull_covered = false;
 };
 
+// "exhaustive" | "exact"
 const char* to_string(CandidateMode mode);
-// "exhaustive" | "fast"
+// "exhaustive" | "exact"; "fast", the name of kExact before it was called exact, is accepted as an alias so that
+// older scenario files and commands keep working. Throws InputError naming `field` otherwise.
 CandidateMode parse_candidate_mode(const std::string& name, const std::string& field);
 
 }  // namespace rfidray

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/limits.h"
+#include "core/number_text.h"
 
 namespace rfidray {
 
@@ -148,17 +149,17 @@ void validate(const WarehouseParams& p) {
   limits::check_range(p.aisle_m, 1e-3, 1e4, "aisle_m", "m");
   const double tri = triangle_estimate(p);
   if (tri > limits::kMaxTriangles)
-    throw field_error("size", "would generate about " + limits::num(tri) + " triangles (~" +
-                                  limits::num(tri * kGeneratedBytesPerTriangle / 1e9) + " GB in memory); at most " +
-                                  limits::num(limits::kMaxTriangles) + " (rows × racks × (12·shelves + 40) × tessellation²)");
-  check_memory_estimate(tri * kGeneratedBytesPerTriangle, "field 'size': about " + limits::num(tri) + " triangles",
-                        limits::num(kGeneratedBytesPerTriangle) + " bytes per generated triangle");
+    throw field_error("size", "would generate about " + rounded_text(tri, 6) + " triangles (~" +
+                                  rounded_text(tri * kGeneratedBytesPerTriangle / 1e9, 3) + " GB in memory); at most " +
+                                  num(limits::kMaxTriangles) + " (rows × racks × (12·shelves + 40) × tessellation²)");
+  check_memory_estimate(tri * kGeneratedBytesPerTriangle, "field 'size': about " + rounded_text(tri, 6) + " triangles",
+                        num(kGeneratedBytesPerTriangle) + " bytes per generated triangle");
   const double extent = std::max({double(p.rows) * (p.rack_depth_m + p.aisle_m) + 2 * p.aisle_m,
                                   double(p.racks_per_row) * (p.rack_length_m + 0.1) + 2 * p.aisle_m,
                                   p.shelves * p.shelf_spacing_m + 1.0});
   if (!(extent <= limits::kMaxCoordinateM))
-    throw field_error("size", "the warehouse would span " + limits::num(extent) + " m; at most " +
-                                  limits::num(limits::kMaxCoordinateM) + " m");
+    throw field_error("size", "the warehouse would span " + num(extent) + " m; at most " +
+                                  num(limits::kMaxCoordinateM) + " m");
 }
 
 size_t warehouse_triangle_count(const WarehouseParams& p) {

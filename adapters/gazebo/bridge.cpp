@@ -24,6 +24,7 @@
 
 #ifdef RFIDRAY_HAVE_ROS
 #include "adapters/ros/tag_array_publisher.h"
+#include "core/number_text.h"
 #endif
 
 namespace rfidray::gazebo {
@@ -139,7 +140,7 @@ int run_bridge(const BridgeOptions& o) {
       }
     }
     if (!got)
-      throw InputError("no answer from " + scene_service + " within " + format_seconds(o.scene_timeout_s) +
+      throw InputError("no answer from " + scene_service + " within " + num(o.scene_timeout_s) +
                        " s: is Gazebo running world '" + name + "' in partition '" + node_options.Partition() +
                        "' (IGN_PARTITION) and reachable (IGN_IP)?");
     const EntityMap& map = live.entity_map();
@@ -211,7 +212,7 @@ int run_bridge(const BridgeOptions& o) {
     if (!inbox.pop(msg, std::chrono::milliseconds(100))) {
       const double idle = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_message).count();
       if (idle > o.idle_timeout_s) {
-        say("no pose message for " + format_seconds(o.idle_timeout_s) + " s; stopping");
+        say("no pose message for " + num(o.idle_timeout_s) + " s; stopping");
         break;
       }
       continue;
@@ -235,7 +236,7 @@ int run_bridge(const BridgeOptions& o) {
   for (const std::string& topic : pose_topics) node.Unsubscribe(topic);
   say(std::to_string(live.ticks()) + " antenna ticks from " + std::to_string(pose_messages) + " pose messages (" +
       std::to_string(live.rejected_poses()) + " malformed poses dropped), " + std::to_string(live.scene_builds()) +
-      " scene builds, simulation time " + format_seconds(live.time_s()) + " s");
+      " scene builds, simulation time " + num(live.time_s()) + " s");
   return 0;
 }
 

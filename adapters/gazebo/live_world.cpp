@@ -88,12 +88,6 @@ void install_stop_handlers() {
 }
 bool stop_requested() { return g_stop_requested; }
 
-std::string format_seconds(double seconds) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g", seconds);
-  return buf;
-}
-
 GazeboWorld load_bridge_world(const WorldOptions& options, const std::string& model) {
   GazeboWorld world = load_world(options);
   for (const auto& w : world.warnings) std::fprintf(stderr, "rfidray: warning: %s\n", w.c_str());

@@ -55,8 +55,6 @@ GazeboWorld load_bridge_world(const WorldOptions& world, const std::string& mode
 // signal (async-signal-safe: an atomic flag), so the bridge finishes its tick, writes its summary and exits.
 void install_stop_handlers();
 bool stop_requested();
-// Seconds for messages ("%g").
-std::string format_seconds(double seconds);
 
 class LiveWorld {
  public:

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "io/checked_yaml.h"
 #include "raytrace/material_map.h"
+#include "core/number_text.h"
 
 namespace rfidray::gazebo {
 namespace {
@@ -39,7 +40,7 @@ MaterialRules load_material_rules(const std::string& path) {
       const std::string name = f.scalar(m.required("name"), m.field("name"));
       const YAML::Node eps_node = m.required("relative_permittivity");
       const double eps = f.number(eps_node, m.field("relative_permittivity"));
-      if (!(eps > 0.0)) throw f.error(eps_node, m.field("relative_permittivity"), "must be > 0 (got " + io::num(eps) + ")");
+      if (!(eps > 0.0)) throw f.error(eps_node, m.field("relative_permittivity"), "must be > 0 (got " + num(eps) + ")");
       const double sigma = m.non_negative({"conductivity_s_m"}, 0.0);
       const double thickness = m.non_negative({"thickness_m"}, 0.0);
       m.finish();

@@ -7,6 +7,7 @@
 
 #include "io/scenario_yaml.h"
 #include "core/error.h"
+#include "core/number_text.h"
 
 namespace rfidray::gazebo {
 namespace {
@@ -43,12 +44,6 @@ YAML::Node children_as_yaml(const sdf::ElementPtr& parent, const std::string& wh
     }
   }
   return map;
-}
-
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
 }
 
 // <update_rate> of the sensor (Gazebo's, not a plugin parameter): missing or 0 means every physics step.

@@ -16,6 +16,7 @@
 #include "adapters/ros/tag_array_publisher.h"
 #include "core/error.h"
 #include "core/reader_model.h"
+#include "core/number_text.h"
 
 namespace rfidray::gazebo {
 namespace {
@@ -122,11 +123,11 @@ int run_ros_bridge(const RosBridgeOptions& o) {
     while (!input->lookup(o.world_frame, frame_of[a], t_s, v, error)) {
       if (stop_requested() || std::chrono::steady_clock::now() >= until)
         throw InputError("TF: no transform " + o.world_frame + " -> " + frame_of[a] + " (antenna '" + names[a] +
-                         "') at t = " + format_seconds(t_s) + " s within " + format_seconds(o.tf_timeout_s) + " s (--tf-timeout): " +
+                         "') at t = " + num(t_s) + " s within " + num(o.tf_timeout_s) + " s (--tf-timeout): " +
                          error + " [frames known: " + input->frames() + "]");
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
-    const std::string what = "TF " + o.world_frame + " -> " + frame_of[a] + " at t = " + format_seconds(t_s) + " s";
+    const std::string what = "TF " + o.world_frame + " -> " + frame_of[a] + " at t = " + num(t_s) + " s";
     return from_value(v, what).compose(live.world().antenna_mounts[a].pose);
   });
 
@@ -154,7 +155,7 @@ int run_ros_bridge(const RosBridgeOptions& o) {
     if (!input->pop(event, 0.1)) {
       const double idle = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_message).count();
       if (idle > o.idle_timeout_s) {
-        say("no input message for " + format_seconds(o.idle_timeout_s) + " s; stopping");
+        say("no input message for " + num(o.idle_timeout_s) + " s; stopping");
         break;
       }
       continue;
@@ -164,7 +165,7 @@ int run_ros_bridge(const RosBridgeOptions& o) {
     live.advance(event.time_s, sink, &restarted);
     if (restarted) {
       ++restarts;
-      say("simulation time went back to " + format_seconds(event.time_s) + " s (a reset): ticks start again from there");
+      say("simulation time went back to " + num(event.time_s) + " s (a reset): ticks start again from there");
     }
     if (event.kind != ros_bridge::InputEvent::Kind::kModelStates) continue;
     ++model_messages;
@@ -183,7 +184,7 @@ int run_ros_bridge(const RosBridgeOptions& o) {
   }
   say(std::to_string(live.ticks()) + " antenna ticks from " + std::to_string(input->messages()) + " ROS messages (" +
       std::to_string(model_messages) + " model_states), " + std::to_string(restarts) + " resets, " +
-      std::to_string(live.scene_builds()) + " scene builds, simulation time " + format_seconds(live.time_s()) + " s");
+      std::to_string(live.scene_builds()) + " scene builds, simulation time " + num(live.time_s()) + " s");
   return 0;
 }
 

@@ -24,6 +24,7 @@
 #include "core/limits.h"
 #include "raytrace/mesh_file.h"
 #include "raytrace/primitives.h"
+#include "core/number_text.h"
 
 namespace rfidray::gazebo {
 namespace {
@@ -34,8 +35,8 @@ Pose to_pose(const ignition::math::Pose3d& p, const std::string& where) {
   const double v[] = {p.Pos().X(), p.Pos().Y(), p.Pos().Z(), p.Rot().W(), p.Rot().X(), p.Rot().Y(), p.Rot().Z()};
   for (int i = 0; i < 3; ++i)
     if (!limits::coordinate_ok(v[i]))
-      throw InputError(where + ": <pose> position (" + limits::num(v[0]) + ", " + limits::num(v[1]) + ", " +
-                       limits::num(v[2]) + ") is outside ±" + limits::num(limits::kMaxCoordinateM) + " m");
+      throw InputError(where + ": <pose> position (" + num(v[0]) + ", " + num(v[1]) + ", " +
+                       num(v[2]) + ") is outside ±" + num(limits::kMaxCoordinateM) + " m");
   for (int i = 3; i < 7; ++i)
     if (!std::isfinite(v[i])) throw InputError(where + ": <pose> orientation is not finite");
   return Pose{Vec3(p.Pos().X(), p.Pos().Y(), p.Pos().Z()),
@@ -278,12 +279,12 @@ class Importer {
     out.mesh.name = scoped;
     for (int k = 0; k < 3; ++k)
       if (!(std::isfinite(scale[k]) && scale[k] > 0.0 && scale[k] <= 1e6))
-        throw InputError(where + ": <scale> must be in (0, 1e6] (got " + limits::num(scale[k]) + ")");
+        throw InputError(where + ": <scale> must be in (0, 1e6] (got " + num(scale[k]) + ")");
     out.mesh.transform(pose, scale);
     for (const Vec3& v : out.mesh.vertices)
       if (!(limits::coordinate_ok(v.x()) && limits::coordinate_ok(v.y()) && limits::coordinate_ok(v.z())))
-        throw InputError(where + ": a vertex lands at (" + limits::num(v.x()) + ", " + limits::num(v.y()) + ", " +
-                         limits::num(v.z()) + "), outside ±" + limits::num(limits::kMaxCoordinateM) + " m");
+        throw InputError(where + ": a vertex lands at (" + num(v.x()) + ", " + num(v.y()) + ", " +
+                         num(v.z()) + "), outside ±" + num(limits::kMaxCoordinateM) + " m");
     // The most specific material rule for this surface, if any (adapters/gazebo/material_rules.h).
     std::string material;
     auto rule = [&](const std::map<std::string, std::string>& m, const std::string& key) {

@@ -10,9 +10,9 @@
 
 #include "core/error.h"
 #include "io/antenna_file.h"
-#include "io/checked_yaml.h"
 #include "io/readings_csv.h"
 #include "io/scene_multipath.h"
+#include "localization/localize_request.h"
 #include "localization/methods.h"
 #include "python/bindings/bindings.h"
 #include "python/bindings/readings_arg.h"
@@ -20,49 +20,35 @@
 namespace rfidray::py {
 namespace {
 
+// The keyword names of rfidray.localize, for loc::validate's messages.
+const loc::LocalizeFieldNames kKeywordNames{
+    .method = "method", .mirror_prior = "mirror_prior", .mirror_prior_truth = "mirror_prior='truth'",
+    .frequency_hz = "frequency_hz", .max_range_m = "max_range_m", .stride_m = "stride_m",
+    .max_residual_rad = "max_residual_rad", .max_uncertainty_m = "max_uncertainty_m",
+    .systematic_phase_rad = "systematic_phase_rad", .height_known = "height_known", .truth = "truth",
+    .scenario = "scenario", .channel = "channel"};
+
 pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std::string& method,
                        bool height_known, const std::string& mirror_prior, double frequency_hz, double max_range_m,
                        double stride_m, std::optional<std::string> antenna_file, bool fold_pi,
                        double max_residual_rad, double max_uncertainty_m,
-                       std::optional<double> systematic_phase_rad_given,
+                       std::optional<double> systematic_phase_rad,
                        std::optional<std::string> scenario_file, std::optional<std::string> channel) {
-  // The checks and options of `rfidray localize` (cli/cmd_localize.cpp), with the keyword names of this API.
-  std::vector<loc::Method> methods;
-  if (method == "all") {
-    methods = {loc::Method::kHyperbolic, loc::Method::kNlls, loc::Method::kSar};
-  } else {
-    loc::Method m;
-    if (!loc::parse_method(method, m)) throw field_error("method", "must be hyperbolic, nlls, sar or all (got '" + method + "')");
-    methods = {m};
-  }
-  loc::MirrorPrior prior = loc::MirrorPrior::kNone;
-  if (mirror_prior == "boresight") prior = loc::MirrorPrior::kBoresight;
-  else if (mirror_prior == "truth") prior = loc::MirrorPrior::kPoint;
-  else if (mirror_prior != "none") throw field_error("mirror_prior", "must be none, boresight or truth (got '" + mirror_prior + "')");
-  auto positive = [](double v, const char* name) {
-    if (!(v > 0.0) || !std::isfinite(v)) throw field_error(name, "must be a finite number > 0 (got " + io::num(v) + ")");
-  };
-  positive(frequency_hz, "frequency_hz");
-  positive(max_range_m, "max_range_m");
-  positive(stride_m, "stride_m");
-  positive(max_residual_rad, "max_residual_rad");
-  positive(max_uncertainty_m, "max_uncertainty_m");
-  const double systematic_phase_rad = systematic_phase_rad_given
-                                          ? *systematic_phase_rad_given
-                                          : loc::default_systematic_phase_rad(antenna_file.has_value());
-  if (!(systematic_phase_rad >= 0.0) || !std::isfinite(systematic_phase_rad))
-    throw field_error("systematic_phase_rad", "must be a finite number >= 0");
-  std::optional<loc::AntennaCalibration> calibration;
-  if (antenna_file) calibration = io::read_antenna_file(*antenna_file);
+  // The request of `rfidray localize` (localization/localize_request.h), with the keyword names of this API.
+  const loc::LocalizeRequest request{.method = method, .mirror_prior = mirror_prior, .frequency_hz = frequency_hz,
+                                     .max_range_m = max_range_m, .stride_m = stride_m,
+                                     .max_residual_rad = max_residual_rad, .max_uncertainty_m = max_uncertainty_m,
+                                     .systematic_phase_rad = systematic_phase_rad, .height_known = height_known,
+                                     .fold_pi = fold_pi, .has_truth = !truth_arg.is_none(),
+                                     .has_antenna_file = antenna_file.has_value(),
+                                     .has_scenario = scenario_file.has_value(), .has_channel = channel.has_value()};
+  const loc::LocalizeFieldNames& names = kKeywordNames;
+  loc::LocalizePlan plan = loc::validate(request, names);
+  if (antenna_file) plan.options.calibration = io::read_antenna_file(*antenna_file);
   // The known scene (io/scene_multipath.h), as `rfidray localize --scenario [--channel]`.
-  if (channel && !scenario_file) throw field_error("channel", "needs scenario");
   std::optional<io::SceneMultipath> scene;
   if (scenario_file) scene = io::load_scene_multipath(*scenario_file, channel, "channel");
-
-  const bool have_truth = !truth_arg.is_none();
   const std::map<std::string, Vec3> truth = truth_from(truth_arg);
-  if (height_known && !have_truth) throw field_error("height_known", "needs truth (the tag z comes from it)");
-  if (prior == loc::MirrorPrior::kPoint && !have_truth) throw field_error("mirror_prior='truth'", "needs truth");
 
   std::vector<std::vector<io::ReadingRow>> rows;
   for (size_t i = 0; i < files.size(); ++i) rows.push_back(rows_from(files[i].cast<pyb::dict>(), i));
@@ -80,25 +66,10 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
   {
     pyb::gil_scoped_release release;
     for (const loc::TagReads& tag : tags) {
-      loc::LocalizeOptions o;
-      o.max_range_m = max_range_m;
-      o.stride_m = stride_m;
-      o.mirror_prior = prior;
-      o.calibration = calibration;
-      o.fold_pi = fold_pi;
-      o.max_residual_rad = max_residual_rad;
-      o.max_uncertainty_m = max_uncertainty_m;
-      o.systematic_phase_rad = systematic_phase_rad;
-      if (scene) o.multipath_phase_rad = scene->allowance_for(tag);
+      const loc::LocalizeOptions o =
+          loc::tag_options(plan, tag.tag, truth, "truth", names, scene ? scene->allowance_for(tag) : nullptr);
       const auto t = truth.find(tag.tag);
-      if (height_known || prior == loc::MirrorPrior::kPoint) {
-        if (t == truth.end())
-          throw InputError("truth: no ground truth for tag '" + tag.tag + "' (needed by height_known / mirror_prior='truth')");
-        o.height_known = height_known;
-        o.tag_height_m = t->second.z();
-        o.prior_point = t->second;
-      }
-      for (loc::Method m : methods) {
+      for (loc::Method m : plan.methods) {
         Item it{tag.tag, m, loc::localize(m, tag, o), tag.read_count(), std::nullopt};
         if (it.result.ok && t != truth.end()) it.error_m = (it.result.position - t->second).norm();
         items.push_back(std::move(it));

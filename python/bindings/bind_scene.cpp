@@ -24,6 +24,7 @@
 #include "python/bindings/bindings.h"
 #include "raytrace/material_map.h"
 #include "raytrace/scene.h"
+#include "core/number_text.h"
 
 namespace rfidray::py {
 namespace {
@@ -196,7 +197,7 @@ as in a scenario file ('isotropic' | 'dipole' | {kind: patch, gain_dbi: 8, beamw
                              [](const Endpoint& e) { return std::string(to_string(e.polarization.kind)); })
       .def("__repr__", [](const Endpoint& e) {
         const Vec3& p = e.pose.position;
-        return "<rfidray.Endpoint at (" + io::num(p.x()) + ", " + io::num(p.y()) + ", " + io::num(p.z()) + "), " +
+        return "<rfidray.Endpoint at (" + num(p.x()) + ", " + num(p.y()) + ", " + num(p.z()) + "), " +
                to_string(e.pattern.kind) + ", " + to_string(e.polarization.kind) + ">";
       });
 
@@ -223,7 +224,7 @@ as in a scenario file ('isotropic' | 'dipole' | {kind: patch, gain_dbi: 8, beamw
       .def_property_readonly("contribution", [](const PyPath& p) { return p.path.contribution; },
                              "(λ / 4πL) · coefficient · e^{−jkL}: this path's share of the one-way h.")
       .def("__repr__", [](const PyPath& p) {
-        return "<rfidray.Path " + std::string(to_string(p.path.kind)) + " " + io::num(p.path.length_m) + " m" +
+        return "<rfidray.Path " + std::string(to_string(p.path.kind)) + " " + num(p.path.length_m) + " m" +
                (p.path.material.empty() ? "" : " " + p.path.material) + ">";
       });
 
@@ -286,7 +287,7 @@ max_path_length_m. scene may be None for the ideal channel.)")
               for (int k = 0; k < 3; ++k) {
                 if (!limits::coordinate_ok(t(i, k)))
                   throw InputError("Channel.one_way: tags[" + std::to_string(i) + "]: coordinates must be finite and within ±" +
-                                   io::num(limits::kMaxCoordinateM) + " m (got " + io::num(t(i, k)) + ")");
+                                   num(limits::kMaxCoordinateM) + " m (got " + num(t(i, k)) + ")");
                 ends[i].pose.position[k] = t(i, k);
               }
               check_apart(a.pose.position, ends[i].pose.position, "Channel.one_way: tags[" + std::to_string(i) + "]");

@@ -7,43 +7,36 @@
 #include <string>
 
 #include "tests/support/run_rfidray.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct ScratchDir {
-  fs::path path;
-  ScratchDir() {
-    path = fs::temp_directory_path() / ("rfidray_bench_cli_" + std::to_string(::getpid()));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~ScratchDir() { fs::remove_all(path); }
-};
+using testing::ScratchDir;
 
 // Runs `rfidray bench ARGS --dry-run` with the scratch directory as the current directory.
 testing::CliResult dry_run(const ScratchDir& d, const std::string& args) {
-  return testing::run_rfidray("bench --dry-run " + args, "cd '" + d.path.string() + "' && ");
+  return testing::run_rfidray("bench --dry-run " + args, "cd '" + d.path().string() + "' && ");
 }
 
 TEST(BenchCli, QuickRunGoesToScratchNotCommittedResults) {
-  ScratchDir d;
+  ScratchDir d("bench_cli");
   const auto r = dry_run(d, "--quick");
   ASSERT_EQ(r.status, 0) << r.output;
-  const std::string dir = fs::weakly_canonical(d.path).string();
+  const std::string dir = fs::weakly_canonical(d.path()).string();
   EXPECT_NE(r.output.find("results would go to " + dir + "/out/bench-quick\n"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("bench/results"), std::string::npos) << r.output;
   // Every program is told the scratch directory.
   EXPECT_NE(r.output.find("bench_sweep --out '" + dir + "/out/bench-quick' --quick"), std::string::npos) << r.output;
   // A dry run creates nothing.
-  EXPECT_TRUE(fs::is_empty(d.path));
+  EXPECT_TRUE(fs::is_empty(d.path()));
 }
 
 TEST(BenchCli, FullRunWritesTheCommittedResultsAndOutputWins) {
-  ScratchDir d;
-  const std::string dir = fs::weakly_canonical(d.path).string();
+  ScratchDir d("bench_cli");
+  const std::string dir = fs::weakly_canonical(d.path()).string();
   auto r = dry_run(d, "");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("results would go to " + dir + "/bench/results\n"), std::string::npos) << r.output;
@@ -52,11 +45,11 @@ TEST(BenchCli, FullRunWritesTheCommittedResultsAndOutputWins) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("results would go to " + dir + "/elsewhere\n"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("bench_rays"), std::string::npos) << r.output;  // --only respected
-  EXPECT_TRUE(fs::is_empty(d.path));
+  EXPECT_TRUE(fs::is_empty(d.path()));
 }
 
 TEST(BenchCli, UnknownProgramIsAnInputError) {
-  ScratchDir d;
+  ScratchDir d("bench_cli");
   const auto r = dry_run(d, "--only bench_nothing");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("bench_nothing"), std::string::npos) << r.output;

@@ -18,6 +18,7 @@
 
 #include "io/antenna_file.h"
 #include "tests/localization/hardware_reads.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray::io {
 namespace {
@@ -25,11 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 using loc::testing::Hardware;
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("rfidray_calibrate_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir() { return testing::program_scratch_dir("calibrate_test"); }
 
 std::string run(const std::string& args, int& exit_code) {
   const rfidray::testing::CliResult r = rfidray::testing::run_rfidray(args);

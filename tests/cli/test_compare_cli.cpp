@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/run_rfidray.h"
+#include "tests/support/scratch_dir.h"
 #include <sys/wait.h>
 
 #include <array>
@@ -23,8 +24,7 @@ int run(const std::string& args, std::string* out = nullptr) {
 }
 
 fs::path scenario(const std::string& name, const std::string& meshes) {
-  const fs::path dir = fs::temp_directory_path() / ("rfidray_compare_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  static const rfidray::testing::ScratchDir dir("compare");
   const fs::path p = dir / name;
   std::ofstream(p) << "seed: 7\nduration_s: 3\nmodel: physical\nscene:\n  meshes: " << meshes << "\n"
                    << "antennas:\n  - name: fixed\n    position: [-1.0, -3.0, 0.8]\n    frequency: 865.7e6\n"
@@ -50,7 +50,8 @@ std::vector<std::vector<std::string>> read_csv(const fs::path& p) {
 }
 
 TEST(CompareCli, EmptySceneLosEqualsIdealAndTheWarehouseDoesNot) {
-  const fs::path out = fs::temp_directory_path() / ("rfidray_compare_out_" + std::to_string(::getpid()));
+  const rfidray::testing::ScratchDir scratch("compare_out");
+  const fs::path out = scratch.path();
   std::string text;
   ASSERT_EQ(run("compare " + scenario("empty.yaml", "[]").string() + " --channel los -o " + (out / "empty").string(), &text), 0) << text;
   auto rows = read_csv(out / "empty" / "compare.csv");
@@ -86,7 +87,6 @@ TEST(CompareCli, EmptySceneLosEqualsIdealAndTheWarehouseDoesNot) {
 
   EXPECT_EQ(run("compare " + scenario("e2.yaml", "[]").string() + " --tags nosuch -o " + (out / "x").string(), &text), 2);
   EXPECT_NE(text.find("nosuch"), std::string::npos);
-  fs::remove_all(out);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 
 #include "core/units.h"
 #include "tests/support/run_rfidray.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray {
 namespace {
@@ -22,16 +23,11 @@ namespace fs = std::filesystem;
 
 const std::string kScenes = std::string(RFIDRAY_SOURCE_DIR) + "/scenes/";
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("rfidray_coverage_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// A scratch directory of one test, removed at its end.
+testing::ScratchDir scratch(const std::string& name) { return testing::ScratchDir("coverage_" + name); }
 
-fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
-  std::ofstream(dir / name) << text;
-  return dir / name;
+fs::path write(const testing::ScratchDir& dir, const std::string& name, const std::string& text) {
+  return dir.write(name, text);
 }
 
 struct Row {
@@ -57,19 +53,14 @@ std::vector<Row> read_csv(const fs::path& f) {
   return rows;
 }
 
-std::string slurp(const fs::path& f) {
-  std::ifstream in(f, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::slurp;
 
 // One isotropic antenna 1 m over an empty floor, tags in its horizontal plane, line of sight: the physical
 // model reads iff P_tx·|h|² ≥ chip sensitivity and P_tx·K·|h|⁴ ≥ reader sensitivity with
 // |h|² = (λ/4πD)² (isotropic ends). At 20 dBm the chip (−20 dBm) limits: |h|² ≥ 1e-4, so
 // R = λ/(4π)/√1e-4 = 100·λ/(4π) ≈ 2.756 m (the reader side would allow |h|² ≥ 2e-5).
 TEST(CoverageCli, EmptyFloorGivesTheLinkBudgetDisc) {
-  const fs::path d = scratch("disc");
+  const auto d = scratch("disc");
   const fs::path sc = write(d, "s.yaml",
                             "channel: los\nmodel: physical\nscene:\n  meshes:\n    - {file: " + kScenes +
                                 "floor_4m.obj, scale: [3, 3, 1], material: concrete}\n"
@@ -101,13 +92,12 @@ TEST(CoverageCli, EmptyFloorGivesTheLinkBudgetDisc) {
   EXPECT_NEAR(double(inside) * 0.01, kPi * radius * radius, 2.0 * kPi * radius * 0.1);
   for (const char* png : {"coverage_a_read_probability.png", "coverage_a_rssi_dbm.png", "coverage_a_phase_error_rad.png"})
     EXPECT_GT(fs::file_size(d / "out" / png), 1000u) << png;
-  fs::remove_all(d);
 }
 
 // Sampled cells against `rfidray link` on the same scene (ground + wall, single bounce): the same RSSI,
 // readability, and phase error against the ideal channel.
 TEST(CoverageCli, CellsAgreeWithLink) {
-  const fs::path d = scratch("link");
+  const auto d = scratch("link");
   const fs::path sc = write(d, "s.yaml",
                             "channel: single-bounce\nmodel: physical\nscene:\n  meshes:\n    - {file: " + kScenes +
                                 "ground_wall.obj}\n"
@@ -137,13 +127,12 @@ TEST(CoverageCli, CellsAgreeWithLink) {
   EXPECT_GE(compared, 6);
   EXPECT_GT(readable, 0);
   EXPECT_LT(readable, compared);  // the sample crosses the edge of the read range
-  fs::remove_all(d);
 }
 
 // A robot pass: a read probability per pass and a localization bound where the pass reads the tag; the
 // fixed antenna of the same scenario has none.
 TEST(CoverageCli, RobotPassHasALocalizationBound) {
-  const fs::path d = scratch("pass");
+  const auto d = scratch("pass");
   const auto r = run_rfidray("coverage " + kScenes + "paper_warehouse.yaml --tags --pass-step 0.2 --no-png -q -o " +
                              (d / "out").string());
   ASSERT_EQ(r.status, 0) << r.output;
@@ -160,14 +149,13 @@ TEST(CoverageCli, RobotPassHasALocalizationBound) {
     }
   }
   EXPECT_GE(bounded, 6);
-  fs::remove_all(d);
 }
 
 TEST(CoverageCli, MpiRanksWriteIdenticalFiles) {
 #ifndef RFIDRAY_MPIRUN
   GTEST_SKIP() << "built without MPI";
 #else
-  const fs::path d = scratch("mpi");
+  const auto d = scratch("mpi");
   const std::string args = "coverage " + kScenes +
                            "paper_warehouse.yaml --channel single-bounce --model physical --plane z=1.2 --step 0.5 "
                            "--pass-step 1 --no-png -q -o ";
@@ -182,7 +170,6 @@ TEST(CoverageCli, MpiRanksWriteIdenticalFiles) {
   const std::string a = slurp(d / "one" / "coverage.csv"), b = slurp(d / "two" / "coverage.csv");
   EXPECT_GT(a.size(), 10000u);
   EXPECT_EQ(a, b);
-  fs::remove_all(d);
 #endif
 }
 

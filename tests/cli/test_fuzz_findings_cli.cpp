@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/run_rfidray.h"
+#include "tests/support/scratch_dir.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -29,22 +30,15 @@ bool contains(const std::string& s, const std::string& what) { return s.find(wha
 class FuzzCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("rfidray_fuzz_" + std::to_string(getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    std::ofstream(dir_ / "ground_wall.obj") << "o ground\nv -10 -10 0\nv 10 -10 0\nv -10 10 0\nv 10 10 0\n"
-                                               "usemtl concrete\nf 1 2 4\nf 1 4 3\n";
+    scratch_.write("ground_wall.obj", "o ground\nv -10 -10 0\nv 10 -10 0\nv -10 10 0\nv 10 10 0\n"
+                                      "usemtl concrete\nf 1 2 4\nf 1 4 3\n");
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return (dir_ / name).string();
-  }
+  std::string write(const std::string& name, const std::string& text) { return scratch_.write(name, text).string(); }
   std::string link(const std::string& extra) {
     return "link --scene " + (dir_ / "ground_wall.obj").string() + " " + extra;
   }
-  fs::path dir_;
+  const testing::ScratchDir scratch_{testing::ScratchDir::current_test_name("fuzz")};
+  const fs::path dir_ = scratch_.path();
 };
 
 // --- crash / hang ---
@@ -180,6 +174,49 @@ TEST_F(FuzzCli, HugeDurationIsRefusedWithTheTickEstimate) {
   EXPECT_TRUE(contains(r.output, "duration_s")) << r.output;
   EXPECT_TRUE(contains(r.output, "1e+21 ticks")) << r.output;
   EXPECT_TRUE(contains(r.output, "at most 1e+09 ticks")) << r.output;
+}
+
+// Reproducer 10 of the second fuzz seed: a search region of 1e308 m overflowed the grid counts ("cannot create
+// std::vector larger than max_size()", exit 1). It is an input error naming the flag; the largest allowed region
+// runs (the grids are coarsened to their point budget).
+TEST_F(FuzzCli, LocalizeHugeSearchRegionNamesTheFlag) {
+  const RunResult sim = run("simulate " + kSource + "/scenes/paper_warehouse.yaml -q -o " + (dir_ / "sim").string());
+  ASSERT_EQ(sim.status, 0) << sim.output;
+  const std::string readings = (dir_ / "sim" / "mobile.csv").string();
+  for (const char* range : {"1e308", "inf", "1.00000001e8"}) {
+    const RunResult r = run("localize " + readings + " --method all --mirror-prior boresight --json --max-range " + range);
+    EXPECT_EQ(r.status, 2) << range << "\n" << r.output;
+    EXPECT_TRUE(contains(r.output, "field '--max-range'")) << r.output;
+    EXPECT_FALSE(contains(r.output, "max_size")) << r.output;
+  }
+  const RunResult widest = run("localize " + readings + " --method all --mirror-prior boresight --json --max-range 1e8");
+  EXPECT_EQ(widest.status, 0) << widest.output;
+  EXPECT_TRUE(contains(widest.output, "\"results\"")) << widest.output;
+}
+
+// Reproducer 11: --threads 1000 under a 6 GB address-space limit (8 MiB of stack per thread) ended in libgomp's
+// "Thread creation failed" (exit 1). The run uses what the process can start, says so, and its readings are
+// those of one thread. (Not under AddressSanitizer, which needs terabytes of address space.)
+TEST_F(FuzzCli, MoreThreadsThanTheProcessCanStartRunWithFewerAndSaySo) {
+#ifdef RFIDRAY_TEST_UNDER_ASAN  // defined above
+  GTEST_SKIP() << "address-space limit under AddressSanitizer";
+#else
+  std::string tags;
+  for (int i = 0; i < 1000; ++i)
+    tags += "  - {name: t" + std::to_string(i) + ", position: [" + std::to_string(0.5 + 0.1 * (i % 100)) + ", " +
+            std::to_string(0.1 * (i / 100)) + ", 1]}\n";
+  const std::string y = write("threads.yaml", "duration_s: 0.1\nchannel: ideal\nantennas:\n"
+                                              "  - {name: a, position: [0, 0, 1], update_rate: 10}\ntags:\n" + tags);
+  const RunResult many = run("simulate " + y + " -q --model paper --threads 1000 -o " + (dir_ / "many").string(),
+                             "ulimit -v 6000000; ");
+  EXPECT_EQ(many.status, 0) << many.output;
+  EXPECT_TRUE(contains(many.output, "--threads 1000: this process could start only")) << many.output;
+  EXPECT_TRUE(contains(many.output, "; using ")) << many.output;
+  const RunResult one = run("simulate " + y + " -q --model paper --threads 1 -o " + (dir_ / "one").string());
+  ASSERT_EQ(one.status, 0) << one.output;
+  EXPECT_EQ(testing::slurp(dir_ / "many" / "a.csv"), testing::slurp(dir_ / "one" / "a.csv"));
+  EXPECT_GT(testing::slurp(dir_ / "one" / "a.csv").size(), 100u);
+#endif
 }
 
 // --- unhelpful errors ---

@@ -18,23 +18,16 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "io/readings_csv.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("rfidray_import_cli_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir() { return testing::program_scratch_dir("import_cli_test"); }
 
-fs::path write(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary) << text;
-  return p;
-}
+using testing::write_file;
 
 // Runs rfidray with `args`; returns stdout+stderr, sets the exit code.
 std::string rfidray(const std::string& args, int& exit_code) {
@@ -63,7 +56,7 @@ fs::path write_stop_dir(const std::string& name) {
     for (size_t k = 0; k < kCarriersHz.size(); ++k)
       s << "100000000000000000000001,1," << kCarriersHz[k] << ",0,-48.5,"
         << true_phase(antenna, kCarriersHz[k], 0.3 + k) << ",0,0," << antenna.x() << ",1.63,0,-5399.9\n";
-    write(d / (std::to_string(n) + ".csv"), s.str());
+    write_file(d / (std::to_string(n) + ".csv"), s.str());
   }
   return d;
 }
@@ -97,7 +90,7 @@ TEST(ImportCli, PerStopDirectoryImportsAndLocalizes) {
   EXPECT_EQ(header, "name,reads,first_time,last_time,max_rssi");
   EXPECT_EQ(line.rfind("100000000000000000000001,270,0,", 0), 0u) << line;
 
-  write(temp_dir() / "truth.csv", "name,x,y,z\n100000000000000000000001,0.9,0.8,0\n");
+  write_file(temp_dir() / "truth.csv", "name,x,y,z\n100000000000000000000001,0.9,0.8,0\n");
   const std::string loc = rfidray("localize " + out.string() + " --truth " + (temp_dir() / "truth.csv").string() +
                                       " --height-known --mirror-prior truth --method nlls --json",
                                   code);
@@ -110,11 +103,11 @@ TEST(ImportCli, PerStopDirectoryImportsAndLocalizes) {
 
 TEST(ImportCli, OctaneLogWithTrajectoryInterpolatesPoses) {
   const fs::path d = temp_dir();
-  write(d / "octane.csv",
+  write_file(d / "octane.csv",
         "Epc,AntennaPortNumber,ChannelInMhz,PeakRssiInDbm,PhaseAngleInRadians,FirstSeenTime\n"
         "E1,1,865.7,-50,1.5,1000500000\n"
         "E2,1,866.3,-51,2.5,1001000000\n");
-  write(d / "traj.csv", "time,x,y,z,qx,qy,qz,qw\n1000,0,0,1,0,0,0,1\n1001,1,0,1,0,0,0,1\n1002,1,0,1,0,0,0,1\n");
+  write_file(d / "traj.csv", "time,x,y,z,qx,qy,qz,qw\n1000,0,0,1,0,0,0,1\n1001,1,0,1,0,0,0,1\n1002,1,0,1,0,0,0,1\n");
   int code = 0;
   const std::string log = rfidray("import " + (d / "octane.csv").string() + " --trajectory " + (d / "traj.csv").string() +
                                       " -o " + (d / "octane_readings.csv").string() + " --antenna-name mobile",
@@ -143,18 +136,18 @@ TEST(ImportCli, BadInputExitsTwoWithFileLineAndColumnAndWritesNothing) {
   const fs::path d = temp_dir() / "bad";
   fs::create_directories(d);
   const std::string h = "Epc,AntennaPortNumber,ChannelInMhz,PeakRssiInDbm,PhaseAngleInRadians,FirstSeenTime\n";
-  write(d / "word.csv", h + "E1,1,865.7,-50,1.0,1000000000\nE1,1,865.7,-50,one,1000000001\n");
-  write(d / "inf.csv", h + "E1,1,865.7,-50,1.0,1000000000\nE1,1,865.7,inf,1.0,1000000001\n");
-  write(d / "deg_as_rad.csv", h + "E1,1,865.7,-50,90,1000000000\n");
-  write(d / "no_phase.csv", "Epc,AntennaPortNumber,ChannelInMhz,PeakRssiInDbm,FirstSeenTime\nE1,1,865.7,-50,1\n");
-  write(d / "empty.csv", "");
-  write(d / "ok.csv", h + "E1,1,865.7,-50,1.0,1000000000\nE1,1,865.7,-50,1.0,1003000000\n");
-  write(d / "traj_back.csv", "time,x,y,z\n0,0,0,0\n2000,1,0,0\n1999,1,0,0\n");
-  write(d / "traj_short.csv", "time,x,y,z\n999,0,0,0\n1001,1,0,0\n");
+  write_file(d / "word.csv", h + "E1,1,865.7,-50,1.0,1000000000\nE1,1,865.7,-50,one,1000000001\n");
+  write_file(d / "inf.csv", h + "E1,1,865.7,-50,1.0,1000000000\nE1,1,865.7,inf,1.0,1000000001\n");
+  write_file(d / "deg_as_rad.csv", h + "E1,1,865.7,-50,90,1000000000\n");
+  write_file(d / "no_phase.csv", "Epc,AntennaPortNumber,ChannelInMhz,PeakRssiInDbm,FirstSeenTime\nE1,1,865.7,-50,1\n");
+  write_file(d / "empty.csv", "");
+  write_file(d / "ok.csv", h + "E1,1,865.7,-50,1.0,1000000000\nE1,1,865.7,-50,1.0,1003000000\n");
+  write_file(d / "traj_back.csv", "time,x,y,z\n0,0,0,0\n2000,1,0,0\n1999,1,0,0\n");
+  write_file(d / "traj_short.csv", "time,x,y,z\n999,0,0,0\n1001,1,0,0\n");
   fs::create_directories(d / "no_stops");
-  write(d / "stops_back" / "0.csv", "epc,antennaIndex,frequency,time,RSSI,phase,dopplerShift,velocity,x,y,z,angle\n"
+  write_file(d / "stops_back" / "0.csv", "epc,antennaIndex,frequency,time,RSSI,phase,dopplerShift,velocity,x,y,z,angle\n"
                                     "E,1,921125000,5,-46,0.5,0,0,0,0,0,0\n");
-  write(d / "stops_back" / "1.csv", "epc,antennaIndex,frequency,time,RSSI,phase,dopplerShift,velocity,x,y,z,angle\n"
+  write_file(d / "stops_back" / "1.csv", "epc,antennaIndex,frequency,time,RSSI,phase,dopplerShift,velocity,x,y,z,angle\n"
                                     "E,1,921125000,4,-46,0.5,0,0,0.02,0,0,0\n");
   const std::string ds = d.string();
   const std::vector<BadCase> cases{

@@ -81,11 +81,44 @@ TEST(LinkCli, TableAndLevels) {
   ASSERT_EQ(table.status, 0) << table.out;
   EXPECT_NE(table.out.find("reflection"), std::string::npos);
   EXPECT_NE(table.out.find("RSSI"), std::string::npos);
-  const CliRun los = run("link --json --level los --scene " + kScene + " --antenna=-1,-3,0.6 --tag 2.9,-2.35,2.05");
+  const CliRun los = run("link --json --channel los --scene " + kScene + " --antenna=-1,-3,0.6 --tag 2.9,-2.35,2.05");
   ASSERT_EQ(los.status, 0) << los.out;
   const auto j = nlohmann::json::parse(los.out.substr(los.out.find('{')));
   ASSERT_EQ(j["raytraced"]["paths"].size(), 1u);
   EXPECT_EQ(j["raytraced"]["paths"][0]["kind"], "los");
+}
+
+// --level is kept as an alias of --channel: the same level, and --help says it is an alias.
+TEST(LinkCli, LevelIsAnAliasOfChannel) {
+  const std::string where = " --scene " + kScene + " --antenna=-1,-3,0.6 --tag 2.9,-2.35,2.05";
+  const CliRun level = run("link --json --level los" + where);
+  const CliRun channel = run("link --json --channel los" + where);
+  ASSERT_EQ(level.status, 0) << level.out;
+  ASSERT_EQ(channel.status, 0) << channel.out;
+  const auto jl = nlohmann::json::parse(level.out.substr(level.out.find('{')));
+  const auto jc = nlohmann::json::parse(channel.out.substr(channel.out.find('{')));
+  EXPECT_EQ(jl["level"], "los");
+  EXPECT_EQ(jl["raytraced"], jc["raytraced"]);
+  const CliRun bad = run("link --level multi" + where);
+  EXPECT_EQ(bad.status, 2) << bad.out;
+  EXPECT_NE(bad.out.find("--channel"), std::string::npos) << bad.out;
+  const CliRun help = run("link --help");
+  ASSERT_EQ(help.status, 0) << help.out;
+  EXPECT_NE(help.out.find("--channel,--level"), std::string::npos) << help.out;
+  EXPECT_NE(help.out.find("--level is an alias of --channel"), std::string::npos) << help.out;
+}
+
+// The default search is named exact; "fast", its former name, gives the same paths and reports itself as exact.
+TEST(LinkCli, CandidatesExactByDefaultAndFastIsItsAlias) {
+  const std::string where = " --json --scene " + kScene + " --antenna=-1,-3,0.6 --tag 2.9,-2.35,2.05";
+  const CliRun plain = run("link" + where), fast = run("link --candidates fast" + where);
+  ASSERT_EQ(plain.status, 0) << plain.out;
+  ASSERT_EQ(fast.status, 0) << fast.out;
+  const auto jp = nlohmann::json::parse(plain.out.substr(plain.out.find('{')));
+  const auto jf = nlohmann::json::parse(fast.out.substr(fast.out.find('{')));
+  EXPECT_EQ(jp["candidates"], "exact");
+  EXPECT_EQ(jf["candidates"], "exact");
+  EXPECT_EQ(jp["raytraced"], jf["raytraced"]);
 }
 
 TEST(LinkCli, BadInputFailsWithAMessage) {
@@ -96,7 +129,7 @@ TEST(LinkCli, BadInputFailsWithAMessage) {
       {"link --scene /nonexistent.obj" + ok, "/nonexistent.obj"},
       {"link --scene " + kScene + " --antenna 0,0 --tag 1,0,1", "--antenna"},
       {"link --scene " + kScene + " --antenna 0,0,x --tag 1,0,1", "'x'"},
-      {"link --scene " + kScene + ok + " --level multi", "multi"},
+      {"link --scene " + kScene + ok + " --channel multi", "field '--channel': unknown channel 'multi'"},
       {"link --scene " + kScene + ok + " --material cheese", "cheese"},
       {"link --scene " + kScene + ok + " --antenna-pol linear:0,0,0", "--antenna-pol"},
       {"link --scene " + kScene + ok + " --pattern patch", "patch"},

@@ -1,4 +1,4 @@
-// `rfidray link --level double-bounce | full --json`: the new path kinds with their interaction points and
+// `rfidray link --channel double-bounce | full --json`: the new path kinds with their interaction points and
 // coefficients, equal to the library's.
 #include <gtest/gtest.h>
 
@@ -23,7 +23,7 @@ TEST(LinkLevelsCli, DoubleBounceAndFullListTheNewPaths) {
   const auto scene = load_scene({kScene}, MaterialAssignment{});
   for (const auto& [level, kind] : {std::pair{ChannelLevel::kDoubleBounce, std::string("reflection2")},
                                     std::pair{ChannelLevel::kFull, std::string("diffraction")}}) {
-    const auto r = rfidray::testing::run_rfidray("link --json --scene " + kScene + " --level " + to_string(level) +
+    const auto r = rfidray::testing::run_rfidray("link --json --scene " + kScene + " --channel " + to_string(level) +
                                                  " --antenna=-1,-3,0.6 --tag 2.9,-2.35,2.05 --frequency 866e6");
     ASSERT_EQ(r.status, 0) << r.output;
     const nlohmann::json j = nlohmann::json::parse(r.output.substr(r.output.find('{')));

@@ -14,19 +14,16 @@
 #include "io/readings_csv.h"
 #include "core/error.h"
 #include "localization/synthetic.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("rfidray_localize_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir() { return testing::program_scratch_dir("localize_test"); }
 
-void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+using testing::write_file;
 
 std::string expect_input_error(const fs::path& p, bool truth = false) {
   try {
@@ -43,7 +40,7 @@ const std::string kHeader = "time,posx,posy,posz,q1,q2,q3,q4,name,dist,phase,rss
 
 TEST(ReadingsReader, MalformedNumberNamesFileLineAndColumn) {
   const fs::path p = temp_dir() / "bad_number.csv";
-  write(p, kHeader + "\n0,0,0,0,0,0,0,1,t,1,0.5,-50\n0.1,0,0,x0,0,0,0,1,t,1,0.5,-50\n");
+  write_file(p, kHeader + "\n0,0,0,0,0,0,0,1,t,1,0.5,-50\n0.1,0,0,x0,0,0,0,1,t,1,0.5,-50\n");
   const std::string msg = expect_input_error(p);
   EXPECT_NE(msg.find("bad_number.csv:3:"), std::string::npos) << msg;
   EXPECT_NE(msg.find("posz"), std::string::npos) << msg;
@@ -51,28 +48,28 @@ TEST(ReadingsReader, MalformedNumberNamesFileLineAndColumn) {
 
 TEST(ReadingsReader, WrongFieldCountAndHeaderAndPhaseRange) {
   const fs::path d = temp_dir();
-  write(d / "fields.csv", kHeader + "\n0,0,0,0,0,0,0,1,t,1,0.5,-50\n\n0,0,0,0,0,0,0,1,t,1,0.5\n");
+  write_file(d / "fields.csv", kHeader + "\n0,0,0,0,0,0,0,1,t,1,0.5,-50\n\n0,0,0,0,0,0,0,1,t,1,0.5\n");
   EXPECT_NE(expect_input_error(d / "fields.csv").find("fields.csv:4: expected 12 fields, got 11"), std::string::npos);
-  write(d / "header.csv", "time,posx,posy,posz,q1,q2,q3,q4,name,phase,dist,rssi\n");
+  write_file(d / "header.csv", "time,posx,posy,posz,q1,q2,q3,q4,name,phase,dist,rssi\n");
   EXPECT_NE(expect_input_error(d / "header.csv").find("header.csv:1:"), std::string::npos);
-  write(d / "phase.csv", kHeader + "\n0,0,0,0,0,0,0,1,t,1,7.5,-50\n");
+  write_file(d / "phase.csv", kHeader + "\n0,0,0,0,0,0,0,1,t,1,7.5,-50\n");
   EXPECT_NE(expect_input_error(d / "phase.csv").find("phase.csv:2: column 'phase'"), std::string::npos);
-  write(d / "quat.csv", kHeader + "\n0,0,0,0,0,0,0,0,t,1,1,-50\n");
+  write_file(d / "quat.csv", kHeader + "\n0,0,0,0,0,0,0,0,t,1,1,-50\n");
   EXPECT_NE(expect_input_error(d / "quat.csv").find("quat.csv:2:"), std::string::npos);
   EXPECT_NE(expect_input_error(d / "missing.csv").find("cannot open"), std::string::npos);
 }
 
 TEST(ReadingsReader, TruthFileErrors) {
   const fs::path d = temp_dir();
-  write(d / "dup.csv", "name,x,y,z\na,1,2,3\na,1,2,3\n");
+  write_file(d / "dup.csv", "name,x,y,z\na,1,2,3\na,1,2,3\n");
   EXPECT_NE(expect_input_error(d / "dup.csv", true).find("dup.csv:3: duplicate tag 'a'"), std::string::npos);
-  write(d / "nan.csv", "name,x,y,z\na,1,nan,3\n");
+  write_file(d / "nan.csv", "name,x,y,z\na,1,nan,3\n");
   EXPECT_NE(expect_input_error(d / "nan.csv", true).find("nan.csv:2:"), std::string::npos);
 }
 
 TEST(ReadingsReader, GroupsByAntennaChannelFrequencyAndSortsByTime) {
   const fs::path p = temp_dir() / "groups.csv";
-  write(p, kHeader + ",antenna,frequency_hz\n"
+  write_file(p, kHeader + ",antenna,frequency_hz\n"
                "0.2,0,0,0,0,0,0,1,t,1,0.5,-50,a,866.3e6\n"
                "0.1,0,0,0,0,0,0,1,t,1,0.4,-50,a,866.3e6\n"
                "0.1,0,0,0,0,0,0,1,t,1,0.4,-50,a,865.7e6\n"
@@ -207,7 +204,7 @@ TEST(LocalizeCli, MaxUncertaintyIsTheLargestRegionAccepted) {
 
 TEST(LocalizeCli, MalformedCsvExitsNonZeroWithLine) {
   const fs::path p = temp_dir() / "broken.csv";
-  write(p, kHeader + "\n0,0,0,0,0,0,0,1,t,1,0.5,-50\n0,0,0,0,0,0,0,1,t,1,zero,-50\n");
+  write_file(p, kHeader + "\n0,0,0,0,0,0,0,1,t,1,0.5,-50\n0,0,0,0,0,0,0,1,t,1,zero,-50\n");
   int status = 0;
   const std::string out = run(p.string(), status);
   EXPECT_NE(status, 0);
@@ -227,8 +224,8 @@ TEST(LocalizeCli, HeightKnownNeedsTruth) {
 // from the phase alone every method says ok ~16 cm off with a ~8 cm radius; with --scenario the scene's extra
 // paths bound the bias, and each method is failed (multipath) or within its radius.
 void write_wall_scenario(const fs::path& dir, bool wall) {
-  write(dir / "wall.obj", "v -2 0.95 -1.5\nv 3 0.95 -1.5\nv 3 0.95 1.5\nv -2 0.95 1.5\nf 1 2 3\nf 1 3 4\n");
-  write(dir / "wall.yaml", std::string(R"(name: wall
+  write_file(dir / "wall.obj", "v -2 0.95 -1.5\nv 3 0.95 -1.5\nv 3 0.95 1.5\nv -2 0.95 1.5\nf 1 2 3\nf 1 3 4\n");
+  write_file(dir / "wall.yaml", std::string(R"(name: wall
 seed: 1
 channel: single-bounce
 model: physical
@@ -300,7 +297,7 @@ TEST(LocalizeCli, ScenarioErrorsNameTheFile) {
   write_wall_scenario(d, false);
   const auto sim = rfidray::testing::run_rfidray("simulate " + (d / "wall.yaml").string() + " -o " + (d / "out").string());
   ASSERT_EQ(sim.status, 0) << sim.output;
-  write(d / "broken.yaml", "name: x\nantennas: [\n");
+  write_file(d / "broken.yaml", "name: x\nantennas: [\n");
   int status = 0;
   std::string out = run((d / "out" / "stage.csv").string() + " --scenario " + (d / "broken.yaml").string(), status);
   EXPECT_EQ(status, 2) << out;
@@ -318,7 +315,7 @@ TEST(LocalizeCli, ScenarioErrorsNameTheFile) {
   other.replace(other.find("stage"), 5, "left");
   another.replace(another.find("stage"), 5, "right");
   text.replace(text.find(antenna), antenna.size(), other + another);
-  write(d / "other.yaml", text);
+  write_file(d / "other.yaml", text);
   out = run((d / "out" / "stage.csv").string() + " --scenario " + (d / "other.yaml").string(), status);
   EXPECT_EQ(status, 2) << out;
   EXPECT_NE(out.find("antenna 'stage'"), std::string::npos) << out;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "tests/support/run_rfidray.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray::cli {
 namespace {
@@ -19,14 +20,8 @@ bool contains(const std::string& s, const std::string& what) { return s.find(wha
 
 class MemoryBudgetCli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("rfidray_membudget_" + std::to_string(getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  const testing::ScratchDir scratch_{testing::ScratchDir::current_test_name("membudget")};
+  const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(MemoryBudgetCli, GeneratedWarehouseOverTheBudgetIsRefusedBeforeAnyOutput) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "tests/support/run_rfidray.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray {
 namespace {
@@ -22,19 +23,10 @@ namespace fs = std::filesystem;
 
 const std::string kScenes = std::string(RFIDRAY_SOURCE_DIR) + "/scenes/";
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("rfidray_place_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// A scratch directory of one test, removed at its end.
+testing::ScratchDir scratch(const std::string& name) { return testing::ScratchDir("place_" + name); }
 
-std::string slurp(const fs::path& f) {
-  std::ifstream in(f, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::slurp;
 
 std::vector<std::vector<std::string>> csv(const fs::path& f) {
   std::ifstream in(f);
@@ -69,7 +61,7 @@ std::string scenario(const std::string& antennas) {
 std::string antenna_keys() { return "tx_power_dbm: 17, pattern: {kind: patch, gain_dbi: 8, beamwidth_deg: 70}"; }
 
 TEST(PlaceCli, EqualsBruteForceOverAllSubsets) {
-  const fs::path d = scratch("brute");
+  const auto d = scratch("brute");
   // The candidates as a scenario of their own, for `coverage`; and as a candidates file, for `place`.
   std::string ants;
   std::stringstream m(kMounts);
@@ -119,14 +111,13 @@ TEST(PlaceCli, EqualsBruteForceOverAllSubsets) {
   const auto sim = run_rfidray("simulate " + (d / "place3" / "placed.yaml").string() + " --duration 0.2 -q -o " +
                                (d / "sim").string());
   EXPECT_EQ(sim.status, 0) << sim.output << slurp(d / "place3" / "placed.yaml");
-  fs::remove_all(d);
 }
 
 TEST(PlaceCli, MpiRanksWriteIdenticalFiles) {
 #ifndef RFIDRAY_MPIRUN
   GTEST_SKIP() << "built without MPI";
 #else
-  const fs::path d = scratch("mpi");
+  const auto d = scratch("mpi");
   std::ofstream(d / "cand.yaml") << "grids:\n  - {name: pole, min: [-4, -8, 2.5], max: [1, 6, 2.5], step_m: 2.5, "
                                     "yaw_deg: [0, 180]}\n";
   const std::string args = "place " + kScenes + "paper_warehouse.yaml --tags --candidates " + (d / "cand.yaml").string() +
@@ -154,7 +145,6 @@ TEST(PlaceCli, MpiRanksWriteIdenticalFiles) {
     EXPECT_FALSE(slurp(d / "b1" / f).empty()) << f;
     EXPECT_EQ(slurp(d / "b1" / f), slurp(d / "b2" / f)) << f;
   }
-  fs::remove_all(d);
 #endif
 }
 
@@ -196,7 +186,7 @@ void expect_no_inf_or_nan(const fs::path& dir) {
 // A robot mount evaluated over the pass gives, cell by cell, the read probability and the bound that `coverage`
 // gives the same antenna in the scenario.
 TEST(PlaceCli, RobotMountHasCoveragesBound) {
-  const fs::path d = scratch("robot_same");
+  const auto d = scratch("robot_same");
   std::ofstream(d / "s.yaml") << kRobotScene << robot_antenna("mobile", 1.68, -90);
   std::ofstream(d / "cand.yaml") << "robot_mounts:\n  - {name: r, height_m: 1.68, yaw_deg: -90}\n";
   const std::string cells = " --tags --pass-step 0.2 --no-png -q";
@@ -223,14 +213,13 @@ TEST(PlaceCli, RobotMountHasCoveragesBound) {
                                (d / "sim").string());
   EXPECT_EQ(sim.status, 0) << sim.output << placed;
   expect_no_inf_or_nan(d / "place");
-  fs::remove_all(d);
 }
 
 // Worst-bound placement over robot mounts (2 heights × 2 yaws): K = 1 equals brute force over `coverage` of each
 // candidate; with K = 2 the joint bound (informations add) is below each chosen antenna's own, and the pair
 // localizes at least as many tags as any pair's union of individually localized tags.
 TEST(PlaceCli, WorstBoundAgainstCoverageOfEveryCandidate) {
-  const fs::path d = scratch("robot_brute");
+  const auto d = scratch("robot_brute");
   std::string all = kRobotScene;
   const std::vector<std::string> names{"r_0_0_0", "r_0_1_0", "r_1_0_0", "r_1_1_0"};
   for (size_t h = 0; h < 2; ++h)
@@ -292,11 +281,10 @@ TEST(PlaceCli, WorstBoundAgainstCoverageOfEveryCandidate) {
     EXPECT_GE(localized, union_best);
     EXPECT_EQ(localized, 8u);  // one antenna facing each rack
   }
-  fs::remove_all(d);
 }
 
 TEST(PlaceCli, BadInputExits2) {
-  const fs::path d = scratch("bad");
+  const auto d = scratch("bad");
   std::ofstream(d / "cand.yaml") << "mounts:\n  - {name: a, position: [0, 0, 2]}\n";
   std::ofstream(d / "typo.yaml") << "mounts:\n  - {name: a, positon: [0, 0, 2]}\n";
   std::ofstream(d / "empty.yaml") << "template: fixed\n";
@@ -317,7 +305,6 @@ TEST(PlaceCli, BadInputExits2) {
     const auto r = run_rfidray("place " + args);
     EXPECT_EQ(r.status, 2) << args << "\n" << r.output;
   }
-  fs::remove_all(d);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 
 #include "io/readings_csv.h"
 #include "core/units.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray::cli {
 namespace {
@@ -27,23 +28,13 @@ const std::string kBinary = RFIDRAY_BINARY;
 using RunResult = rfidray::testing::CliResult;
 RunResult run(const std::string& args) { return rfidray::testing::run_rfidray(args); }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::slurp;
 
 class SimulateCli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rfidray_simulate_" + std::to_string(getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  void SetUp() override { fs::remove_all(dir_); }  // commands create it
+  const testing::ScratchDir scratch_{testing::ScratchDir::current_test_name("simulate")};
+  const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(SimulateCli, PaperScenarioIsByteIdenticalAtOneAndTwoThreads) {

@@ -10,6 +10,7 @@
 
 #include "raytrace/raytraced_channel.h"
 #include "tests/support/run_rfidray.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray {
 namespace {
@@ -17,8 +18,10 @@ namespace {
 const std::string kSource = RFIDRAY_SOURCE_DIR;
 const std::filesystem::path kThree = "/usr/share/javascript/three/three.min.js";
 
+// Output files of this test program, in a directory removed when it exits.
 std::filesystem::path scratch(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("rfidray_view_cli_" + std::to_string(::getpid()) + "_" + name);
+  static const testing::ScratchDir dir("view_cli");
+  return dir / name;
 }
 
 // "N links, M paths" from the summary line.
@@ -63,6 +66,23 @@ TEST(ViewCli, ScenarioAntennasAndTagsByName) {
   std::filesystem::remove(out);
 }
 
+// --level is kept as an alias of --channel, and --help says so.
+TEST(ViewCli, LevelIsAnAliasOfChannel) {
+  if (!std::filesystem::exists(kThree)) GTEST_SKIP() << "libjs-three not installed";
+  const std::string gw = " --scene " + kSource + "/scenes/ground_wall.obj --antenna 0,0,1 --tag 3,0,1.5 -o ";
+  const auto out = scratch("alias.html");
+  const auto level = testing::run_rfidray("view --level los" + gw + out.string());
+  ASSERT_EQ(level.status, 0) << level.output;
+  EXPECT_NE(level.output.find("(los)"), std::string::npos) << level.output;
+  const auto channel = testing::run_rfidray("view --channel los" + gw + out.string());
+  ASSERT_EQ(channel.status, 0) << channel.output;
+  EXPECT_EQ(counts(level.output), counts(channel.output));
+  std::filesystem::remove(out);
+  const auto help = testing::run_rfidray("view --help");
+  EXPECT_NE(help.output.find("--channel,--level"), std::string::npos) << help.output;
+  EXPECT_NE(help.output.find("--level is an alias of --channel"), std::string::npos) << help.output;
+}
+
 TEST(ViewCli, BadInputExits2NamingTheOption) {
   const std::string paper = kSource + "/scenes/paper_warehouse.yaml";
   const std::string gw = kSource + "/scenes/ground_wall.obj";
@@ -76,7 +96,8 @@ TEST(ViewCli, BadInputExits2NamingTheOption) {
       {"view " + paper + " --antenna nope", "option --antenna: no 'nope' (known: mobile, fixed)"},
       {"view " + paper + " --time 1 --tick 3", "give --time or --tick, not both"},
       {"view --antenna 0,0,1", "give one of SCENARIO, --scene FILE.obj or --world FILE"},
-      {"view " + paper + " --level multi-bounce", "multi-bounce"},
+      {"view " + paper + " --channel multi-bounce", "field '--channel': unknown channel 'multi-bounce'"},
+      {"view " + paper + " --level multi-bounce", "field '--channel': unknown channel 'multi-bounce'"},  // the alias
       {"view " + paper + " -o /dev/null", "/dev/null: refusing to write view HTML: it exists and is not a regular file"},
   };
   for (const Case& c : cases) {

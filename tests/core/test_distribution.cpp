@@ -9,6 +9,7 @@
 
 #include "core/distribution.h"
 #include "core/error.h"
+#include "tests/support/input_error.h"
 
 namespace rfidray {
 namespace {
@@ -141,12 +142,7 @@ TEST(Distribution, NamesRoundTrip) {
 }
 
 std::string error_of(const std::string& name, const std::vector<double>& p) {
-  try {
-    parse_distribution(name, p, "antennas[0].optional_distribution");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return testing::input_error_of([&] { parse_distribution(name, p, "antennas[0].optional_distribution"); });
 }
 
 TEST(Distribution, UnknownNameListsValidNamesAndField) {

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "io/antenna_file.h"
+#include "tests/support/input_error.h"
 
 namespace rfidray::io {
 namespace {
@@ -76,14 +77,7 @@ TEST(AntennaFile, GeometryCovarianceRoundTripsAndIsChecked) {
   auto with_row = [&](const std::string& replacement) {
     return text.substr(0, row) + replacement + text.substr(row_end);
   };
-  auto error = [](const std::string& t) {
-    try {
-      parse_antenna_yaml(t, "ant.yaml");
-    } catch (const InputError& err) {
-      return std::string(err.what());
-    }
-    return std::string("(no error)");
-  };
+  auto error = [](const std::string& t) { return testing::input_error_of([&] { parse_antenna_yaml(t, "ant.yaml"); }); };
   const std::string short_row = error(with_row("  - [1, 2, 3]"));
   EXPECT_NE(short_row.find("ant.yaml:"), std::string::npos) << short_row;
   EXPECT_NE(short_row.find("geometry_covariance[0]"), std::string::npos) << short_row;
@@ -106,12 +100,7 @@ TEST(AntennaFile, GeometryCovarianceRoundTripsAndIsChecked) {
 }
 
 std::string error_of(const std::string& text) {
-  try {
-    parse_antenna_yaml(text, "ant.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return testing::input_error_of([&] { parse_antenna_yaml(text, "ant.yaml"); });
 }
 
 std::string replace_line(const std::string& text, const std::string& key, const std::string& line) {

@@ -7,20 +7,14 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "io/scenario_yaml.h"
+#include "tests/support/input_error.h"
 
 namespace rfidray {
 namespace {
 
 YAML::Node map_of(const std::string& flow) { return YAML::Load(flow); }
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+std::string error_of(const std::function<void()>& f) { return testing::input_error_of(f); }
 
 TEST(EndpointYaml, DefaultsAreThoseOfLink) {
   const Endpoint e = io::parse_endpoint(map_of("{position: [1, 2, 3]}"), "here", "");

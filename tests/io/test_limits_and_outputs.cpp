@@ -14,6 +14,8 @@
 #include "io/atomic_file.h"
 #include "io/readings_csv.h"
 #include "io/scenario_yaml.h"
+#include "tests/support/input_error.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray::io {
 namespace {
@@ -21,12 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string error_of(const std::string& text) {
-  try {
-    parse_scenario(text, "s.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return testing::input_error_of([&] { parse_scenario(text, "s.yaml"); });
 }
 
 std::string antenna_with(const std::string& keys) {
@@ -131,14 +128,9 @@ TEST(ReadingsWriter, RefusesANonFiniteValueNamingTheColumn) {
 
 class AtomicFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("rfidray_atomic_" + std::to_string(getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   size_t entries() const { return static_cast<size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator())); }
-  fs::path dir_;
+  const testing::ScratchDir scratch_{testing::ScratchDir::current_test_name("atomic")};
+  const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(AtomicFile, WritesCompleteFilesAndNothingWhenTheBodyFails) {

@@ -13,24 +13,18 @@
 #include "io/readings_csv.h"
 #include "io/real_log.h"
 #include "io/trajectory_csv.h"
+#include "tests/support/input_error.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("rfidray_real_log_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir() { return testing::program_scratch_dir("real_log_test"); }
 
-fs::path write_at(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary) << text;
-  return p;
-}
-fs::path write(const std::string& name, const std::string& text) { return write_at(temp_dir() / name, text); }
+using testing::write_file;
+fs::path write(const std::string& name, const std::string& text) { return write_file(temp_dir() / name, text); }
 
 RealLogOptions with_columns(const std::string& spec) {
   RealLogOptions o;
@@ -39,13 +33,7 @@ RealLogOptions with_columns(const std::string& spec) {
 }
 
 std::string error_of(const fs::path& p, const RealLogOptions& o = {}) {
-  try {
-    read_real_log(p, o);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no InputError for " << p;
-  return "";
+  return testing::input_error_of([&] { read_real_log(p, o); });
 }
 
 bool has_note(const RealLog& log, const std::string& part) {
@@ -190,9 +178,9 @@ fs::path write_stops(const std::string& name, int stops, const std::string& time
     const double x = 0.02 * (n + 1);
     s << "1001,1,921125000," << time << ",-46.5,0.8222,0,0," << x << ",1.63,0,-5399.9\n";
     s << "1002,1,920625000," << time << ",-48.5,6.28318530717959,0,0," << x << ",1.63,0,-5399.9\n";
-    write_at(d / (std::to_string(n) + ".csv"), s.str());
+    write_file(d / (std::to_string(n) + ".csv"), s.str());
   }
-  write_at(d / "notes.txt", "not a stop file\n");
+  write_file(d / "notes.txt", "not a stop file\n");
   return d;
 }
 
@@ -228,14 +216,14 @@ TEST(ImportRealLog, PerStopDirectoryGivesEachStopsAntennaPositionAndSkipsTheBom)
 
 TEST(ImportRealLog, PerStopUsesNonZeroFileTimesAndRejectsTimeGoingBack) {
   const fs::path d = write_stops("stops_timed", 3, "5");
-  write_at(d / "1.csv", kStopHeader + "1001,1,921125000,7.5,-46,0.5,0,0,0.04,0,0,0\n");
-  write_at(d / "2.csv", kStopHeader + "1001,1,921125000,9,-46,0.5,0,0,0.06,0,0,0\n");
+  write_file(d / "1.csv", kStopHeader + "1001,1,921125000,7.5,-46,0.5,0,0,0.04,0,0,0\n");
+  write_file(d / "2.csv", kStopHeader + "1001,1,921125000,9,-46,0.5,0,0,0.06,0,0,0\n");
   const RealLog log = read_real_log(d, {});
   ASSERT_EQ(log.reads.size(), 4u);
   EXPECT_EQ(log.reads[0].time_s, 5.0);
   EXPECT_EQ(log.reads[2].time_s, 7.5);
   EXPECT_EQ(log.reads[3].time_s, 9.0);
-  write_at(d / "2.csv", kStopHeader + "1001,1,921125000,6,-46,0.5,0,0,0.06,0,0,0\n");
+  write_file(d / "2.csv", kStopHeader + "1001,1,921125000,6,-46,0.5,0,0,0.06,0,0,0\n");
   const std::string m = error_of(d);
   EXPECT_NE(m.find("2.csv:2: column 'time': time goes backwards"), std::string::npos) << m;
 }
@@ -343,7 +331,7 @@ TEST(ImportRealLog, BadValuesNameFileLineAndColumn) {
   EXPECT_NE(error_of(write("header.csv", h)).find("header.csv: empty file (a header but no reads)"), std::string::npos);
   const fs::path empty_dir = temp_dir() / "no_stops";
   fs::create_directories(empty_dir);
-  write_at(empty_dir / "readme.txt", "x");
+  write_file(empty_dir / "readme.txt", "x");
   EXPECT_NE(error_of(empty_dir).find("no_stops: no N.csv files"), std::string::npos);
   EXPECT_NE(error_of(temp_dir() / "missing.csv").find("no such file"), std::string::npos);
 }

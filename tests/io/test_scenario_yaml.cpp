@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/simulation.h"
 #include "core/units.h"
+#include "tests/support/input_error.h"
 
 namespace rfidray::io {
 namespace {
@@ -18,12 +19,7 @@ const std::string kPaper = std::string(RFIDRAY_SOURCE_DIR) + "/scenes/paper_ware
 
 // The message of the InputError that parsing `text` throws ("" if none).
 std::string error_of(const std::string& text) {
-  try {
-    parse_scenario(text, "s.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return testing::input_error_of([&] { parse_scenario(text, "s.yaml"); });
 }
 
 TEST(ScenarioYaml, PaperWarehouseHasTable1AndTheTenTags) {
@@ -416,7 +412,11 @@ TEST(ScenarioYaml, ChannelOptionsAndAuto) {
   EXPECT_NE(typo.find("candidate_rays"), std::string::npos) << typo;
   EXPECT_NE(error_of(base + "channel_options:\n  drop_below_db: -3\n").find("channel_options.drop_below_db"),
             std::string::npos);
-  EXPECT_NE(error_of(base + "channel_options:\n  candidates: smart\n").find("fast or exhaustive"), std::string::npos);
+  EXPECT_NE(error_of(base + "channel_options:\n  candidates: smart\n").find("must be exact or exhaustive (got 'smart')"), std::string::npos);
+  // "exact" and its former name "fast" both read (the channel factory maps both to CandidateMode::kExact).
+  for (const std::string name : {"exact", "fast", "exhaustive"})
+    EXPECT_EQ(*parse_scenario(base + "channel_options:\n  candidates: " + name + "\n", "s.yaml").channel_options.candidates,
+              name);
   EXPECT_NE(error_of(base + "channel_options:\n  max_path_length_m: 0\n").find("> 0"), std::string::npos);
 }
 

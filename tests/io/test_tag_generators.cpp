@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "io/scenario_yaml.h"
 #include "io/tag_generators.h"
+#include "tests/support/input_error.h"
 
 namespace rfidray::io {
 namespace {
@@ -20,12 +21,7 @@ std::string head() {
 }
 
 std::string error_of(const std::string& text) {
-  try {
-    parse_scenario(text, "s.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return testing::input_error_of([&] { parse_scenario(text, "s.yaml"); });
 }
 
 TEST(TagGenerators, GridPointsNamesAndOrder) {

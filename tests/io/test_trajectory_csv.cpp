@@ -10,32 +10,20 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "io/trajectory_csv.h"
+#include "tests/support/input_error.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("rfidray_trajectory_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir() { return testing::program_scratch_dir("trajectory_test"); }
 
-fs::path write(const std::string& name, const std::string& text) {
-  const fs::path p = temp_dir() / name;
-  std::ofstream(p, std::ios::binary) << text;
-  return p;
-}
+fs::path write(const std::string& name, const std::string& text) { return testing::write_file(temp_dir() / name, text); }
 
 std::string error_of(const fs::path& p) {
-  try {
-    read_trajectory_csv(p);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no InputError for " << p;
-  return "";
+  return testing::input_error_of([&] { read_trajectory_csv(p); });
 }
 
 TEST(TrajectoryCsv, PositionsAreLinearInTimeAndSamplesAreExact) {

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "io/view_html.h"
 #include "raytrace/raytraced_channel.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray {
 namespace {
@@ -74,6 +75,25 @@ TEST(ViewHtml, EmbedsEveryPathWithItsLengthMaterialAndPower) {
   EXPECT_NE(page.find("/* orbit */"), std::string::npos);
 }
 
+// Without WebGL the page must not stay blank: the script probes for a context before it creates three.js's
+// renderer (which would log an error and throw), says why the view is empty, and still lists every path. The
+// behaviour in a browser is checked by tests/python/view_in_chromium.py (Chromium with WebGL turned off).
+TEST(ViewHtml, SaysSoWhenTheBrowserHasNoWebgl) {
+  const auto scene = load_scene({kGroundWall}, MaterialAssignment{});
+  const std::string page = io::view_html(ground_wall_view(scene), "/* three */", "/* orbit */");
+  const size_t probe = page.find("getContext('webgl')"), renderer = page.find("new THREE.WebGLRenderer(");
+  ASSERT_NE(probe, std::string::npos);
+  ASSERT_NE(renderer, std::string::npos);
+  EXPECT_LT(probe, renderer);
+  EXPECT_NE(page.find("This browser cannot draw the 3-D view: WebGL is not available"), std::string::npos);
+  EXPECT_NE(page.find("note.id = 'nowebgl'"), std::string::npos);
+  EXPECT_NE(page.find("body.dataset.status = 'no-webgl'"), std::string::npos);
+  // The path table is filled before the page returns for want of a renderer.
+  EXPECT_LT(page.find("table.appendChild(tr)"), page.find("if (!renderer) {"));
+  // The message is styled so that it shows on the dark background.
+  EXPECT_NE(page.find("#nowebgl {"), std::string::npos);
+}
+
 TEST(ViewHtml, ScriptEndTagsInTextCannotBreakThePage) {
   const auto scene = load_scene({kGroundWall}, MaterialAssignment{});
   io::ViewInput in = ground_wall_view(scene);
@@ -92,8 +112,8 @@ TEST(ViewHtml, ScriptEndTagsInTextCannotBreakThePage) {
 
 TEST(ViewHtml, MissingThreeJsIsAnInputErrorAndWritesNothing) {
   const auto scene = load_scene({kGroundWall}, MaterialAssignment{});
-  const auto out = std::filesystem::temp_directory_path() / ("rfidray_view_" + std::to_string(::getpid()) + ".html");
-  std::filesystem::remove(out);
+  const testing::ScratchDir dir("view_html");
+  const auto out = dir / "view.html";
   io::ThreeJsFiles files;
   files.three = "/nonexistent/three.min.js";
   try {

@@ -76,7 +76,7 @@ def test_one_way_equals_the_sum_of_paths():
 ])
 def test_paths_are_identical_to_rfidray_link_json(antenna, tag, level):
     obj = SOURCE_DIR / "scenes" / "paper_warehouse.obj"
-    expected = link_json("--scene", obj, "--antenna", antenna, "--tag", tag, "--level", level)["raytraced"]
+    expected = link_json("--scene", obj, "--antenna", antenna, "--tag", tag, "--channel", level)["raytraced"]
     channel = rfidray.Channel(rfidray.Scene.load(obj), level)
     a = [float(v) for v in antenna.split(",")]
     t = [float(v) for v in tag.split(",")]

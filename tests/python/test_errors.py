@@ -54,7 +54,7 @@ def test_readings_errors_name_file_line_and_column(tmp_path):
 
 def test_argument_errors():
     scene = rfidray.Scene.load(SOURCE_DIR / "scenes" / "ground_wall.obj")
-    with pytest.raises(ValueError, match=r"field 'channel_options.candidates': must be fast or exhaustive \(got 'slow'\)"):
+    with pytest.raises(ValueError, match=r"field 'channel_options.candidates': must be exact or exhaustive \(got 'slow'\)"):
         rfidray.Channel(scene, "single-bounce", candidates="slow")
     with pytest.raises(ValueError, match="unknown key 'candidate_ray'"):
         rfidray.Channel(scene, "single-bounce", candidate_ray=10)

@@ -1,7 +1,7 @@
 """`rfidray view` in headless Chromium (Debian's chromium, software WebGL): the paper warehouse page loads with
 no script errors, draws something (pixel check of a screenshot), lists the expected number of paths — the sum
 over its links of the paths the Python API (identical to `rfidray link --json`, test_channel.py) finds — and
-hovering over a path shows its kind, length and coefficient.
+hovering over a path shows its kind, length and coefficient. Without WebGL the page says so and still lists every path.
 Exit 77 (ctest: skipped) when Chromium or libjs-three is not installed."""
 import os
 import pathlib
@@ -25,10 +25,13 @@ def chromium():
     return None
 
 
-def browse(browser, html, work, *extra, fragment=""):
-    """Runs headless Chromium on a file (+ #fragment) with a fresh profile; returns its stdout."""
+def browse(browser, html, work, *extra, fragment="", webgl=True):
+    """Runs headless Chromium on a file (+ #fragment) with a fresh profile; returns its stdout. webgl=False: without
+    --enable-unsafe-swiftshader (headless Chromium's only WebGL here) and with WebGL turned off (--disable-3d-apis,
+    so the result does not depend on whether this Chromium version falls back to software WebGL by itself)."""
     profile = tempfile.mkdtemp(prefix="profile-", dir=work)
-    cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
+    gl = ["--enable-unsafe-swiftshader"] if webgl else ["--disable-3d-apis"]
+    cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", *gl,
            "--disable-dev-shm-usage", "--disable-quic", "--no-first-run", "--disable-background-networking",
            "--disable-component-update", "--disable-sync",
            "--hide-scrollbars", f"--user-data-dir={profile}", "--window-size=1280,800",
@@ -90,6 +93,18 @@ def main():
         assert int(attrs.get("paths", -1)) == expected, attrs
         rows = len(re.findall(r'<tr class="path"', dom))
         assert rows == expected, (rows, expected)
+
+        # No WebGL: the view says why it is empty, the side panel is still complete, and nothing is an error.
+        dom = browse(browser, html, work, "--dump-dom", webgl=False)
+        attrs = body_attributes(dom)
+        print("body without WebGL:", attrs)
+        assert attrs.get("status") == "no-webgl" and attrs.get("webgl") == "no", attrs
+        assert attrs.get("errors") == "0", attrs
+        note = re.search(r'<div id="nowebgl">([^<]*)</div>', dom)
+        assert note and "WebGL is not available" in note.group(1), note and note.group(0)
+        assert len(re.findall(r'<tr class="path"', dom)) == expected
+        assert int(attrs.get("paths", -1)) == expected, attrs
+        assert "triangles)" in dom  # the materials legend
 
         # The error counter itself: a console.error and an uncaught exception planted in a copy must show.
         planted = work / "planted.html"

@@ -1,6 +1,6 @@
 // Level double-bounce (raytrace/double_bounce.cpp) against image theory: a corner of two perpendicular metal
 // walls and two parallel metal walls (image positions, path lengths, reflection points and coefficients to
-// 1e-9), and the fast candidate search against the exhaustive one on the paper warehouse.
+// 1e-9), and the exact candidate search against the exhaustive one on the paper warehouse.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -95,7 +95,7 @@ TEST(DoubleBounce, CornerOfTwoPerpendicularMetalWallsMatchesImageTheory) {
                                 quad("wy", Vec3(0, 0, -50), Vec3(50, 0, 0), Vec3(0, 0, 100))},
       MaterialAssignment{});
   const Vec3 nx = Vec3::UnitX(), ny = Vec3::UnitY();
-  for (CandidateMode mode : {CandidateMode::kFast, CandidateMode::kExhaustive}) {
+  for (CandidateMode mode : {CandidateMode::kExact, CandidateMode::kExhaustive}) {
     const RaytracedChannel ch(scene, level_options(ChannelLevel::kDoubleBounce, mode));
     for (const Vec3& axis : {Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0.3, -0.5, 0.8)})
       for (const auto& [pa, pt] : {std::pair{Vec3(1.0, 2.5, 1.2), Vec3(3.0, 0.7, 1.9)},
@@ -136,7 +136,7 @@ TEST(DoubleBounce, TwoParallelMetalWallsGiveBothImageOrders) {
                                 quad("w4", Vec3(w, -50, -50), Vec3(0, 0, 100), Vec3(0, 100, 0))},
       MaterialAssignment{});
   const Vec3 n = Vec3::UnitX();
-  for (CandidateMode mode : {CandidateMode::kFast, CandidateMode::kExhaustive}) {
+  for (CandidateMode mode : {CandidateMode::kExact, CandidateMode::kExhaustive}) {
     const RaytracedChannel ch(scene, level_options(ChannelLevel::kDoubleBounce, mode));
     for (const Vec3& axis : {Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0.6, 0.2, -0.5)}) {
       const Endpoint a = linear(Vec3(1.0, -2.0, 1.0), axis), t = linear(Vec3(2.7, 3.5, 1.6), axis);
@@ -179,7 +179,7 @@ TEST(DoubleBounce, FastAgreesWithExhaustiveOnThePaperWarehouse) {
   TraceOptions ref = level_options(ChannelLevel::kDoubleBounce, CandidateMode::kExhaustive);
   ref.drop_below_db = 40.0;
   TraceOptions fast = ref;
-  fast.candidates = CandidateMode::kFast;
+  fast.candidates = CandidateMode::kExact;
   const RaytracedChannel exhaustive(scene, ref), quick(scene, fast);
   size_t doubles = 0;
   for (double y = -10.0; y <= 8.0; y += 3.0) {

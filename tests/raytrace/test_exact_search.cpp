@@ -1,4 +1,4 @@
-// The fast exact single-bounce search (CandidateMode::kFast, no candidate rays) against the exhaustive image
+// The exact single-bounce search (CandidateMode::kExact, no candidate rays) against the exhaustive image
 // method (CandidateMode::kExhaustive: every facet's image point, point-in-triangle on its triangles, both legs
 // traced with rtcOccluded1 — raytrace/path_finder.cpp reflections_exhaustive, kept deliberately plain as the
 // reference). Exactness means the same set of paths (kind, material, point, length) and the same channel,
@@ -7,7 +7,7 @@
 //   reflection points exactly on facet edges and vertices (inner edges of a facet, its outer boundary, a corner
 //   shared with a perpendicular facet, two coplanar facets of different materials meeting on an edge), and an
 //   obstacle moving through a link (the scene rebuilt at each position).
-// Each comparison is made twice, the fast search without and with its covered-rectangle culling of blocked
+// Each comparison is made twice, the exact search without and with its covered-rectangle culling of blocked
 // legs (raytrace/covered_rects.h), which must change the rays traced and nothing else.
 // Every path is kept (drop_below_db = 400) so weak reflections are compared too, and each case checks that it
 // exercised reflections at all.
@@ -17,6 +17,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/error.h"
 #include "raytrace/raytraced_channel.h"
 #include "raytrace/warehouse.h"
 
@@ -37,10 +38,10 @@ struct Link {
   Vec3 antenna, tag;
 };
 
-// Reflection candidates the culled fast search rejected without a ray, over every expect_exact call.
+// Reflection candidates the culled exact search rejected without a ray, over every expect_exact call.
 uint64_t g_culled = 0;
 
-// Compares the fast search, without and with covered-rectangle culling (TraceOptions::cull_covered), to the
+// Compares the exact search, without and with covered-rectangle culling (TraceOptions::cull_covered), to the
 // exhaustive one on every link; returns the number of reflections seen.
 size_t expect_exact(const std::shared_ptr<const Scene>& scene, const std::vector<Link>& links,
                     const std::string& what, double drop_below_db = 400.0) {
@@ -48,7 +49,7 @@ size_t expect_exact(const std::shared_ptr<const Scene>& scene, const std::vector
   ref_o.candidates = CandidateMode::kExhaustive;
   ref_o.drop_below_db = drop_below_db;
   TraceOptions fast_o = ref_o;
-  fast_o.candidates = CandidateMode::kFast;
+  fast_o.candidates = CandidateMode::kExact;
   TraceOptions cull_o = fast_o;  // the fast search with legs culled by covered rectangles (covered_rects.h)
   cull_o.cull_covered = true;
   const RaytracedChannel reference(scene, ref_o), fast(scene, fast_o), culled(scene, cull_o);
@@ -184,7 +185,7 @@ TEST(ExactSearch, BlocksOfNearbyTagsShareTheGroupSearch) {
     ref_o.candidates = CandidateMode::kExhaustive;
     ref_o.drop_below_db = 400.0;
     TraceOptions fast_o = ref_o;
-    fast_o.candidates = CandidateMode::kFast;
+    fast_o.candidates = CandidateMode::kExact;
     const RaytracedChannel reference(scene, ref_o), fast(scene, fast_o);
     const double gap = 0.1;
     std::vector<Endpoint> tags;
@@ -417,6 +418,25 @@ TEST(ExactSearch, MovingObstacle) {
     reflections += expect_exact(scene_of({floor, wall, crate}), links, "crate at x = " + std::to_string(x));
   }
   EXPECT_GT(reflections, 200u);
+}
+
+// The search is named for what it is: "exact" (the default); "fast", its former name, still reads as exact so
+// older scenarios and commands keep working; anything else is an error naming the field.
+TEST(CandidateMode, ExactIsTheDefaultAndFastIsItsAlias) {
+  EXPECT_EQ(TraceOptions{}.candidates, CandidateMode::kExact);
+  EXPECT_STREQ(to_string(CandidateMode::kExact), "exact");
+  EXPECT_STREQ(to_string(CandidateMode::kExhaustive), "exhaustive");
+  EXPECT_EQ(parse_candidate_mode("exact", "f"), CandidateMode::kExact);
+  EXPECT_EQ(parse_candidate_mode("fast", "f"), CandidateMode::kExact);
+  EXPECT_EQ(parse_candidate_mode("exhaustive", "f"), CandidateMode::kExhaustive);
+  try {
+    parse_candidate_mode("quick", "channel_options.candidates");
+    ADD_FAILURE() << "no error for 'quick'";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("field 'channel_options.candidates': unknown candidate mode 'quick'"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

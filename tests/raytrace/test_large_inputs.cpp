@@ -13,6 +13,7 @@
 #include "raytrace/raytraced_channel.h"
 #include "tests/support/endpoint_at.h"
 #include "raytrace/warehouse.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray {
 namespace {
@@ -34,7 +35,7 @@ TEST(LargeCoordinates, UtmSizedSceneGivesTheSamePathsAsTheSceneNearTheOrigin) {
   const auto near_scene = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
   const auto far_scene = std::make_shared<const Scene>(shifted(paper_warehouse_meshes(), utm), MaterialAssignment{});
   ASSERT_EQ(near_scene->facets().size(), far_scene->facets().size());
-  for (CandidateMode mode : {CandidateMode::kFast, CandidateMode::kExhaustive}) {
+  for (CandidateMode mode : {CandidateMode::kExact, CandidateMode::kExhaustive}) {
     o.candidates = mode;
     const RaytracedChannel near_ch(near_scene, o), far_ch(far_scene, o);
     const Vec3 antennas[] = {{-1.0, -3.0, 0.6}, {3.5, -4.0, 2.0}, {-1.0, 5.0, 1.68}};
@@ -76,13 +77,8 @@ TEST(LargeCoordinates, VerticesOutsideTheCoordinateRangeNameTheMesh) {
 
 class ObjFiles : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("rfidray_large_" + std::to_string(getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  const testing::ScratchDir scratch_{testing::ScratchDir::current_test_name("large")};
+  const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(ObjFiles, FortyThousandGroupsLoadInLinearMemory) {

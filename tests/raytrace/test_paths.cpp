@@ -1,6 +1,6 @@
 // Paths and the ray-traced channel against closed forms: Friis, two-ray ground reflection (TE and TM,
 // concrete and metal), a wall (blocked path, slab transmission), a metal plate behind the tag (image method),
-// and the fast candidate search against the exhaustive reference on the paper warehouse.
+// and the exact candidate search against the exhaustive reference on the paper warehouse.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -56,7 +56,7 @@ double rel_err(C a, C b) { return std::abs(a - b) / std::abs(b); }
 TEST(RaytracedChannel, FriisOnAnEmptyScene) {
   const auto scene = scene_of({});
   for (auto level : {ChannelLevel::kLos, ChannelLevel::kLosBlocked, ChannelLevel::kSingleBounce}) {
-    const RaytracedChannel ch(scene, options(CandidateMode::kFast, level));
+    const RaytracedChannel ch(scene, options(CandidateMode::kExact, level));
     for (double d : {0.3, 1.0, 4.2, 17.0}) {
       const Endpoint a = endpoint(Vec3(1, 2, 1.5), Vec3::UnitZ());
       const Endpoint t = endpoint(Vec3(1, 2, 1.5) + d * Vec3(0.6, 0.0, 0.8), Vec3::UnitY());
@@ -87,7 +87,7 @@ TEST(RaytracedChannel, TwoRayGroundReflectionMatchesClosedForm) {
     // The plane is split into 20 × 20 quads so reflection points land inside, on edges and on vertices.
     const auto scene = scene_of({plane_mesh("ground", material, Vec3(-200, -200, 0), Vec3(400, 0, 0), Vec3(0, 400, 0), 20)});
     const RadioMaterial m = *builtin_material(material);
-    for (auto mode : {CandidateMode::kExhaustive, CandidateMode::kFast}) {
+    for (auto mode : {CandidateMode::kExhaustive, CandidateMode::kExact}) {
       const RaytracedChannel ch(scene, options(mode));
       for (double phi : {0.0, 0.7, 2.0}) {
         const Vec3 along(std::cos(phi), std::sin(phi), 0.0), across(-std::sin(phi), std::cos(phi), 0.0);
@@ -139,7 +139,7 @@ TEST(RaytracedChannel, WallGivesBlockedPathWithSlabLoss) {
   ASSERT_GT(std::abs(tau), 0.05);
   ASSERT_LT(std::abs(tau), 0.95);
 
-  const RaytracedChannel blocked(scene, options(CandidateMode::kFast, ChannelLevel::kLosBlocked));
+  const RaytracedChannel blocked(scene, options(CandidateMode::kExact, ChannelLevel::kLosBlocked));
   auto paths = blocked.paths(ant, tag, kF);
   ASSERT_EQ(paths.size(), 1u);
   EXPECT_EQ(paths[0].kind, PathKind::kBlocked);
@@ -154,15 +154,15 @@ TEST(RaytracedChannel, WallGivesBlockedPathWithSlabLoss) {
   EXPECT_LT(rel_err(sum_paths(p0), tau0 * friis(4.0)), 1e-12);
 
   // `los` drops the obstructed direct path; a metal wall is opaque at every level.
-  const RaytracedChannel los(scene, options(CandidateMode::kFast, ChannelLevel::kLos));
+  const RaytracedChannel los(scene, options(CandidateMode::kExact, ChannelLevel::kLos));
   EXPECT_TRUE(los.paths(ant, tag, kF).empty());
   MaterialAssignment metal;
   metal.override_all = "metal";
-  const RaytracedChannel opaque(scene_of({wall}, metal), options(CandidateMode::kFast, ChannelLevel::kSingleBounce));
+  const RaytracedChannel opaque(scene_of({wall}, metal), options(CandidateMode::kExact, ChannelLevel::kSingleBounce));
   EXPECT_TRUE(opaque.paths(ant, tag, kF).empty());
   // Two sheets: two crossings, coefficients multiply.
   const auto second = plane_mesh("wall2", "concrete", Vec3(3, -5, -5), Vec3(0, 10, 0), Vec3(0, 0, 10));
-  const RaytracedChannel two(scene_of({wall, second}, a), options(CandidateMode::kFast, ChannelLevel::kLosBlocked));
+  const RaytracedChannel two(scene_of({wall, second}, a), options(CandidateMode::kExact, ChannelLevel::kLosBlocked));
   paths = two.paths(ant, tag, kF);
   ASSERT_EQ(paths.size(), 1u);
   EXPECT_EQ(paths[0].crossings, 2);
@@ -173,7 +173,7 @@ TEST(RaytracedChannel, MetalPlateBehindTheTagReflectsAtTheImagePoint) {
   // Plate x = 3, y −1…1, z 0…2; tag at x = 2.5 in front of it; antenna at the origin side.
   const auto plate = plane_mesh("plate", "metal", Vec3(3, -1, 0), Vec3(0, 2, 0), Vec3(0, 0, 2));
   const auto scene = scene_of({plate});
-  for (auto mode : {CandidateMode::kExhaustive, CandidateMode::kFast}) {
+  for (auto mode : {CandidateMode::kExhaustive, CandidateMode::kExact}) {
     const RaytracedChannel ch(scene, options(mode));
     // Same height, offset in y: image (3.5, 0.5, 1); P on x = 3 at y = −0.5 + (3/3.5)·1.
     const Endpoint ant = endpoint(Vec3(0, -0.5, 1), Vec3::UnitZ());
@@ -204,7 +204,7 @@ TEST(RaytracedChannel, OccludedLegsRemoveTheReflection) {
   // the LoS at z = 1 passes above. Mirrored at x = 3 it blocks leg 2 instead.
   const auto screen = plane_mesh("screen", "metal", Vec3(1, -1, 0.0), Vec3(0, 2, 0), Vec3(0, 0, 0.6));
   const auto screen2 = plane_mesh("screen2", "metal", Vec3(3, -1, 0.0), Vec3(0, 2, 0), Vec3(0, 0, 0.6));
-  for (auto mode : {CandidateMode::kExhaustive, CandidateMode::kFast}) {
+  for (auto mode : {CandidateMode::kExhaustive, CandidateMode::kExact}) {
     const Endpoint a = endpoint(Vec3(0, 0, 1), Vec3::UnitZ()), t = endpoint(Vec3(4, 0, 1), Vec3::UnitZ());
     const auto open = RaytracedChannel(scene_of({ground}), options(mode)).paths(a, t, kF);
     ASSERT_EQ(open.size(), 2u);  // without the screen the ground reflection is there
@@ -221,7 +221,7 @@ TEST(RaytracedChannel, OccludedLegsRemoveTheReflection) {
 TEST(RaytracedChannel, DropThresholdIsRelativeToTheStrongestPath) {
   const auto scene = scene_of({plane_mesh("ground", "concrete", Vec3(-50, -50, 0), Vec3(100, 0, 0), Vec3(0, 100, 0))});
   const Endpoint a = endpoint(Vec3(0, 0, 1), Vec3::UnitZ()), t = endpoint(Vec3(5, 0, 1), Vec3::UnitZ());
-  TraceOptions o = options(CandidateMode::kFast);
+  TraceOptions o = options(CandidateMode::kExact);
   const auto all = RaytracedChannel(scene, o).paths(a, t, kF);
   ASSERT_EQ(all.size(), 2u);
   const double ratio_db = 20.0 * std::log10(std::abs(all[0].contribution) / std::abs(all[1].contribution));
@@ -239,12 +239,12 @@ std::vector<Endpoint> paper_tags() {
   return tags;
 }
 
-TEST(RaytracedChannel, FastCandidatesAgreeWithExhaustiveOnThePaperWarehouse) {
+TEST(RaytracedChannel, ExactCandidatesAgreeWithExhaustiveOnThePaperWarehouse) {
   const auto scene = scene_of(paper_warehouse_meshes());
   TraceOptions ref = options(CandidateMode::kExhaustive);
   ref.drop_below_db = 40.0;
   TraceOptions fast = ref;
-  fast.candidates = CandidateMode::kFast;
+  fast.candidates = CandidateMode::kExact;
   const RaytracedChannel exhaustive(scene, ref), quick(scene, fast);
   const auto tags = paper_tags();
   size_t reflections = 0, blocked = 0;
@@ -349,7 +349,7 @@ TEST(PathFinder, CandidateRaysConvergeToTheExhaustiveSearch) {
   const RaytracedChannel reference(scene, ref_o);
   auto found_fraction = [&](int rays) {
     TraceOptions o = ref_o;
-    o.candidates = CandidateMode::kFast;
+    o.candidates = CandidateMode::kExact;
     o.candidate_rays = rays;
     const RaytracedChannel fast(scene, o);
     double total = 0.0, found = 0.0;
@@ -398,7 +398,7 @@ TEST(PathFinder, NoisyMergedFacetStillReflects) {
   const auto scene = std::make_shared<const Scene>(std::vector<TriangleMesh>{ground}, MaterialAssignment{}, so);
   ASSERT_EQ(scene->facets().size(), 1u);
   EXPECT_GT(scene->facets()[0].flatness_m, 1e-4);
-  for (CandidateMode mode : {CandidateMode::kFast, CandidateMode::kExhaustive}) {
+  for (CandidateMode mode : {CandidateMode::kExact, CandidateMode::kExhaustive}) {
     TraceOptions o;
     o.candidates = mode;
     int found = 0;

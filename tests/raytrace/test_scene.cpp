@@ -8,6 +8,8 @@
 #include "raytrace/obj_loader.h"
 #include "raytrace/scene.h"
 #include "raytrace/warehouse.h"
+#include "tests/support/input_error.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray {
 namespace {
@@ -16,20 +18,12 @@ namespace fs = std::filesystem;
 constexpr double kHalfTurn = 3.14159265358979323846;
 
 fs::path temp_file(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / ("rfidray_test_scene_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
-  std::ofstream(p) << text;
-  return p;
+  static const testing::ScratchDir dir("test_scene");
+  return dir.write(name, text);
 }
 
 std::string error_of(const fs::path& p) {
-  try {
-    load_obj(p);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return testing::input_error_of([&] { load_obj(p); });
 }
 
 TEST(ObjLoader, ReadsObjectsMaterialsAndPolygons) {

@@ -1,11 +1,7 @@
 #pragma once
 // Test helpers playing Gazebo for the bridge tests: the scene/info reply and Pose_V messages of
 // scenes/tests/gazebo/rfid_test.world in two states, the bridge as a child process, and simulate() on the
-// same states as the reference.
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
+// same states as the reference. The child processes are tests/support/child_process.h's.
 #include <unistd.h>
 
 #include <atomic>
@@ -28,8 +24,8 @@
 #include "io/world_source.h"
 #include "core/simulation.h"
 #include "core/units.h"
-
-extern char** environ;
+#include "tests/support/child_process.h"
+#include "tests/support/files.h"
 
 namespace rfidray::gazebo::fake {
 
@@ -118,71 +114,10 @@ inline SimulationResult simulate_state(bool second, Scenario& scenario_out) {
   return simulate(s, *channel);
 }
 
-inline std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// A helper process with stdout and stderr to `log`, signalled (kill_signal) and reaped at the end if it is
-// still running.
-class ChildProcess {
- public:
-  ChildProcess(std::vector<std::string> argv, const fs::path& log, int kill_signal = SIGKILL)
-      : kill_signal_(kill_signal) {
-    std::vector<char*> cargv;
-    for (auto& a : argv) cargv.push_back(a.data());
-    cargv.push_back(nullptr);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    if (posix_spawn(&pid_, cargv[0], &fa, nullptr, cargv.data(), environ) != 0) pid_ = -1;
-    posix_spawn_file_actions_destroy(&fa);
-  }
-  ChildProcess(const ChildProcess&) = delete;
-  ChildProcess& operator=(const ChildProcess&) = delete;
-  ~ChildProcess() {
-    if (pid_ > 0 && !done_) {
-      kill(pid_, kill_signal_);
-      waitpid(pid_, nullptr, 0);
-    }
-  }
-  bool started() const { return pid_ > 0; }
-  bool running() const { return pid_ > 0 && !done_; }
-  // Exit status, or −1 if it did not exit within the timeout (it is then killed at destruction).
-  int wait(std::chrono::milliseconds timeout) {
-    const auto until = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < until) {
-      int st = 0;
-      if (waitpid(pid_, &st, WNOHANG) == pid_) {
-        done_ = true;
-        return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-      }
-      std::this_thread::sleep_for(10ms);
-    }
-    return -1;
-  }
-
- private:
-  int kill_signal_;
-  pid_t pid_ = -1;
-  bool done_ = false;
-};
-
+using rfidray::testing::ChildProcess;
+using rfidray::testing::slurp;
 // `rfidray ARGS...`, killed (SIGKILL) at the end if still running.
-class BridgeProcess : public ChildProcess {
- public:
-  BridgeProcess(const std::vector<std::string>& args, const fs::path& log) : ChildProcess(with_binary(args), log) {}
-
- private:
-  static std::vector<std::string> with_binary(const std::vector<std::string>& args) {
-    std::vector<std::string> argv{RFIDRAY_BINARY};
-    argv.insert(argv.end(), args.begin(), args.end());
-    return argv;
-  }
-};
+using BridgeProcess = rfidray::testing::RfidrayProcess;
 
 
 // Sends the t = 0 state until the bridge's BridgeStatus says it has one (discovery can drop the first

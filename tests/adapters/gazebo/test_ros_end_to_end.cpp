@@ -5,10 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <netinet/in.h>
-#include <sys/socket.h>
 
 #include "tests/adapters/gazebo/fake_gazebo.h"
+#ifdef RFIDRAY_HAVE_ROS_TEST
+#include "tests/support/ros_master.h"
+#endif
 
 namespace rfidray::gazebo {
 namespace {
@@ -16,47 +17,24 @@ namespace {
 using namespace fake;
 
 #ifdef RFIDRAY_HAVE_ROS_TEST
-// Helper processes are stopped with SIGTERM (rosmaster and the listeners clean up on it).
-struct Child : ChildProcess {
-  Child(std::vector<std::string> argv, const fs::path& log) : ChildProcess(std::move(argv), log, SIGTERM) {}
-};
-
-bool port_open(int port) {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(static_cast<uint16_t>(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  const bool ok = connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
-  close(fd);
-  return ok;
-}
+using Child = rfidray::testing::RosChild;
 #endif
 
 TEST(RosEndToEnd, SubscriberReceivesTagArray) {
 #ifndef RFIDRAY_HAVE_ROS_TEST
   GTEST_SKIP() << "built without roscpp/gencpp";
 #else
-  if (std::string(RFIDRAY_ROSMASTER).empty() || std::string(RFIDRAY_ROSMASTER).find("NOTFOUND") != std::string::npos)
+  if (!rfidray::testing::have_rosmaster())
     GTEST_SKIP() << "rosmaster not installed (Debian package python3-rosmaster)";
   const auto t0 = std::chrono::steady_clock::now();
   auto mark = [&](const char* what) {
     std::fprintf(stderr, "[%.3f s] %s\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), what);
   };
-  const std::string partition = private_partition();
-  const fs::path dir = fs::temp_directory_path() / partition;
-  fs::create_directories(dir);
+  private_partition();
   // A master of our own on loopback: a port from our pid, clear of 11311.
-  const int port = 20000 + static_cast<int>(getpid() % 20000);
-  const std::string uri = "http://127.0.0.1:" + std::to_string(port);
-  ::setenv("ROS_MASTER_URI", uri.c_str(), 1);
-  ::setenv("ROS_IP", "127.0.0.1", 1);
-  ::setenv("ROS_HOME", dir.c_str(), 1);  // logs of rosmaster and the nodes stay in the test's directory
-  Child master({RFIDRAY_ROSMASTER, "--core", "-p", std::to_string(port)}, dir / "rosmaster.log");
-  ASSERT_TRUE(master.started());
-  const auto until = std::chrono::steady_clock::now() + 15s;
-  while (!port_open(port) && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(20ms);
-  ASSERT_TRUE(port_open(port)) << "rosmaster did not come up on " << uri << ":\n" << slurp(dir / "rosmaster.log");
+  const rfidray::testing::RosMaster ros("ros_end_to_end", 20000 + static_cast<int>(getpid() % 20000));
+  const fs::path& dir = ros.dir;
+  ASSERT_TRUE(ros.up()) << "rosmaster did not come up on port " << ros.port() << ":\n" << slurp(dir / "rosmaster.log");
 
   mark("master up");
   GazeboWorld world = load_world(world_options());
@@ -127,7 +105,6 @@ TEST(RosEndToEnd, SubscriberReceivesTagArray) {
     ++k;
   }
   EXPECT_EQ(k, ticks);
-  fs::remove_all(dir);
 #endif
 }
 

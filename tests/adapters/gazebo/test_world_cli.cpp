@@ -14,6 +14,8 @@
 #include "io/readings_csv.h"
 #include "io/world_source.h"
 #include "core/simulation.h"
+#include "tests/support/scratch_dir.h"
+#include "tests/support/run_rfidray.h"
 
 namespace rfidray::gazebo {
 namespace {
@@ -22,29 +24,13 @@ namespace fs = std::filesystem;
 const std::string kDir = std::string(RFIDRAY_SOURCE_DIR) + "/scenes/tests/gazebo";
 const std::string kWorld = "--world " + kDir + "/rfid_test.world --resource-path " + kDir + "/models";
 
-struct CliRun {
-  int status = -1;
-  std::string output;
-};
-CliRun run(const std::string& args) {
-  CliRun r;
-  FILE* p = popen((std::string(RFIDRAY_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  char buf[4096];
-  size_t n;
-  while (p && (n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-  const int st = p ? pclose(p) : -1;
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using CliRun = rfidray::testing::CliResult;
+CliRun run(const std::string& args) { return rfidray::testing::run_rfidray(args); }
+using testing::slurp;
 
 TEST(WorldCli, SimulateWorldEqualsSimulateOfTheImportedScenario) {
-  const fs::path dir = fs::temp_directory_path() / ("rfidray_world_cli_" + std::to_string(getpid()));
+  const testing::ScratchDir scratch("world_cli");
+  const fs::path dir = scratch.path();
   const CliRun r = run("simulate " + kWorld + " --materials " + kDir + "/rfid_test_materials.yaml" +
                     " --channel single-bounce --duration 1 --seed 3 -q -o " + dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
@@ -66,7 +52,6 @@ TEST(WorldCli, SimulateWorldEqualsSimulateOfTheImportedScenario) {
     EXPECT_EQ(slurp(dir / (s.antennas[a].reader.name + ".csv")), expected.str()) << s.antennas[a].reader.name;
     EXPECT_GT(result.antennas[a].reads.size(), 0u);
   }
-  fs::remove_all(dir);
 }
 
 TEST(WorldCli, LinkWorldByNames) {

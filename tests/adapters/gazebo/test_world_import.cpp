@@ -14,6 +14,8 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "raytrace/mesh_file.h"
+#include "tests/support/input_error.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray::gazebo {
 namespace {
@@ -172,15 +174,12 @@ TEST(WorldImport, MaterialMapByModelLinkCollisionAndMeshMaterial) {
 
 TEST(MeshFile, ColladaYUpIsStoodUpAndScaled) {
   // The beam of beam.dae, but Y up in millimetres: its Y becomes Z, its Z becomes −Y.
-  std::ifstream in(kDir + "/models/rack_part/meshes/beam.dae");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text = testing::slurp(kDir + "/models/rack_part/meshes/beam.dae");
   auto swap = [&](const std::string& a, const std::string& b) { text.replace(text.find(a), a.size(), b); };
   swap("<unit name=\"centimeter\" meter=\"0.01\"/>", "<unit name=\"millimeter\" meter=\"0.001\"/>");
   swap("<up_axis>Z_UP</up_axis>", "<up_axis>Y_UP</up_axis>");
-  const fs::path file = fs::temp_directory_path() / ("rfidray_yup_" + std::to_string(getpid()) + ".dae");
-  std::ofstream(file) << text;
-  const TriangleMesh m = load_mesh_file(file);
-  fs::remove(file);
+  const testing::ScratchDir dir("yup");
+  const TriangleMesh m = load_mesh_file(dir.write("beam.dae", text));
   EXPECT_EQ(m.triangle_count(), 12u);
   expect_box(m.bounds(), {0, -0.11, 0}, {0.2, -0.1, 0.05}, kFloat);
   EXPECT_EQ(m.material_names, std::vector<std::string>{"steel"});
@@ -191,23 +190,16 @@ TEST(MeshFile, ColladaYUpIsStoodUpAndScaled) {
 class BadWorld : public ::testing::Test {
  protected:
   std::string write(const std::string& body) {
-    file_ = fs::temp_directory_path() / ("rfidray_bad_" + std::to_string(getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".world");
-    std::ofstream(file_) << body;
+    file_ = dir_.write("bad.world", body);
     return file_.string();
   }
-  void TearDown() override { fs::remove(file_); }
   std::string error_of(const std::string& body) {
     WorldOptions o;
     o.file = write(body);
     o.resource_path = {kDir + "/models"};
-    try {
-      load_world(o);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
+    return testing::input_error_of([&] { load_world(o); });
   }
+  const testing::ScratchDir dir_{testing::ScratchDir::current_test_name("bad_world")};
   fs::path file_;
 };
 

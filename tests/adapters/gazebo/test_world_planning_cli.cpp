@@ -15,6 +15,7 @@
 #include "io/coverage_csv.h"
 #include "planning/coverage_map.h"
 #include "tests/support/run_rfidray.h"
+#include "tests/support/scratch_dir.h"
 
 namespace rfidray::gazebo {
 namespace {
@@ -26,18 +27,9 @@ const std::string kWorld = "--world " + kDir + "/rfid_test.world --resource-path
 
 using CliRun = rfidray::testing::CliResult;
 CliRun run(const std::string& args) { return rfidray::testing::run_rfidray(args); }
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("rfidray_world_plan_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+using testing::slurp;
+// A scratch directory of one test, removed at its end.
+testing::ScratchDir scratch(const std::string& name) { return testing::ScratchDir("world_plan_" + name); }
 // Column c of a CSV (header dropped).
 std::vector<std::string> column(const fs::path& f, size_t c) {
   std::ifstream in(f);
@@ -56,7 +48,7 @@ std::vector<std::string> column(const fs::path& f, size_t c) {
 }
 
 TEST(WorldPlanningCli, CoverageWorldEqualsCoverageOfTheImportedWorld) {
-  const fs::path d = scratch("cov");
+  const auto d = scratch("cov");
   const CliRun r = run("coverage " + kWorld + " --channel single-bounce --tags --no-png -q -o " + d.string());
   ASSERT_EQ(r.status, 0) << r.output;
 
@@ -91,11 +83,10 @@ TEST(WorldPlanningCli, CoverageWorldEqualsCoverageOfTheImportedWorld) {
   for (const auto& v : values)
     for (double p : v.read_probability) read += p > 0.5;
   EXPECT_GT(read, 0u);
-  fs::remove_all(d);
 }
 
 TEST(WorldPlanningCli, CoveragePlaneOverTheWorld) {
-  const fs::path d = scratch("plane");
+  const auto d = scratch("plane");
   const CliRun r = run("coverage " + kWorld + " --channel los --plane z=1 --step 0.5 --antenna gate -o " + d.string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("world 'rfid_test'"), std::string::npos) << r.output;  // the world's summary
@@ -107,13 +98,12 @@ TEST(WorldPlanningCli, CoveragePlaneOverTheWorld) {
   EXPECT_LT(read, p.size());  // a patch at 27 dBm does not read the whole floor's extent
   // Maps over the world's floor plan, seen from above.
   EXPECT_GT(fs::file_size(d / "coverage_gate_read_probability.png"), 1000u);
-  fs::remove_all(d);
 }
 
 // A fixed candidate at the gate's pose (model pose (1, 4, 0) + sensor (0, 0, 2), yaw −90°), copying the gate, gives
 // the gate's own coverage cell by cell; no placed scenario is written (a world is not a scenario file).
 TEST(WorldPlanningCli, PlaceWorldCandidateAtTheGateHasTheGatesCoverage) {
-  const fs::path d = scratch("place");
+  const auto d = scratch("place");
   const std::string cells = " --channel los --plane z=1 --step 0.5 --no-png -q";
   const CliRun cov = run("coverage " + kWorld + cells + " --antenna gate -o " + (d / "cov").string());
   ASSERT_EQ(cov.status, 0) << cov.output;
@@ -129,7 +119,6 @@ TEST(WorldPlanningCli, PlaceWorldCandidateAtTheGateHasTheGatesCoverage) {
                          (d / "bad").string());
   EXPECT_EQ(bad.status, 2) << bad.output;
   EXPECT_NE(bad.output.find("no robot"), std::string::npos) << bad.output;
-  fs::remove_all(d);
 }
 
 }  // namespace

@@ -5,8 +5,6 @@
 // roscpp subscribers receive every TagArray on the seed's topics, and the bridge's readings CSV equals
 // `rfidray simulate paper_robot.yaml` (the same motion) byte for byte.
 #include <gtest/gtest.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -15,6 +13,7 @@
 #include "core/mast.h"
 #include "io/scenario_yaml.h"
 #include "tests/adapters/gazebo/fake_gazebo.h"
+#include "tests/support/ros_master.h"
 
 namespace rfidray::gazebo {
 namespace {
@@ -25,20 +24,8 @@ constexpr double kRate = 15.0;  // both antennas; the run: 23 s (the robot stops
 constexpr int kTicks = 346;     // k / 15 <= 23
 constexpr uint64_t kRosSeed = 11;
 
-struct Child : ChildProcess {
-  Child(std::vector<std::string> argv, const fs::path& log) : ChildProcess(std::move(argv), log, SIGTERM) {}
-};
-
-bool port_open(int port) {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(static_cast<uint16_t>(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  const bool ok = connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
-  close(fd);
-  return ok;
-}
+using Child = rfidray::testing::RosChild;
+using rfidray::testing::have_rosmaster;
 
 void put_pose(std::FILE* f, const Pose& p) {
   std::fprintf(f, " %.17g %.17g %.17g %.17g %.17g %.17g %.17g", p.position.x(), p.position.y(), p.position.z(),
@@ -103,25 +90,10 @@ std::vector<double> tick_times(int first, int last) {
   return t;
 }
 
-struct RosMaster {
-  fs::path dir;
-  std::unique_ptr<Child> master;
-  int port = 0;
-  explicit RosMaster(const std::string& name) {
-    dir = fs::temp_directory_path() / (name + "_" + std::to_string(getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    port = 20000 + static_cast<int>((getpid() * 7 + 3) % 20000);  // clear of 11311 and of the other test's
-    const std::string uri = "http://127.0.0.1:" + std::to_string(port);
-    ::setenv("ROS_MASTER_URI", uri.c_str(), 1);
-    ::setenv("ROS_IP", "127.0.0.1", 1);
-    ::setenv("ROS_HOME", dir.c_str(), 1);
-    master = std::make_unique<Child>(std::vector<std::string>{RFIDRAY_ROSMASTER, "--core", "-p", std::to_string(port)},
-                                     dir / "rosmaster.log");
-    const auto until = std::chrono::steady_clock::now() + 15s;
-    while (!port_open(port) && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(20ms);
-  }
-  bool up() const { return port_open(port); }
+// A master of the test's own (tests/support/ros_master.h), on a port from the pid clear of the other test's.
+struct RosMaster : rfidray::testing::RosMaster {
+  explicit RosMaster(const std::string& name)
+      : rfidray::testing::RosMaster(name, 20000 + static_cast<int>((getpid() * 7 + 3) % 20000)) {}
 };
 
 int run_simulate(const fs::path& dir, const std::string& duration = "23") {
@@ -131,14 +103,10 @@ int run_simulate(const fs::path& dir, const std::string& duration = "23") {
   return sim.wait(60000ms);
 }
 
-bool have_rosmaster() {
-  const std::string m = RFIDRAY_ROSMASTER;
-  return !m.empty() && m.find("NOTFOUND") == std::string::npos;
-}
 
 TEST(RosInputEndToEnd, Gazebo11RobotOnTheLPathGivesTheReadingsOfSimulate) {
   if (!have_rosmaster()) GTEST_SKIP() << "rosmaster not installed (Debian package python3-rosmaster)";
-  RosMaster ros("rfidray_ros_input");
+  RosMaster ros("ros_input");
   ASSERT_TRUE(ros.up()) << slurp(ros.dir / "rosmaster.log");
   const fs::path& dir = ros.dir;
   write_script(dir / "script.txt", {tick_times(0, kTicks)});  // one past the end: the clock passes the last tick
@@ -186,14 +154,12 @@ TEST(RosInputEndToEnd, Gazebo11RobotOnTheLPathGivesTheReadingsOfSimulate) {
     EXPECT_EQ(k, kTicks) << antenna;
     EXPECT_EQ(reads, rows) << antenna;
   }
-  fs::remove_all(dir);
 }
 
 // The TF frame of an antenna may sit in its sensor block, in either form; it is no reader parameter.
 TEST(RosInputFrames, FrameElementInTheSensorBlockNamesTheTfFrame) {
-  const fs::path dir = fs::temp_directory_path() / ("rfidray_frame_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  std::ofstream(dir / "w.world") << R"(<?xml version="1.0"?>
+  const rfidray::testing::ScratchDir dir("frame");
+  dir.write("w.world", R"(<?xml version="1.0"?>
 <sdf version="1.6"><world name="w"><model name="robot"><link name="mast">
   <sensor name="seed" type="rfid"><update_rate>10</update_rate>
     <plugin name="p" filename="librfid_antenna.so"><range>4</range><frame>mast_link</frame></plugin></sensor>
@@ -201,7 +167,7 @@ TEST(RosInputFrames, FrameElementInTheSensorBlockNamesTheTfFrame) {
     <rfid_antenna><model>physical</model><frame>arm_tool</frame></rfid_antenna></sensor>
   <sensor name="plain" type="rfid"><update_rate>10</update_rate></sensor>
 </link></model></world></sdf>
-)";
+)");
   WorldOptions wo;
   wo.file = (dir / "w.world").string();
   const GazeboWorld w = load_world(wo);
@@ -212,7 +178,6 @@ TEST(RosInputFrames, FrameElementInTheSensorBlockNamesTheTfFrame) {
   EXPECT_EQ(w.scenario.antennas[0].reader.range_m, 4.0);
   EXPECT_EQ(w.scenario.antennas[1].reader.model, ReaderModelKind::kPhysical);
   for (const std::string& warning : w.warnings) EXPECT_EQ(warning.find("frame"), std::string::npos) << warning;
-  fs::remove_all(dir);
 }
 
 // The tick core both pose inputs drive (live_world.h): a model moved by set_entity_pose moves its collisions
@@ -277,7 +242,7 @@ BridgeRun run_bridge(const fs::path& dir, const ScriptOptions& script, std::vect
 
 TEST(RosInputErrors, ModelNotInTheWorldIsAnErrorUnlessIgnored) {
   if (!have_rosmaster()) GTEST_SKIP() << "rosmaster not installed (Debian package python3-rosmaster)";
-  RosMaster ros("rfidray_ros_unknown_model");
+  RosMaster ros("ros_unknown_model");
   ASSERT_TRUE(ros.up());
   const BridgeRun bad = run_bridge(ros.dir, {tick_times(0, 10), true, "forklift"}, {"--duration", "0.5", "--connect-timeout", "0"});
   EXPECT_EQ(bad.bridge, 2) << bad.log;
@@ -288,12 +253,11 @@ TEST(RosInputErrors, ModelNotInTheWorldIsAnErrorUnlessIgnored) {
                                   {"--duration", "0.5", "--ignore-model", "forklift", "--connect-timeout", "0"});
   EXPECT_EQ(ok.bridge, 0) << ok.log;
   EXPECT_NE(ok.log.find("16 antenna ticks"), std::string::npos) << ok.log;  // 8 ticks (k / 15 <= 0.5) each
-  fs::remove_all(ros.dir);
 }
 
 TEST(RosInputErrors, TfChainThatNeverResolvesIsAnErrorNamingIt) {
   if (!have_rosmaster()) GTEST_SKIP() << "rosmaster not installed (Debian package python3-rosmaster)";
-  RosMaster ros("rfidray_ros_no_tf");
+  RosMaster ros("ros_no_tf");
   ASSERT_TRUE(ros.up());
   // Nobody publishes base_link -> mast_link.
   const BridgeRun r = run_bridge(ros.dir, {tick_times(0, 10), false, ""}, {"--duration", "0.5", "--tf-timeout", "1", "--connect-timeout", "0"});
@@ -301,12 +265,11 @@ TEST(RosInputErrors, TfChainThatNeverResolvesIsAnErrorNamingIt) {
   EXPECT_NE(r.log.find("TF: no transform world -> mast_link (antenna 'mobile') at t = 0 s within 1 s"),
             std::string::npos) << r.log;
   EXPECT_NE(r.log.find("frames known: "), std::string::npos) << r.log;
-  fs::remove_all(ros.dir);
 }
 
 TEST(RosInputTime, WithoutSimTimeTheTfStampsAreTheTime) {
   if (!have_rosmaster()) GTEST_SKIP() << "rosmaster not installed (Debian package python3-rosmaster)";
-  RosMaster ros("rfidray_ros_tf_time");
+  RosMaster ros("ros_tf_time");
   ASSERT_TRUE(ros.up());
   // No /clock: ticks 0 … 7 (k / 15 <= 0.5) come as the /tf stamps pass them.
   ScriptOptions script{tick_times(0, 8)};
@@ -318,12 +281,11 @@ TEST(RosInputTime, WithoutSimTimeTheTfStampsAreTheTime) {
   ASSERT_EQ(run_simulate(ros.dir, "0.5"), 0) << slurp(ros.dir / "simulate.log");
   for (const std::string antenna : {"mobile", "fixed"})
     EXPECT_EQ(slurp(ros.dir / "bridge" / (antenna + ".csv")), slurp(ros.dir / "sim" / (antenna + ".csv"))) << antenna;
-  fs::remove_all(ros.dir);
 }
 
 TEST(RosInputErrors, TimeGoingBackRestartsTheTicks) {
   if (!have_rosmaster()) GTEST_SKIP() << "rosmaster not installed (Debian package python3-rosmaster)";
-  RosMaster ros("rfidray_ros_reset");
+  RosMaster ros("ros_reset");
   ASSERT_TRUE(ros.up());
   // Gazebo runs to 2 s, is reset, and runs again past 2 s: ticks 0 … 29 (before 2 s), then 0 … 30 again.
   // The reset waits until the bridge has published ticks 0 … 29 (its TF buffer then starts over).
@@ -347,7 +309,6 @@ TEST(RosInputErrors, TimeGoingBackRestartsTheTicks) {
     EXPECT_FALSE(before_reset.empty());
     EXPECT_EQ(slurp(ros.dir / "bridge" / (antenna + ".csv")), header + "\n" + before_reset + all) << antenna;
   }
-  fs::remove_all(ros.dir);
 }
 
 }  // namespace
