@@ -38,14 +38,21 @@ void Gen2Round::query_adjust(int q, Rng& rng) {
   draw(q, rng);
 }
 
-std::span<const uint32_t> Gen2Round::replies() {
+std::span<const uint32_t> Gen2Round::replies(const std::function<bool(uint32_t)>& powered) {
   replies_.clear();
   reply_pos_.clear();
-  for (size_t k = 0; k < ids_.size(); ++k)
+  for (size_t k = 0; k < ids_.size();) {
     if (slot_[k] == current_) {
+      if (powered && !powered(ids_[k])) {  // lost power: out of the round, no reply
+        ids_.erase(ids_.begin() + static_cast<std::ptrdiff_t>(k));
+        slot_.erase(slot_.begin() + static_cast<std::ptrdiff_t>(k));
+        continue;
+      }
       replies_.push_back(ids_[k]);
       reply_pos_.push_back(k);
     }
+    ++k;
+  }
   return replies_;
 }
 
@@ -76,7 +83,9 @@ double run_gen2_round(const Gen2ReaderSpec& spec, const Gen2LinkTiming& timing, 
   uint64_t frame_slot = 0;
   double t = t_s;
   while (t < stop_s) {
-    const std::span<const uint32_t> replies = round.replies();
+    const double reply_t = t + command_s + timing.t1_s;
+    const std::span<const uint32_t> replies =
+        hooks.powered ? round.replies([&](uint32_t tag) { return hooks.powered(tag, reply_t); }) : round.replies();
     std::optional<uint32_t> acknowledged;
     double slot_s = 0.0;
     if (replies.empty()) {

@@ -43,8 +43,9 @@ class Gen2Round {
   void begin(std::span<const uint32_t> participants, int q, Rng& rng);
   void query_adjust(int q, Rng& rng);  // every tag still in the round draws again
   void query_rep() { ++current_; }
-  // Tags whose counter is 0 in the current slot, in participant order.
-  std::span<const uint32_t> replies();
+  // Tags whose counter is 0 in the current slot, in participant order. A tag for which `powered` (if set) is
+  // false has lost power: it leaves the round without replying.
+  std::span<const uint32_t> replies(const std::function<bool(uint32_t)>& powered = {});
   // After a slot: `acknowledged` leaves the round; every other tag that replied waits for a QueryAdjust.
   void close_slot(std::optional<uint32_t> acknowledged);
   size_t remaining() const { return ids_.size(); }
@@ -63,6 +64,9 @@ struct Gen2RoundHooks {
   // A reply that is alone (or captured) was acknowledged; its EPC reply ends at `epc_end_s`. Return true when
   // the reader decodes it (the read is then the caller's to record).
   std::function<bool(uint32_t tag, double epc_end_s)> read;
+  // Whether a tag whose counter reached 0 is still powered when it would reply (`t_s`: the slot's reply time);
+  // unset: always. A tag that is not leaves the round (it lost its state with its power).
+  std::function<bool(uint32_t tag, double t_s)> powered;
   // Backscattered power (W) of a tag's reply; called only with a capture ratio, for tags in collided slots.
   std::function<double(uint32_t tag)> reply_power_w;
 };

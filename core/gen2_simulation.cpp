@@ -109,6 +109,7 @@ class ReaderRun {
         evaluate_tags(port, c, t, target_b);
         Gen2RoundHooks hooks;
         hooks.read = [&](uint32_t tag, double epc_end_s) { return read(port, c, tag, epc_end_s, target_b); };
+        hooks.powered = [&](uint32_t tag, double reply_s) { return still_powered(port, tag, reply_s); };
         if (spec_.capture_ratio_db) hooks.reply_power_w = [&](uint32_t tag) { return power_w_[tag]; };
         const uint64_t slots_before = stats.slots(), reads_before = stats.reads;
         t = run_gen2_round(spec_, timing_, participants_, t, period_end, rng, round_, stats, hooks,
@@ -205,6 +206,36 @@ class ReaderRun {
       if (spec_.session == 1 && flag_b_[i] && t - flip_s_[i] >= spec_.s1_persistence_s) flag_b_[i] = 0;
       if (static_cast<bool>(flag_b_[i]) == target_b) participants_.push_back(static_cast<uint32_t>(i));
     }
+  }
+
+  // Whether a tag of the round is still powered at its reply time t (it may have left the field since the Query).
+  bool still_powered(size_t port, uint32_t tag, double t) {
+    if (t > duration_s_) return true;  // the run ends first; its read is not recorded anyway
+    const size_t a = ports_[port].antenna;
+    const ReaderParams& r = s_.antennas[a].reader;
+    if (m_.antennas[a]->is_static() && m_.tags[tag]->is_static()) return true;  // as at the Query
+    const Pose centre = phase_centre_pose(r, m_.antennas[a]->pose_at(t));
+    tag_pose_[tag] = m_.tags[tag]->pose_at(t);
+    dist_[tag] = (tag_pose_[tag].position - centre.position).norm();
+    if (!(dist_[tag] >= kMinLinkDistance_m)) throw coincident(a, tag, t, dist_[tag]);
+    bool powered = true;
+    if (r.model == ReaderModelKind::kPhysical) {
+      const size_t c = hop_index_at(r, t);
+      const size_t one[1] = {tag};
+      channel_for(port, c, centre, one);
+      const TagCoupling* cp = cp_.at(tag, a, c);
+      std::complex<double> h = h_[tag];
+      if (cp) h *= backing_image_factor(cp_.backings()[tag], tag_pose_[tag], centre.position, r.frequencies_hz[c]);
+      powered = dbm_to_watt(r.tx_power_dbm) * (cp ? cp->chip_power_factor : 1.0) * std::norm(h) >=
+                dbm_to_watt(s_.tags[tag].tag.chip_sensitivity_dbm);
+    } else {
+      powered = dist_[tag] <= r.range_m;
+    }
+    if (!powered) {
+      if (unpowered_since_s_[tag] < 0.0) unpowered_since_s_[tag] = t;
+      if (spec_.session == 0) flag_b_[tag] = 0;
+    }
+    return powered;
   }
 
   // The acknowledged tag's EPC reply ends at t: read_tag() there decides; a read flips the tag's flag.

@@ -6,7 +6,8 @@
 //  - at each round's Query (after its Select), every present, selected tag is evaluated on the current port and
 //    carrier at that instant: it is powered when the forward link reaches its chip (physical model:
 //    P_tx·F·|h|² ≥ chip sensitivity; paper model: D ≤ range), and takes part when powered and its inventoried
-//    flag equals the round's target;
+//    flag equals the round's target; when its slot comes (T1 after the command) a tag that moved out of power
+//    since leaves the round without replying (the same test at that instant; static links are not re-evaluated);
 //  - a single (or captured) reply is read when read_tag() at the end of its EPC reply — antenna and tag where
 //    they are then — says so (reader sensitivity, noise, read_probability): phase, RSSI, distance and the row's
 //    time are those of that instant;
