@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <csignal>
+#include <cstdint>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -162,16 +163,41 @@ int run(const SimulateOptions& o) {
     std::vector<uint64_t> per_tag(scenario.tags.size(), 0);
     for (const ReadRecord& rec : r.reads) ++per_tag[rec.tag];
     const std::string file = (dir / (scenario.antennas[a].reader.name + ".csv")).string();
-    std::printf("  antenna %s (%s model): %llu ticks, %llu reads of %llu attempts -> %s\n",
+    std::printf(r.gen2 ? "  antenna %s (%s model, Gen2): %llu slots, %llu reads of %llu acknowledged replies -> %s\n"
+                       : "  antenna %s (%s model): %llu ticks, %llu reads of %llu attempts -> %s\n",
                 scenario.antennas[a].reader.name.c_str(),
                 scenario.antennas[a].reader.model == ReaderModelKind::kPaper ? "paper" : "physical",
                 static_cast<unsigned long long>(r.ticks), static_cast<unsigned long long>(r.reads.size()),
                 static_cast<unsigned long long>(r.attempts), file.c_str());
+    if (r.gen2) {
+      // A Gen2 reader's port: its slots by outcome and the reads per second of each tag.
+      const Gen2SlotStats& g = *r.gen2;
+      const double slots = std::max<double>(1.0, static_cast<double>(g.slots()));
+      std::printf("    gen2: %llu rounds, %llu slots: empty %llu (%.1f %%), single %llu (%.1f %%), collided %llu "
+                  "(%.1f %%, %llu captured); %llu reads, %.1f reads/s\n",
+                  static_cast<unsigned long long>(g.rounds), static_cast<unsigned long long>(g.slots()),
+                  static_cast<unsigned long long>(g.empty), 100.0 * g.empty / slots,
+                  static_cast<unsigned long long>(g.single), 100.0 * g.single / slots,
+                  static_cast<unsigned long long>(g.collided), 100.0 * g.collided / slots,
+                  static_cast<unsigned long long>(g.captured), static_cast<unsigned long long>(g.reads),
+                  result.duration_s > 0.0 ? g.reads / result.duration_s : 0.0);
+      size_t n_read = 0;
+      uint64_t lo = UINT64_MAX, hi = 0;
+      for (uint64_t c : per_tag)
+        if (c > 0) ++n_read, lo = std::min(lo, c), hi = std::max(hi, c);
+      if (n_read > 0 && result.duration_s > 0.0)
+        std::printf("    reads per second per tag (the %zu tags read): mean %.2f, min %.2f, max %.2f\n", n_read,
+                    static_cast<double>(r.reads.size()) / n_read / result.duration_s, lo / result.duration_s,
+                    hi / result.duration_s);
+    }
     std::string line = "   ";
     for (size_t i = 0; i < scenario.tags.size(); ++i) {
       char cell[128];
-      std::snprintf(cell, sizeof cell, " %s:%llu", scenario.tags[i].tag.name.c_str(),
-                    static_cast<unsigned long long>(per_tag[i]));
+      if (r.gen2 && result.duration_s > 0.0)
+        std::snprintf(cell, sizeof cell, " %s:%.2f/s", scenario.tags[i].tag.name.c_str(), per_tag[i] / result.duration_s);
+      else
+        std::snprintf(cell, sizeof cell, " %s:%llu", scenario.tags[i].tag.name.c_str(),
+                      static_cast<unsigned long long>(per_tag[i]));
       if (line.size() + std::strlen(cell) > 100) {
         std::printf("%s\n", line.c_str());
         line = "   ";
@@ -224,6 +250,10 @@ std::function<int()> setup_simulate(CLI::App& app) {
       "              sensitivity_dbm, modulation_factor, noise_rssi_db, gain_dbi, pattern, polarization,\n"
       "              start_s, and position [+ rpy_deg | yaw_deg | quaternion] | robot: NAME + mount: {position,\n"
       "              rpy_deg} | waypoints + speed_m_s; optional mast: {z_min_m, z_max_m, speed_m_s}\n"
+      "  An antenna with gen2: {preset: max_throughput|dense_reader_m4 | tari_us, blf_khz, encoding: fm0|miller2|\n"
+      "         miller4|miller8, trext; session 0-3, target A|B|AB, q, q_algorithm fixed|adaptive, q_c,\n"
+      "         ports: [{antenna, dwell_ms}], select_prefix, capture_db} is an EPC Gen2 reader: it and its ports\n"
+      "         read by inventory rounds, one row per read at the end of its EPC reply (docs/air-protocol.md)\n"
       "  tags: - name, position [+ orientation] | waypoints + speed_m_s, gain_dbi, chip_sensitivity_dbm,\n"
       "          pattern, polarization, start_s\n"
       "The seed Gazebo plugin's parameter names (frequency, noisephi, noiserssi, range, optional_distribution,\n"

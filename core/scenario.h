@@ -9,6 +9,7 @@
 
 #include "core/channel_level.h"
 #include "core/differential_drive.h"
+#include "core/gen2_reader.h"
 #include "core/geometry.h"
 #include "core/mast.h"
 #include "core/reader.h"
@@ -72,6 +73,9 @@ struct AntennaSpec {
   MotionSpec motion;
   double start_s = 0.0;  // the antenna reads from this time on
   int source_line = 0;
+  // Set: this antenna is a Gen2 reader (core/gen2_reader.h): it and its ports read by inventory rounds instead of
+  // ticks. Unset, and no other antenna's port: the tick model (core/simulation.h).
+  std::optional<Gen2ReaderSpec> gen2;
 };
 
 struct TagSpec {

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/gen2_simulation.h"
 #include "core/limits.h"
 #include "core/mast.h"
 #include "core/number_text.h"
@@ -237,6 +238,7 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
   const size_t n_ant = scenario.antennas.size(), n_tags = scenario.tags.size();
   result.antennas.resize(n_ant);
   const bool cacheable = channel.cacheable();
+  const std::vector<bool> gen2_driven = gen2_driven_antennas(scenario);  // run by simulate_gen2, not by ticks
 
   for (size_t a = 0; a < n_ant; ++a) {
     const ReaderParams& r = scenario.antennas[a].reader;
@@ -287,7 +289,7 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
   std::vector<std::vector<std::optional<std::complex<double>>>> static_h(n_ant);
   std::vector<std::pair<size_t, size_t>> static_jobs;  // (antenna, channel)
   for (size_t a = 0; a < n_ant; ++a) {
-    if (!cacheable || !needs_h(a) || !motion.antennas[a]->is_static()) continue;
+    if (gen2_driven[a] || !cacheable || !needs_h(a) || !motion.antennas[a]->is_static()) continue;
     static_h[a].resize(scenario.antennas[a].reader.frequencies_hz.size() * n_tags);
     for (size_t c = 0; c < scenario.antennas[a].reader.frequencies_hz.size(); ++c) static_jobs.push_back({a, c});
   }
@@ -332,6 +334,7 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
   std::vector<Item> items;
   const uint64_t block = std::max<uint64_t>(1, options.ticks_per_block);
   for (size_t a = 0; a < n_ant; ++a) {
+    if (gen2_driven[a]) continue;
     const double rate = scenario.antennas[a].reader.update_rate_hz;
     // Ticks at t = k / rate for k = 0 … ⌊duration·rate⌋ (the tolerance keeps an exact end tick).
     const uint64_t n_ticks = static_cast<uint64_t>(std::floor(result.duration_s * rate + 1e-9)) + 1;
@@ -414,6 +417,7 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
     out.reads.insert(out.reads.end(), item.out.reads.begin(), item.out.reads.end());
     result.channel_evaluations += item.evaluations;
   }
+  simulate_gen2(scenario, motion, channel, couplings, result.duration_s, threads, result);
   return result;
 }
 

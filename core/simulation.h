@@ -10,12 +10,14 @@
 #include <complex>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "core/channel.h"
 #include "core/differential_drive.h"
+#include "core/gen2_inventory.h"
 #include "core/reader.h"
 #include "core/scenario.h"
 #include "core/trajectory.h"
@@ -63,6 +65,9 @@ struct AntennaResult {
   std::vector<ReadRecord> reads;  // successful reads only, ordered by (tick, tag)
   uint64_t ticks = 0;             // ticks at which the antenna was active
   uint64_t attempts = 0;          // (tick, present tag) pairs
+  // A Gen2 reader's port (core/gen2_simulation.h): its slot statistics; `ticks` counts its slots, `attempts` its
+  // acknowledged replies, and reads are ordered by time.
+  std::optional<Gen2SlotStats> gen2;
 };
 
 struct SimulationOptions {

@@ -21,6 +21,7 @@
 #include "core/random.h"
 #include "raytrace/scene.h"
 #include "core/error.h"
+#include "core/gen2_reader.h"
 #include "core/reader_model.h"
 #include "core/units.h"
 #include "core/number_text.h"
@@ -407,6 +408,99 @@ void parse_reader_keys(YamlMap& m, const YAML::Node& n, ReaderParams& r) {  // n
                                           : std::vector<double>{src.number(*rp, m.field("read_probability"))};
 }
 
+
+// A reader's `gen2:` block (docs/air-protocol.md): a preset and/or the link keys, the inventory keys, the ports
+// (antenna names, resolved by parse_scenario). Range errors name the key's own line.
+Gen2ReaderSpec parse_gen2(const YamlFile& src, const YAML::Node& n, const std::string& field) {
+  YamlMap m(src, n, field);
+  Gen2ReaderSpec g;
+  g.source_line = src.line(n);
+  std::map<std::string, YAML::Node> nodes;  // key -> node, to locate a range error on its line
+  auto take = [&](const char* key) {
+    auto v = m.get(key);
+    if (v) nodes[key] = *v;
+    return v;
+  };
+  if (auto p = take("preset")) {
+    const std::string name = src.scalar(*p, m.field("preset"));
+    const auto link = gen2_preset(name);
+    if (!link) {
+      std::string names;
+      for (const std::string& k : gen2_preset_names()) names += (names.empty() ? "" : ", ") + k;
+      throw src.error(*p, m.field("preset"), "unknown preset '" + clip(name) + "' (" + names + ")");
+    }
+    g.preset = name;
+    g.link = *link;
+  }
+  if (auto v = take("tari_us")) g.link.tari_s = src.number(*v, m.field("tari_us")) * 1e-6;
+  if (auto v = take("data1_tari")) g.link.data1_tari = src.number(*v, m.field("data1_tari"));
+  if (auto v = take("blf_khz")) g.link.blf_hz = src.number(*v, m.field("blf_khz")) * 1e3;
+  if (auto v = take("encoding"))
+    g.link.encoding = src.located(*v, [&] { return parse_gen2_encoding(src.scalar(*v, m.field("encoding")), m.field("encoding")); });
+  if (auto v = take("trext")) g.link.trext = src.boolean(*v, m.field("trext"));
+  if (auto v = take("epc_bits")) {
+    const long long b = src.integer(*v, m.field("epc_bits"));
+    if (b < 16 || b > 496) throw src.error(*v, m.field("epc_bits"), "must be a multiple of 16 in [16, 496] (got " + std::to_string(b) + ")");
+    g.link.epc_bits = static_cast<int>(b);
+  }
+  if (auto v = take("t2_tpri")) g.link.t2_tpri = src.number(*v, m.field("t2_tpri"));
+  if (auto v = take("t3_us")) g.link.t3_s = src.number(*v, m.field("t3_us")) * 1e-6;
+  if (auto v = take("session")) {
+    const long long k = src.integer(*v, m.field("session"));
+    if (k < 0 || k > 3) throw src.error(*v, m.field("session"), "must be 0, 1, 2 or 3 (got " + std::to_string(k) + ")");
+    g.session = static_cast<int>(k);
+  }
+  if (auto v = take("target")) {
+    const std::string t = src.scalar(*v, m.field("target"));
+    if (t == "A") g.target = Gen2Target::kA;
+    else if (t == "B") g.target = Gen2Target::kB;
+    else if (t == "AB") g.target = Gen2Target::kAB;
+    else throw src.error(*v, m.field("target"), "must be A, B or AB (got '" + clip(t) + "')");
+  }
+  if (auto v = take("q")) {
+    const long long q = src.integer(*v, m.field("q"));
+    if (q < 0 || q > 15) throw src.error(*v, m.field("q"), "must be in [0, 15] (got " + std::to_string(q) + ")");
+    g.q = static_cast<int>(q);
+  }
+  if (auto v = take("q_algorithm")) {
+    const std::string a = src.scalar(*v, m.field("q_algorithm"));
+    if (a == "fixed") g.q_mode = Gen2QMode::kFixed;
+    else if (a == "adaptive") g.q_mode = Gen2QMode::kAdaptive;
+    else throw src.error(*v, m.field("q_algorithm"), "must be fixed or adaptive (got '" + clip(a) + "')");
+  }
+  if (auto v = take("q_c")) g.q_c = src.number(*v, m.field("q_c"));
+  if (auto v = take("select_prefix")) g.select_prefix = src.scalar(*v, m.field("select_prefix"));
+  if (auto v = take("capture_db")) g.capture_ratio_db = src.number(*v, m.field("capture_db"));
+  if (auto v = take("s1_persistence_s")) g.s1_persistence_s = src.number(*v, m.field("s1_persistence_s"));
+  if (auto v = take("s23_persistence_s")) g.s23_persistence_s = src.number(*v, m.field("s23_persistence_s"));
+  if (auto v = take("ports")) {
+    if (!v->IsSequence() || v->size() == 0) throw src.error(*v, m.field("ports"), "must be a non-empty list of {antenna, dwell_ms}");
+    for (size_t i = 0; i < v->size(); ++i) {
+      const std::string f = indexed(m.field("ports"), i);
+      YamlMap pm(src, (*v)[i], f);
+      Gen2Port port;
+      port.source_line = src.line((*v)[i]);
+      port.antenna_name = src.scalar(pm.required("antenna"), pm.field("antenna"));
+      port.dwell_s = pm.non_negative({"dwell_ms"}, 0.0) * 1e-3;
+      if (v->size() > 1 && !(port.dwell_s > 0.0))
+        throw src.error((*v)[i], pm.field("dwell_ms"), "is required and must be > 0 when the reader has several ports");
+      pm.finish();
+      g.ports.push_back(port);
+    }
+  }
+  m.finish();
+  try {
+    // Ports are checked once resolved (parse_scenario); everything else here.
+    validate(g, static_cast<size_t>(-1), field);
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    for (const auto& [key, node] : nodes)
+      if (msg.find("." + key + "'") != std::string::npos) throw InputError(src.at(node) + msg);
+    throw InputError(src.at(n) + msg);
+  }
+  return g;
+}
+
 AntennaSpec parse_antenna(const YamlFile& src, const YAML::Node& n, const std::string& field, size_t index,
                           ReaderModelKind default_model, const std::set<std::string>& robots) {
   YamlMap m(src, n, field);
@@ -417,6 +511,7 @@ AntennaSpec parse_antenna(const YamlFile& src, const YAML::Node& n, const std::s
   check_name(src, m.has("name") ? *m.get("name") : n, m.field("name"), r.name, true);
   r.model = default_model;
   parse_reader_keys(m, n, r);
+  if (auto g = m.get("gen2")) a.gen2 = parse_gen2(src, *g, m.field("gen2"));
   a.start_s = m.non_negative({"start_s"}, 0.0);
   a.motion = parse_motion(m, true, robots);
   m.finish();
@@ -737,6 +832,20 @@ Scenario parse_scenario(const std::string& text, const std::string& source) {
     if (!names.insert(s.antennas.back().reader.name).second)
       throw src.error(antennas[i], indexed("antennas", i) + ".name",
                       "duplicate antenna name '" + s.antennas.back().reader.name + "'");
+  }
+  // Gen2 ports name antennas: resolved now that every antenna is known.
+  for (size_t i = 0; i < s.antennas.size(); ++i) {
+    if (!s.antennas[i].gen2) continue;
+    for (size_t k = 0; k < s.antennas[i].gen2->ports.size(); ++k) {
+      Gen2Port& port = s.antennas[i].gen2->ports[k];
+      const auto it = std::find_if(s.antennas.begin(), s.antennas.end(),
+                                   [&](const AntennaSpec& a) { return a.reader.name == port.antenna_name; });
+      if (it == s.antennas.end())
+        throw InputError(src.file() + ":" + std::to_string(port.source_line) + ": field '" +
+                         indexed(indexed("antennas", i) + ".gen2.ports", k) + ".antenna': no antenna named '" +
+                         clip(port.antenna_name) + "'");
+      port.antenna = static_cast<size_t>(it - s.antennas.begin());
+    }
   }
   if (auto tags = top.get("tags")) {
     if (!tags->IsSequence()) throw src.error(*tags, "tags", "must be a list");
