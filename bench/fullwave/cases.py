@@ -131,9 +131,9 @@ def plate_front() -> Case:
     for name, frac in PLATE_DISTANCES:
         d = frac * WAVELENGTH_M
         tag = name.replace("lambda/", "L")
-        specs += [(f"centre_{tag}", (0.0, -d, 0.0), f"centre, d = {name}"),
-                  (f"edge_soft_{tag}", (PLATE_HALF_M - 0.03, -d, 0.0), f"3 cm inside the edge ∥ E, d = {name}"),
-                  (f"edge_hard_{tag}", (0.0, -d, PLATE_HALF_M - 0.03), f"3 cm inside the edge ⊥ E, d = {name}")]
+        specs += [(f"centre_{tag}", (0.0, -d, 0.0), "centre"),
+                  (f"edge_soft_{tag}", (PLATE_HALF_M - 0.03, -d, 0.0), "3 cm inside the edge ∥ E (soft)"),
+                  (f"edge_hard_{tag}", (0.0, -d, PLATE_HALF_M - 0.03), "3 cm inside the edge ⊥ E (hard)")]
     return Case(
         name="plate_front",
         description="tag in front of a PEC plate 0.6 × 0.6 m (y = 0, x, z ∈ [−0.3, 0.3]); z dipole at (0, −1, 0); "
