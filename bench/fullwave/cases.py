@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import math
 
-from geometry import Box, Case, Observer
+from geometry import FREQUENCY_HZ, K_RAD_M, Box, Case, Observer, nearest_edge_m
 
 # Case (a): a finite perfectly conducting sheet 0.9 × 0.8 m in the plane y = 0, x ∈ [0, 0.9], z ∈ [−0.4, 0.4];
 # its edge along z through the origin. The source is 1 m from the edge at φ' = 60° from the sheet (angles measured
@@ -51,7 +51,171 @@ def sheet_edge(axis: str, rhos=SHEET_RHOS_M, angles=SHEET_ANGLES_DEG) -> Case:
     )
 
 
+# Case (e): a concrete wall. ITU-R P.2040 Table 3 (core/material.cpp's builtin "concrete"): ε' = a·f^b,
+# σ = c·f^d, f in GHz, a = 5.24, b = 0, c = 0.0462, d = 0.7822; the fit is given from 1 GHz and extrapolated
+# to 866 MHz here, as rfidray does: ε' = 5.24, σ = 0.0413 S/m. The same ε', σ go to meep (fdtd.py: σ_D).
+CONCRETE_EPS_R = 5.24 * (FREQUENCY_HZ / 1e9) ** 0.0
+CONCRETE_SIGMA_S_M = 0.0462 * (FREQUENCY_HZ / 1e9) ** 0.7822
+WALL_THICKNESS_M = 0.2
+WALL_HALF_M = 0.6            # the slab is 1.2 × 1.2 m (x, z ∈ [−0.6, 0.6]), y ∈ [0, 0.2]
+WALL_SOURCE_M = (0.0, -0.8, 0.0)
+
+
+def _labelled(specs, boxes):
+    """Observers from (label, position, region); rho = the distance to the nearest edge of the boxes."""
+    out = []
+    for label, p, region in specs:
+        rho = nearest_edge_m(p, boxes)
+        phi = math.degrees(math.atan2(p[1], p[0]))
+        out.append(Observer(label, p, rho, phi, region))
+    return tuple(out)
+
+
+def concrete_wall() -> Case:
+    wall = Box((-WALL_HALF_M, 0.0, -WALL_HALF_M), (WALL_HALF_M, 0.0, WALL_HALF_M), "concrete",
+               eps_r=CONCRETE_EPS_R, sigma_s_m=CONCRETE_SIGMA_S_M, slab_m=WALL_THICKNESS_M)
+    t = WALL_THICKNESS_M
+    e = WALL_HALF_M
+    specs = [
+        # behind the wall, 10 and 25 cm from its back face, on the axis and off it
+        ("behind_x0_10cm", (0.0, t + 0.10, 0.0), "behind (transmission)"),
+        ("behind_x0_25cm", (0.0, t + 0.25, 0.0), "behind (transmission)"),
+        ("behind_x0.2_10cm", (0.2, t + 0.10, 0.0), "behind (transmission)"),
+        ("behind_x0.3_25cm", (0.3, t + 0.25, 0.0), "behind (transmission)"),
+        ("behind_x0.2_z0.3_10cm", (0.2, t + 0.10, 0.3), "behind (transmission)"),
+        ("behind_x0.4_25cm", (0.4, t + 0.25, 0.0), "behind (transmission)"),
+        # in front: the reflection off the wall
+        ("front_x0_30cm", (0.0, -0.30, 0.0), "front (reflection)"),
+        ("front_x0_50cm", (0.0, -0.50, 0.0), "front (reflection)"),
+        ("front_x0.3_20cm", (0.3, -0.20, 0.0), "front (reflection)"),
+        ("front_x0.3_40cm", (0.3, -0.40, 0.0), "front (reflection)"),
+        ("front_x0.2_z0.3_30cm", (0.2, -0.30, 0.3), "front (reflection)"),
+        # beside its edge (x = 0.6): in front of the edge, level with the slab, behind it
+        ("edge_front", (e + 0.10, -0.10, 0.0), "beside the edge"),
+        ("edge_mid", (e + 0.10, t / 2, 0.0), "beside the edge"),
+        ("edge_behind10", (e + 0.10, t + 0.10, 0.0), "beside the edge"),
+        ("edge_behind_in", (e - 0.10, t + 0.15, 0.0), "beside the edge"),
+        ("edge_mid20", (e + 0.20, t / 2, 0.0), "beside the edge"),
+        ("edge_behind25", (e + 0.05, t + 0.25, 0.0), "beside the edge"),
+    ]
+    return Case(
+        name="concrete_wall",
+        description=f"concrete slab 1.2 × 1.2 × {t:g} m (x, z ∈ [−0.6, 0.6], y ∈ [0, {t:g}]; ε' = {CONCRETE_EPS_R:.2f}, "
+                    f"σ = {CONCRETE_SIGMA_S_M:.4f} S/m, ITU-R P.2040 extrapolated to 866 MHz); z dipole at "
+                    f"(0, −0.8, 0); rfidray: one quad at the front face y = 0 with --thickness {t:g}",
+        boxes=(wall,),
+        source=WALL_SOURCE_M,
+        axis="z",
+        observers=_labelled(specs, (wall,)),
+        domain_lo=(-0.85, -0.90, -0.70),
+        domain_hi=(0.85, 0.55, 0.70),
+        polarization_name="vertical (z)",
+        symmetries=(("x", 1), ("z", -1)),
+        eps_averaging=True,
+        convergence_order=2,
+    )
+
+
+# Case (b): a tag in front of a metal plate 0.6 × 0.6 m (PEC sheet in y = 0, x, z ∈ [−0.3, 0.3]); z dipole 1 m in
+# front of its centre; tags at d = λ/8, λ/4, λ/2 in front of it, at the centre and 3 cm inside the edge x = 0.3
+# (an edge along E: soft) and 3 cm inside the edge z = 0.3 (an edge across E: hard). d = λ/100 (3.5 mm) is a fifth
+# of a cell at 60 px/m: a uniform grid cannot place it (nor resolve the field between the tag and the plate).
+PLATE_HALF_M = 0.3
+PLATE_DISTANCES = (("lambda/8", 1 / 8), ("lambda/4", 1 / 4), ("lambda/2", 1 / 2))
+
+
+def plate_front() -> Case:
+    from geometry import WAVELENGTH_M
+    plate = Box((-PLATE_HALF_M, 0.0, -PLATE_HALF_M), (PLATE_HALF_M, 0.0, PLATE_HALF_M), "metal")
+    specs = []
+    for name, frac in PLATE_DISTANCES:
+        d = frac * WAVELENGTH_M
+        tag = name.replace("lambda/", "L")
+        specs += [(f"centre_{tag}", (0.0, -d, 0.0), "centre"),
+                  (f"edge_soft_{tag}", (PLATE_HALF_M - 0.03, -d, 0.0), "3 cm inside the edge ∥ E (soft)"),
+                  (f"edge_hard_{tag}", (0.0, -d, PLATE_HALF_M - 0.03), "3 cm inside the edge ⊥ E (hard)")]
+    return Case(
+        name="plate_front",
+        description="tag in front of a PEC plate 0.6 × 0.6 m (y = 0, x, z ∈ [−0.3, 0.3]); z dipole at (0, −1, 0); "
+                    "tags at d = λ/8, λ/4, λ/2 (4.3, 8.7, 17.3 cm) at the centre and 3 cm inside the edges x = 0.3 "
+                    "(∥ E) and z = 0.3 (⊥ E)",
+        boxes=(plate,),
+        source=(0.0, -1.0, 0.0),
+        axis="z",
+        observers=_labelled(specs, (plate,)),
+        domain_lo=(-0.45, -1.10, -0.45),
+        domain_hi=(0.45, 0.15, 0.45),
+        polarization_name="vertical (z)",
+        symmetries=(("x", 1), ("z", -1)),
+    )
+
+
+# Case (c): the front edge of a rack bay: two horizontal PEC shelf plates 0.9 × 0.5 m (x ∈ [−0.45, 0.45],
+# y ∈ [0, 0.5]) at z = ±0.2 (0.4 m apart), their front edges along x at y = 0; z dipole 1 m in front. Tags between
+# the plates near the front edge and just outside it.
+def rack_bay() -> Case:
+    top = Box((-0.45, 0.0, 0.2), (0.45, 0.5, 0.2), "metal")
+    bottom = Box((-0.45, 0.0, -0.2), (0.45, 0.5, -0.2), "metal")
+    specs = [
+        ("in_y5_z0", (0.0, 0.05, 0.0), "inside (between the plates)"),
+        ("in_y5_z15", (0.0, 0.05, 0.15), "inside (between the plates)"),
+        ("in_y15_z0", (0.0, 0.15, 0.0), "inside (between the plates)"),
+        ("in_y15_z10", (0.0, 0.15, 0.10), "inside (between the plates)"),
+        ("in_y5_x30_z0", (0.30, 0.05, 0.0), "inside (between the plates)"),
+        ("in_y30_z0", (0.0, 0.30, 0.0), "inside (between the plates)"),
+        ("out_y-5_z0", (0.0, -0.05, 0.0), "outside (in front of the bay)"),
+        ("out_y-5_z15", (0.0, -0.05, 0.15), "outside (in front of the bay)"),
+        ("out_y-10_z20", (0.0, -0.10, 0.20), "outside (in front of the bay)"),
+        ("out_y-5_x30_z10", (0.30, -0.05, 0.10), "outside (in front of the bay)"),
+        ("out_y-20_z0", (0.0, -0.20, 0.0), "outside (in front of the bay)"),
+    ]
+    return Case(
+        name="rack_bay",
+        description="two horizontal PEC shelf plates 0.9 × 0.5 m (x ∈ [−0.45, 0.45], y ∈ [0, 0.5]) at z = ±0.2 m, "
+                    "front edges at y = 0; z dipole at (0, −1, 0); tags between the plates near the front edge and "
+                    "just in front of it",
+        boxes=(top, bottom),
+        source=(0.0, -1.0, 0.0),
+        axis="z",
+        observers=_labelled(specs, (top, bottom)),
+        domain_lo=(-0.60, -1.10, -0.35),
+        domain_hi=(0.60, 0.65, 0.35),
+        polarization_name="vertical (z)",
+        symmetries=(("x", 1), ("z", -1)),
+    )
+
+
+# Case (d): a tag behind a rack upright: a PEC post 5 × 5 cm × 1 m (x ∈ [−0.025, 0.025], y ∈ [0, 0.05],
+# z ∈ [−0.5, 0.5]); z dipole 1.5 m in front; tags 5–30 cm behind it. Run at 40 and 80 px/m, where the post's
+# faces are on the grid (±1 and ±2 cells), so both resolutions model the same 5 cm post.
+def upright() -> Case:
+    post = Box((-0.025, 0.0, -0.5), (0.025, 0.05, 0.5), "metal")
+    specs = []
+    for d in (0.05, 0.10, 0.20, 0.30):
+        specs.append((f"behind_{d * 100:.0f}cm", (0.0, 0.05 + d, 0.0), "behind, on the axis"))
+    for d in (0.05, 0.10, 0.20, 0.30):
+        specs.append((f"behind_{d * 100:.0f}cm_x10", (0.10, 0.05 + d, 0.0), "behind, 10 cm aside"))
+    specs.append(("behind_10cm_z40", (0.0, 0.15, 0.40), "behind, near the top"))
+    return Case(
+        name="upright",
+        description="PEC post 5 × 5 cm × 1 m (x ∈ [−0.025, 0.025], y ∈ [0, 0.05], z ∈ [−0.5, 0.5]); z dipole at "
+                    "(0, −1.5, 0); tags 5–30 cm behind its back face, on the axis and 10 cm aside",
+        boxes=(post,),
+        source=(0.0, -1.5, 0.0),
+        axis="z",
+        observers=_labelled(specs, (post,)),
+        domain_lo=(-0.30, -1.60, -0.65),
+        domain_hi=(0.30, 0.40, 0.65),
+        polarization_name="vertical (z)",
+        symmetries=(("x", 1), ("z", -1)),
+    )
+
+
 CASES = {
     "sheet_edge_soft": lambda: sheet_edge("z"),
     "sheet_edge_hard": lambda: sheet_edge("x"),
+    "concrete_wall": concrete_wall,
+    "plate_front": plate_front,
+    "rack_bay": rack_bay,
+    "upright": upright,
 }

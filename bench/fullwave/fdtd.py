@@ -10,6 +10,10 @@ Sheets (a Box with one zero extent) are one grid plane of tangential E forced to
 half a cell centred on that plane, with eps_averaging off (meep then reads the material at the field points, and
 the plane carries E_x and E_z, say, for a sheet in y = const). The sheet's plane must be on the grid: the domain is
 snapped to whole cells. `sheet_thickness_m > 0` instead gives sheets that thickness (a solid block).
+A sheet with `slab_m > 0` (a wall) is a solid block of that thickness behind its plane. Dielectrics: meep's
+ε(ω) = ε'(1 + iσ_D/ω) with ω = 2πf/c in 1/m (time in metres of light travel), and the physical
+ε_c = ε' + iσ/(ω_phys ε0) in e^{-iωt} with ω_phys = ω·c, so σ_D = σ/(ε0 ε' c) in 1/m (concrete at 866 MHz:
+σ = 0.0413 S/m, ε' = 5.24 → σ_D = 2.97 /m, σ_D/ω = tan δ = 0.164). `case.symmetries` are meep mirror planes (exact, a speed-up only).
 """
 from __future__ import annotations
 
@@ -50,6 +54,11 @@ def run(case: Case, resolution: float, dpml_m: float = 0.2, with_boxes: bool = T
         if round((hi[i] - lo[i]) / d) % 2:
             hi[i] += d
     size = [hi[i] - lo[i] for i in range(3)]
+    for ax, _ in case.symmetries:  # meep's mirror planes go through the cell's centre: it must be at 0 there
+        i = "xyz".index(ax)
+        if abs(hi[i] + lo[i]) > 1e-9:
+            raise ValueError(f"case {case.name}: mirror {ax} needs a domain symmetric about {ax} = 0 "
+                             f"(got {lo[i]:.4f}..{hi[i]:.4f} m with PML)")
     center = mp.Vector3(*[(hi[i] + lo[i]) / 2 for i in range(3)])
     geometry = []
     if with_boxes:
@@ -62,7 +71,11 @@ def run(case: Case, resolution: float, dpml_m: float = 0.2, with_boxes: bool = T
             lo_b, hi_b = list(b.lo), list(b.hi)
             t = b.thin_axis
             for i in range(3):
-                if i == t:
+                if i == t and b.slab_m > 0.0:  # a wall: the solid block behind the sheet's plane, faces as given
+                    lo_b[i], hi_b[i] = b.lo[i], b.lo[i] + b.slab_m
+                elif case.eps_averaging and b.material != "metal":  # averaged faces: exactly where they are
+                    pass
+                elif i == t:
                     n = b.lo[i] / d
                     if sheet_thickness_m <= 0.0 and abs(n - round(n)) > 1e-6:
                         raise ValueError(f"case {case.name}: sheet plane {b.lo[i]} m is not on the {resolution} px/m grid")
@@ -77,7 +90,9 @@ def run(case: Case, resolution: float, dpml_m: float = 0.2, with_boxes: bool = T
                          center=mp.Vector3(*case.source))]
     sim = mp.Simulation(cell_size=mp.Vector3(*size), geometry_center=center, resolution=resolution,
                         geometry=geometry, sources=sources, boundary_layers=[mp.PML(dpml)],
-                        eps_averaging=False)
+                        eps_averaging=case.eps_averaging,
+                        symmetries=[mp.Mirror({"x": mp.X, "y": mp.Y, "z": mp.Z}[ax], phase=ph)
+                                    for ax, ph in case.symmetries])
     points = [mp.Vector3(*o.position) for o in case.observers]
     t_stop = (settle_periods + 2.0) * period
     t_sample = settle_periods * period - 1e-9
@@ -95,7 +110,7 @@ def run(case: Case, resolution: float, dpml_m: float = 0.2, with_boxes: bool = T
     # silently drop a sheet thinner than a cell that falls between grid planes).
     if with_boxes and sheet_thickness_m <= 0.0:
         for b in case.boxes:
-            if b.thin_axis is not None and "xyz"[b.thin_axis] != case.axis and b.material == "metal":
+            if b.thin_axis is not None and "xyz"[b.thin_axis] != case.axis and b.material == "metal" and b.slab_m == 0.0:
                 mid = mp.Vector3(*[(b.lo[i] + b.hi[i]) / 2 for i in range(3)])
                 ref = max(abs(v) for v in samples[-1]) if samples and samples[-1] else 1.0
                 if abs(sim.get_field_point(comp, mid)) > 1e-9 * max(ref, 1e-30):
@@ -127,5 +142,8 @@ def ratio(case: Case, resolution: float, dpml_m: float = 0.2, sheet_thickness_m:
         free = run(case, resolution, dpml_m, False, 0.0, settle_periods, log)
     geo = run(case, resolution, dpml_m, True, sheet_thickness_m, settle_periods, log)
     e0 = free["fields"]
+    if np.any(np.abs(e0) == 0.0) or not np.all(np.isfinite(e0)):
+        raise RuntimeError(f"case {case.name}: the free-space field is zero or not finite at an observer "
+                           f"({resolution:g} px/m): a source off a mirror plane?")
     return {"ratio": geo["fields"] / e0, "steady": (geo["steady"] + free["steady"]) / np.abs(e0),
             "seconds": geo["seconds"] + free["seconds"], "free": free, "cells": geo["cells"]}

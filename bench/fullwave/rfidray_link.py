@@ -108,7 +108,13 @@ def link(binary: str, scene: str, case: Case, position, level: str, thickness_m:
 
 
 def all_levels(binary: str, case: Case, scratch: str, levels=LEVELS, thickness_m=None, jobs: int = 2) -> dict:
-    """{level: complex array of h/h_ideal per observer (short-dipole weighted)}, plus '<level>:isotropic'."""
+    """{level: complex array of h/h_ideal per observer (short-dipole weighted)}, plus '<level>:isotropic'.
+    A case with walls (Box.slab_m > 0) passes their thickness as `--thickness` (one per case)."""
+    slabs = {b.slab_m for b in case.boxes if b.slab_m > 0.0}
+    if len(slabs) > 1:
+        raise ValueError(f"case {case.name}: walls of different thickness {sorted(slabs)} (rfidray link takes one)")
+    if slabs and thickness_m is None:
+        thickness_m = slabs.pop()
     scene = write_obj(case, os.path.join(scratch, case.name + ".obj"))
     tasks = [(lv, i, o.position) for lv in levels for i, o in enumerate(case.observers)]
     with ThreadPoolExecutor(max_workers=jobs) as ex:
