@@ -40,7 +40,7 @@ TEST(EndpointYaml, ErrorsNameWhereAndField) {
   EXPECT_EQ(error_of([] { io::parse_endpoint(map_of("{rpy_deg: [0, 0, 0]}"), "Endpoint", ""); }),
             "Endpoint: field 'position': is required");
   EXPECT_EQ(error_of([] { io::parse_endpoint(map_of("{position: [0, 0, 1e9]}"), "Endpoint", ""); }),
-            "Endpoint: field 'position': must be within ±100000000 (got 1000000000)");
+            "Endpoint: field 'position': must be within ±1e+08 (got 1e+09)");
   EXPECT_EQ(error_of([] { io::parse_endpoint(map_of("{position: [0, 0, 1], gain_dbi: 1000}"), "Endpoint", ""); }),
             error_of([] { io::parse_endpoint(map_of("{position: [0, 0, 1], pattern: {kind: isotropic, gain_dbi: 1000}}"), "Endpoint", ""); }));
   EXPECT_NE(error_of([] { io::parse_endpoint(map_of("{position: [0, 0, 1], polarisation: rhcp}"), "Endpoint", ""); })
