@@ -19,6 +19,10 @@ EdgeProximity::EdgeProximity(const std::vector<Edge>& edges, double radius_m) : 
   cell_m_ = 2.0 * radius_m;
   for (uint32_t e = 0; e < edges_.size(); ++e) {
     const Edge& edge = edges_[e];
+    // An edge beyond the indexable range is never near a query point that passes the same bound.
+    if (!edge.start.allFinite() || edge.start.cwiseAbs().maxCoeff() > 1e15 * cell_m_ ||
+        !(edge.length_m <= 1e6 * radius_m))
+      continue;
     const int samples = 1 + static_cast<int>(std::ceil(edge.length_m / radius_m));
     int64_t last[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
     for (int s = 0; s <= samples; ++s) {
@@ -36,7 +40,8 @@ EdgeProximity::EdgeProximity(const std::vector<Edge>& edges, double radius_m) : 
 
 std::array<EdgeProximity::Hit, 2> EdgeProximity::nearest_two(const Vec3& point) const {
   std::array<Hit, 2> best{};
-  if (!point.allFinite()) return best;
+  // Cell indices must fit an int64 (a point 1e308 away is far from every edge in any case).
+  if (!point.allFinite() || point.cwiseAbs().maxCoeff() > 1e15 * cell_m_) return best;
   const int64_t ci = static_cast<int64_t>(std::floor(point.x() / cell_m_));
   const int64_t cj = static_cast<int64_t>(std::floor(point.y() / cell_m_));
   const int64_t ck = static_cast<int64_t>(std::floor(point.z() / cell_m_));
