@@ -5,15 +5,10 @@
 #include <cstdio>
 
 #include "core/error.h"
+#include "core/number_text.h"
 
 namespace rfidray {
 namespace {
-
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
 
 double mean_bit_s(double rtcal_s) { return 0.5 * rtcal_s; }  // (data-0 + data-1)/2 = RTcal/2
 

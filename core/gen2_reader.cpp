@@ -4,15 +4,9 @@
 #include <cstdio>
 
 #include "core/error.h"
+#include "core/number_text.h"
 
 namespace rfidray {
-namespace {
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-}  // namespace
 
 const char* to_string(Gen2Target t) {
   switch (t) {
