@@ -61,7 +61,7 @@ TEST(LinkLevelsCli, ValidityNearASheetEdge) {
   const std::string obj =
       dir.write("sheet.obj", "v 0 0 -0.4\nv 0.9 0 -0.4\nv 0.9 0 0.4\nv 0 0 0.4\nf 1 2 3\nf 1 3 4\n").string();
   const auto link = [&](const std::string& level, const std::string& tag, const std::string& pol) {
-    const auto r = testing::run_rfidray("link --json --scene " + obj + " --material metal --level " + level +
+    const auto r = testing::run_rfidray("link --json --scene " + obj + " --material metal --channel " + level +
                                         " --antenna 3,-2,0 --tag " + tag + " --antenna-pol " + pol +
                                         " --tag-pol " + pol);
     EXPECT_EQ(r.status, 0) << r.output;
@@ -92,6 +92,11 @@ TEST(LinkLevelsCli, ValidityNearASheetEdge) {
   EXPECT_TRUE(far["validity"]["level_ok"].get<bool>());
   EXPECT_EQ(far["validity"]["reason"], "");
   EXPECT_TRUE(far["validity"]["nearest_edge_m"].is_null());
+  // Directly behind the sheet, at a level without diffraction, no path reaches the tag: not "zero field", flagged.
+  const nlohmann::json dark = link("single-bounce", "0.3,0.5,0", "linear:0,0,1");
+  EXPECT_TRUE(dark["raytraced"]["paths"].empty());
+  EXPECT_FALSE(dark["validity"]["level_ok"].get<bool>());
+  EXPECT_NE(dark["validity"]["reason"].get<std::string>().find("no path"), std::string::npos);
 }
 
 }  // namespace
