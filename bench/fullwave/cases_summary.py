@@ -11,27 +11,16 @@ none is converged, marked). Exit 2 when no CSV is there.
 from __future__ import annotations
 
 import argparse
-import csv
 import os
 import sys
 
 import numpy as np
 
+from summary import read_rows
+
 CASES = ("concrete_wall", "plate_front", "rack_bay", "upright")
 LEVELS = ("los", "los+blocked", "single-bounce", "double-bounce", "full-selective", "full")
 CONVERGED = 0.05
-
-
-def read(path):
-    with open(path) as f:
-        rows = list(csv.DictReader(f))
-    for r in rows:
-        for k, v in r.items():
-            try:
-                r[k] = float(v)
-            except ValueError:
-                pass
-    return rows
 
 
 def table(rows):
@@ -63,7 +52,7 @@ def main():
         if not os.path.exists(p):
             continue
         found += 1
-        md += [f"## {c}", ""] + table(read(p)) + [""]
+        md += [f"## {c}", ""] + table(read_rows(p)) + [""]
     if not found:
         print(f"cases_summary.py: error: no {', '.join(c + '.csv' for c in CASES)} in {a.out}", file=sys.stderr)
         sys.exit(2)

@@ -13,7 +13,8 @@ CASES = ("sheet_edge_soft", "sheet_edge_hard")
 LEVELS = ("los", "single-bounce", "double-bounce", "full-selective", "full")
 
 
-def _read(path):
+def read_rows(path):
+    """The rows of a results CSV, numbers as floats (the harness's case tables)."""
     with open(path) as f:
         rows = list(csv.DictReader(f))
     for r in rows:
@@ -46,7 +47,7 @@ def _band_rows(rows):
 
 
 def write(out_dir, log=print):
-    data = {c: _read(os.path.join(out_dir, c + ".csv")) for c in CASES if os.path.exists(os.path.join(out_dir, c + ".csv"))}
+    data = {c: read_rows(os.path.join(out_dir, c + ".csv")) for c in CASES if os.path.exists(os.path.join(out_dir, c + ".csv"))}
     if not data:
         raise SystemExit(f"summary: no sheet_edge_*.csv in {out_dir} (run --case sheet_edge_soft first)")
     md = ["# Sheet edge: error of each level against the FDTD reference, by kρ", "",

@@ -7,20 +7,13 @@
 #include "core/error.h"
 #include "io/scenario_yaml.h"
 #include "io/tag_antenna_spec.h"
+#include "tests/support/input_error.h"
 #include "tests/support/scratch_dir.h"
 
 namespace rfidray::io {
 namespace {
 
-template <class F>
-std::string message_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using testing::input_error_of;
 
 const std::string kHead = R"(
 antennas:
@@ -52,17 +45,17 @@ TEST(TagAntennaSpec, TextFormsParse) {
   EXPECT_DOUBLE_EQ(c.material.relative_permittivity(866e6), 2.0);
   EXPECT_DOUBLE_EQ(c.material.conductivity_s_m(866e6), 0.005);
   EXPECT_DOUBLE_EQ(c.distance_m, 0.003);
-  EXPECT_NE(message_of([] { parse_tag_backing("dielectric:0.5:0:0.01", "option --tag-backing"); }).find("dielectric"),
+  EXPECT_NE(input_error_of([] { parse_tag_backing("dielectric:0.5:0:0.01", "option --tag-backing"); }).find("dielectric"),
             std::string::npos);
-  EXPECT_NE(message_of([] { parse_tag_backing("cheese:0.01", "option --tag-backing"); }).find("option --tag-backing"),
+  EXPECT_NE(input_error_of([] { parse_tag_backing("cheese:0.01", "option --tag-backing"); }).find("option --tag-backing"),
             std::string::npos);
   EXPECT_EQ(parse_tag_backing("scene", "f").kind, TagBackingSpec::Kind::kScene);
   EXPECT_EQ(parse_tag_backing("none", "f").kind, TagBackingSpec::Kind::kNone);
-  EXPECT_NE(message_of([] { parse_tag_antenna("dipole:0.166", "option --tag-antenna"); }).find("option --tag-antenna"),
+  EXPECT_NE(input_error_of([] { parse_tag_antenna("dipole:0.166", "option --tag-antenna"); }).find("option --tag-antenna"),
             std::string::npos);
-  EXPECT_NE(message_of([] { parse_tag_chip("series:x:1e-12", "option --tag-chip"); }).find("resistance"),
+  EXPECT_NE(input_error_of([] { parse_tag_chip("series:x:1e-12", "option --tag-chip"); }).find("resistance"),
             std::string::npos);
-  EXPECT_NE(message_of([] { parse_tag_backing("metal", "option --tag-backing"); }).find("MATERIAL:DISTANCE_M"),
+  EXPECT_NE(input_error_of([] { parse_tag_backing("metal", "option --tag-backing"); }).find("MATERIAL:DISTANCE_M"),
             std::string::npos);
 }
 
@@ -99,7 +92,7 @@ tags:
 
 TEST(TagAntennaSpec, ScenarioErrorsNameTheField) {
   const auto err = [](const std::string& tag_keys) {
-    return message_of([&] {
+    return input_error_of([&] {
       parse_scenario(kHead + "tags:\n  - name: t\n    position: [3, 0, 1]\n" + tag_keys, "s.yaml");
     });
   };
@@ -126,11 +119,11 @@ TEST(TagAntennaSpec, TableFileErrorsNameFileAndLine) {
   const auto good = dir.write("inlay.csv", "frequency_hz,resistance_ohm,reactance_ohm\n860e6,20,150\n960e6,25,170\n");
   EXPECT_EQ(read_tag_antenna_table(good.string()).size(), 2u);
   const auto bad = dir.write("bad.csv", "frequency_hz,resistance_ohm,reactance_ohm\n860e6,20,150\n850e6,25,170\n");
-  const std::string e = message_of([&] { read_tag_antenna_table(bad.string()); });
+  const std::string e = input_error_of([&] { read_tag_antenna_table(bad.string()); });
   EXPECT_NE(e.find("bad.csv:3"), std::string::npos) << e;
   const auto header = dir.write("header.csv", "f,r,x\n860e6,20,150\n");
-  EXPECT_NE(message_of([&] { read_tag_antenna_table(header.string()); }).find("header"), std::string::npos);
-  EXPECT_NE(message_of([&] { read_tag_antenna_table((dir / "missing.csv").string()); }).find("missing.csv"),
+  EXPECT_NE(input_error_of([&] { read_tag_antenna_table(header.string()); }).find("header"), std::string::npos);
+  EXPECT_NE(input_error_of([&] { read_tag_antenna_table((dir / "missing.csv").string()); }).find("missing.csv"),
             std::string::npos);
 }
 
