@@ -8,22 +8,13 @@
 #include "core/error.h"
 #include "core/gen2_simulation.h"
 #include "core/simulation.h"
+#include "tests/support/fixed_specs.h"
 
 namespace rfidray {
 namespace {
 
-AntennaSpec antenna(const std::string& name, const Vec3& p) {
-  AntennaSpec a;
-  a.reader.name = name;
-  a.motion.pose.position = p;
-  return a;
-}
-TagSpec tag(const std::string& name, const Vec3& p) {
-  TagSpec t;
-  t.tag.name = name;
-  t.motion.pose.position = p;
-  return t;
-}
+AntennaSpec antenna(const std::string& name, const Vec3& p) { return testing::fixed_antenna(name, p); }
+TagSpec tag(const std::string& name, const Vec3& p) { return testing::fixed_tag(name, p); }
 
 Gen2ReaderSpec gen2(int session, Gen2Target target, int q, Gen2QMode mode) {
   Gen2ReaderSpec g;

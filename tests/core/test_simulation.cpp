@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/simulation.h"
+#include "tests/support/fixed_specs.h"
 #include "core/units.h"
 
 namespace rfidray {
@@ -32,18 +33,8 @@ class CountingChannel final : public Channel {
   bool cacheable_;
 };
 
-AntennaSpec fixed_antenna(const std::string& name, const Vec3& p) {
-  AntennaSpec a;
-  a.reader.name = name;
-  a.motion.pose.position = p;
-  return a;
-}
-TagSpec fixed_tag(const std::string& name, const Vec3& p) {
-  TagSpec t;
-  t.tag.name = name;
-  t.motion.pose.position = p;
-  return t;
-}
+using testing::fixed_antenna;
+using testing::fixed_tag;
 
 Scenario static_scene() {
   Scenario s;
