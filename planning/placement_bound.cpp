@@ -13,8 +13,6 @@
 namespace rfidray::planning {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 // The bound of one cell under the (ascending) set: informations summed in that order.
 std::optional<double> cell_bound(const InformationSets& s, const std::vector<size_t>& sorted, size_t cell) {
   double sum[6] = {0, 0, 0, 0, 0, 0};
@@ -45,7 +43,7 @@ std::optional<BoundScore> evaluate(const InformationSets& s, std::vector<size_t>
   }
   BoundScore out;
   out.localized = n - missing;
-  out.worst_m = out.localized > 0 ? worst : kNaN;
+  out.worst_m = out.localized > 0 ? worst : std::numeric_limits<double>::quiet_NaN();
   return out;
 }
 
@@ -69,7 +67,7 @@ InformationSets::InformationSets(size_t candidates, size_t cells, bool height_kn
 std::vector<double> InformationSets::bounds_m(const std::vector<size_t>& chosen) const {
   std::vector<size_t> sorted = chosen;
   std::sort(sorted.begin(), sorted.end());
-  std::vector<double> out(cells_, kNaN);
+  std::vector<double> out(cells_, std::numeric_limits<double>::quiet_NaN());
   for (size_t i = 0; i < cells_; ++i)
     if (auto b = cell_bound(*this, sorted, i)) out[i] = *b;
   return out;
