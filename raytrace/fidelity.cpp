@@ -146,7 +146,7 @@ FidelityChoice choose_fidelity(std::shared_ptr<const Scene> scene, const std::ve
   for (const LinkBatch& b : batches)
     for (const Endpoint& tag : b.tag_ends)
       choice.links_outside_validity +=
-          !level_validity(ladder.back().level, link_edge_sight(reference_channel, b.antenna_end, tag, b.frequency_hz),
+          !level_validity(ladder.back().level, link_sight(reference_channel, b.antenna_end, tag, b.frequency_hz),
                           b.frequency_hz)
                .level_ok;
   if (choice.links_outside_validity > 0)
