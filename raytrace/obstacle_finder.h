@@ -1,7 +1,7 @@
 #pragma once
 // Fills core/obstacle_sight.h for one link from the scene: one Embree ray along the direct segment (what blocks it
 // first, and of which material) and a few queries of the edge index (raytrace/edge_proximity.h) at the two ends and
-// at the blocking point. No path tracing: its cost is one ray and at most five index queries per link.
+// at the blocking point. No path tracing: its cost is one ray and at most eight index queries per link.
 //
 //   - narrow obstacle: at an end (within `reach_m`) or at the blocking point, the two nearest edges are roughly
 //     parallel (within 30°) and closer together than λ/2, and the direct segment is blocked there or passes the
