@@ -245,7 +245,7 @@ nlohmann::json validity_json(const std::shared_ptr<const Scene>& scene, const Tr
   const std::complex<double> h = sum_paths(raytraced.paths(antenna, tag, frequency_hz));
   const double free = std::abs(sum_paths(ideal.paths(antenna, tag, frequency_hz)));
   const double relative = std::abs(h) / free;
-  LevelValidity v = level_validity(trace.level, link_edge_sight(raytraced, antenna, tag, frequency_hz),
+  LevelValidity v = level_validity(trace.level, link_sight(raytraced, antenna, tag, frequency_hz),
                                    frequency_hz, relative);
   std::string reference = "the exact wedge series at the nearest edge";
   if (trace.level != ChannelLevel::kFull) {

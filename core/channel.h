@@ -11,6 +11,7 @@
 #include "core/edge_sight.h"
 #include "core/geometry.h"
 #include "core/material.h"
+#include "core/obstacle_sight.h"
 #include "core/path.h"
 #include "core/polarization.h"
 
@@ -71,6 +72,16 @@ class Channel {
     (void)other_end;
     (void)max_distance_m;
     return std::nullopt;
+  }
+
+  // What the link antenna–tag sees beyond its nearest edge (core/obstacle_sight.h): a narrow obstacle on or beside
+  // its direct line, a penetrable slab crossed near the slab's edge, parallel metal plates an end sits between;
+  // judged by core/level_validity.h. Empty without a scene. Thread-safe.
+  virtual ObstacleSight obstacle_sight(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) const {
+    (void)antenna;
+    (void)tag;
+    (void)frequency_hz;
+    return {};
   }
 };
 

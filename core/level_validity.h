@@ -19,6 +19,11 @@
 //   - flagged, not covered: a second edge close to the same end (a corner, a narrow plate or a 3 cm shelf lip:
 //     double diffraction, which no level has), the other end close to the same edge too (the incident wave is
 //     not plane there), faces that are not metal (UTD with Luebbers' heuristic coefficients).
+//   - judged from the FDTD runs of the geometries the wedge does not cover (core/obstacle_sight.h; the estimate is
+//     the measured median error of the level there, bench/results/fullwave/CASE.csv): a narrow obstacle on or
+//     beside the direct line (a 5 cm rack upright), the direct line through a penetrable slab near the slab's
+//     edge and an end near a penetrable slab's edge beyond its plane (a concrete wall, a doorway), an end between
+//     or just in front of two facing parallel metal plates (a rack bay).
 // Errors are fractions of the free-space field (|h/h₀ − E/E₀|: the field at this end in units of the incident
 // field at the edge, which is the free-space field when the other end is far). The verdict's dB and rad are what
 // that error can do to a link whose |h/h₀| is given: 20·log10(1 + e/|h/h₀|) (at most 40) and
@@ -69,15 +74,29 @@ CanonicalErrors canonical_edge_errors(const EdgeSight& sight, double frequency_h
 LevelValidity level_validity(ChannelLevel level, const std::optional<EdgeSight>& sight, double frequency_hz,
                              double relative_amplitude = 1.0);
 
-// The same verdict with a measured error added: `error_vs_reference` (a fraction of the free-space field) is the
-// difference to a richer level computed on the same link (`link` compares with `full`). The larger of the two
-// errors decides.
 // The nearer end's edge of a link (antenna at `antenna`, tag at `tag`): each end's nearest edge within reach, lit
 // from the other end (Channel::nearest_edge), and of the two the one with the smaller distance. Thread-safe when the
 // channel is.
 std::optional<EdgeSight> link_edge_sight(const Channel& channel, const Endpoint& antenna, const Endpoint& tag,
                                          double frequency_hz);
 
+// Everything the verdict looks at on one link: the nearer end's edge and the obstacles of the link.
+struct LinkSight {
+  std::optional<EdgeSight> edge;
+  ObstacleSight obstacles;
+};
+
+// link_edge_sight and Channel::obstacle_sight of the link. Thread-safe when the channel is.
+LinkSight link_sight(const Channel& channel, const Endpoint& antenna, const Endpoint& tag, double frequency_hz);
+
+// The verdict on the edge (above), then on the obstacles: each one found adds its reason and raises the estimate
+// to its measured error when that is larger (flagged when above kLevelErrorLimit).
+LevelValidity level_validity(ChannelLevel level, const LinkSight& sight, double frequency_hz,
+                             double relative_amplitude = 1.0);
+
+// The same verdict with a measured error added: `error_vs_reference` (a fraction of the free-space field) is the
+// difference to a richer level computed on the same link (`link` compares with `full`). The larger of the two
+// errors decides.
 LevelValidity with_reference_error(LevelValidity v, double error_vs_reference, double relative_amplitude,
                                    const std::string& reference_name);
 

@@ -193,8 +193,8 @@ SimulationResult simulate(const Scenario& scenario, const Channel& channel, cons
 
 namespace {
 
-// Tags near metal edges (core/level_validity.h), at their and the antennas' start poses, for the channel's level:
-// counted, and one note naming the worst. Levels are known by the channel's name (a traced level or ideal); another channel
+// Tags outside their level's validity (core/level_validity.h: near metal edges, narrow obstacles, penetrable slabs,
+// parallel plates), at their and the antennas' start poses, for the channel's level: counted, and one note naming the worst. Levels are known by the channel's name (a traced level or ideal); another channel
 // (a test double) is not judged.
 template <typename AntennaEndpoint, typename TagEndpoint>
 void count_tags_outside_validity(const Scenario& scenario, const SceneMotion& motion, const Channel& channel,
@@ -216,15 +216,15 @@ void count_tags_outside_validity(const Scenario& scenario, const SceneMotion& mo
     LevelValidity v;
     for (size_t a = 0; a < motion.antennas.size(); ++a) {
       const Endpoint antenna = antenna_endpoint(a, motion.antennas[a]->pose_at(scenario.antennas[a].start_s));
-      const LevelValidity va = level_validity(level, link_edge_sight(channel, antenna, tag, f), f);
+      const LevelValidity va = level_validity(level, link_sight(channel, antenna, tag, f), f);
       if (a == 0 || (!va.level_ok && (v.level_ok || va.estimated_error > v.estimated_error))) v = va;
     }
     if (v.level_ok) continue;
     if (result.tags_outside_validity++ == 0 || v.estimated_error > worst_v.estimated_error) worst = i, worst_v = v;
   }
   if (result.tags_outside_validity == 0) return;
-  char b[200];
-  std::snprintf(b, sizeof b, "%zu of %zu tags are so close to a metal edge that level %s is outside its validity or what was checked there; the worst, tag '",
+  char b[320];
+  std::snprintf(b, sizeof b, "%zu of %zu tags are where level %s is outside its validity or what was checked (near metal edges, narrow obstacles, penetrable slabs, parallel plates); the worst, tag '",
                 result.tags_outside_validity, scenario.tags.size(), to_string(level));
   result.notes.push_back(std::string(b) + scenario.tags[worst].tag.name + "': " + worst_v.reason);
 }

@@ -146,12 +146,12 @@ FidelityChoice choose_fidelity(std::shared_ptr<const Scene> scene, const std::ve
   for (const LinkBatch& b : batches)
     for (const Endpoint& tag : b.tag_ends)
       choice.links_outside_validity +=
-          !level_validity(ladder.back().level, link_edge_sight(reference_channel, b.antenna_end, tag, b.frequency_hz),
+          !level_validity(ladder.back().level, link_sight(reference_channel, b.antenna_end, tag, b.frequency_hz),
                           b.frequency_hz)
                .level_ok;
   if (choice.links_outside_validity > 0)
     choice.reason += "; " + std::to_string(choice.links_outside_validity) + " of the sampled links are outside " +
-                     ladder.back().label + "'s own validity near metal edges (docs/fullwave.md)";
+                     ladder.back().label + "'s own validity near metal (edges, narrow obstacles, slabs, plates; docs/fullwave.md)";
   return choice;
 }
 

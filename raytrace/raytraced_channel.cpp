@@ -10,7 +10,9 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "core/level_validity.h"
 #include "raytrace/morton.h"
+#include "raytrace/obstacle_finder.h"
 
 namespace rfidray {
 
@@ -170,16 +172,26 @@ std::optional<NearbySurface> RaytracedChannel::nearest_surface(const Vec3& point
   return NearbySurface{s->distance_m, m, s->facet_extent_m, s->faces_facet};
 }
 
-std::optional<EdgeSight> RaytracedChannel::nearest_edge(const Endpoint& end_point, const Endpoint& other_point,
-                                                        double max_distance_m) const {
-  const Vec3& end = end_point.pose.position;
-  const Vec3& other_end = other_point.pose.position;
+const EdgeProximity& RaytracedChannel::edge_index() const {
   constexpr double kIndexRadius_m = 0.75;  // level_validity_reach_m at UHF is ~0.5 m
   std::call_once(edge_index_once_, [&] {
     edge_index_ = std::make_unique<EdgeProximity>(finder_.edges().empty() ? extract_edges(scene()) : finder_.edges(),
                                                   kIndexRadius_m);
   });
-  const auto hits = edge_index_->nearest_two(end);
+  return *edge_index_;
+}
+
+ObstacleSight RaytracedChannel::obstacle_sight(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) const {
+  return find_obstacles(scene(), edge_index(), antenna.pose.position, tag.pose.position, frequency_hz,
+                        level_validity_reach_m(frequency_hz), finder_.options().surface_epsilon_m);
+}
+
+std::optional<EdgeSight> RaytracedChannel::nearest_edge(const Endpoint& end_point, const Endpoint& other_point,
+                                                        double max_distance_m) const {
+  const Vec3& end = end_point.pose.position;
+  const Vec3& other_end = other_point.pose.position;
+  const EdgeProximity& index = edge_index();
+  const auto hits = index.nearest_two(end);
   const auto& facets = scene().facets();
   const auto& materials = scene().materials();
   // The nearest edge that the two ends see from the same exterior region; the other hit, if any, is the second
@@ -187,7 +199,7 @@ std::optional<EdgeSight> RaytracedChannel::nearest_edge(const Endpoint& end_poin
   for (size_t i = 0; i < hits.size(); ++i) {
     const EdgeProximity::Hit& hit = hits[i];
     if (hit.edge == kNoEdge || hit.distance_m > max_distance_m) break;
-    const Edge& e = edge_index_->edge(hit.edge);
+    const Edge& e = index.edge(hit.edge);
     const Vec3 r_end = end - e.start, r_other = other_end - e.start;
     const Vec3 v_end = r_end - r_end.dot(e.direction) * e.direction;
     const Vec3 v_other = r_other - r_other.dot(e.direction) * e.direction;

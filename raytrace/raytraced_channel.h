@@ -52,6 +52,9 @@ class RaytracedChannel final : public Channel {
   // the first call (edges extracted then when the level has none); distances up to 0.75 m are answered.
   std::optional<EdgeSight> nearest_edge(const Endpoint& end, const Endpoint& other_end,
                                         double max_distance_m) const override;
+  // Narrow obstacles, slab crossings and parallel plates of the link (raytrace/obstacle_finder.h), with the same
+  // edge index; one Embree ray and a few index queries.
+  ObstacleSight obstacle_sight(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) const override;
 
   const PathFinder& finder() const { return finder_; }
   const Scene& scene() const { return finder_.scene(); }
@@ -64,6 +67,7 @@ class RaytracedChannel final : public Channel {
  private:
   PathFinder finder_;
   mutable std::atomic<int> los_packet_width_{0};
+  const EdgeProximity& edge_index() const;  // built on the first call
   mutable std::once_flag edge_index_once_;
   mutable std::unique_ptr<EdgeProximity> edge_index_;
 };

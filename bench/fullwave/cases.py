@@ -211,6 +211,69 @@ def upright() -> Case:
     )
 
 
+# Case (f): a concrete wall with a doorway (issue #33): the wall of case (e), 2.1 × 1.6 × 0.2 m (x ∈ [−1.05, 1.05],
+# z ∈ [−0.8, 0.8], y ∈ [0, 0.2]), with an opening 0.9 m wide and 1.1 m high centred on the origin (|x| < 0.45,
+# |z| < 0.55; the meep mirror plane z = 0 needs the opening centred in z, so it has a lintel and a sill 25 cm deep);
+# z dipole 0.8 m in front of the opening's centre, so its E is along the jambs. Observers in the opening, behind
+# it, just behind a jamb (in and beside the jamb's shadow boundary x ≈ 0.45·(0.8 + y)/0.8) and in the wall's
+# shadow. The wall is 8 slab boxes on a 3 × 3 grid without the centre, corners shared (rfidray welds them into one
+# facet with a hole: no T-junction makes a false edge); rho is the distance to the real edges (the outline and the
+# opening's), not to the seams.
+DOOR_HALF_WIDTH_M = 0.45
+DOOR_HALF_HEIGHT_M = 0.55
+DOORWAY_WALL_HALF_M = (1.05, 0.8)   # x, z
+
+
+def doorway() -> Case:
+    t = WALL_THICKNESS_M
+    xs = (-DOORWAY_WALL_HALF_M[0], -DOOR_HALF_WIDTH_M, DOOR_HALF_WIDTH_M, DOORWAY_WALL_HALF_M[0])
+    zs = (-DOORWAY_WALL_HALF_M[1], -DOOR_HALF_HEIGHT_M, DOOR_HALF_HEIGHT_M, DOORWAY_WALL_HALF_M[1])
+    boxes = tuple(Box((xs[i], 0.0, zs[j]), (xs[i + 1], 0.0, zs[j + 1]), "concrete", eps_r=CONCRETE_EPS_R,
+                      sigma_s_m=CONCRETE_SIGMA_S_M, slab_m=t)
+                  for i in range(3) for j in range(3) if (i, j) != (1, 1))
+    outline = (Box((xs[0], 0.0, zs[0]), (xs[3], 0.0, zs[3]), "concrete", slab_m=t),
+               Box((xs[1], 0.0, zs[1]), (xs[2], 0.0, zs[2]), "concrete", slab_m=t))
+    j = DOOR_HALF_WIDTH_M
+    specs = [
+        ("open_x0_mid", (0.0, t / 2, 0.0), "in the opening"),
+        ("open_x30_mid", (0.30, t / 2, 0.0), "in the opening"),
+        ("open_x40_mid", (0.40, t / 2, 0.0), "in the opening"),
+        ("behind_x0_15cm", (0.0, t + 0.15, 0.0), "behind the opening"),
+        ("behind_x30_20cm", (0.30, t + 0.20, 0.0), "behind the opening"),
+        ("behind_x0_15cm_z45", (0.0, t + 0.15, 0.45), "behind the opening"),
+        ("jamb_in_10cm", (j - 0.05, t + 0.10, 0.0), "just behind a jamb"),
+        ("jamb_out_10cm", (j + 0.05, t + 0.10, 0.0), "just behind a jamb"),
+        ("jamb_out_25cm", (j + 0.10, t + 0.25, 0.0), "just behind a jamb"),
+        ("jamb_deep_10cm", (j + 0.15, t + 0.10, 0.0), "just behind a jamb"),
+        ("shadow_x80_10cm", (0.80, t + 0.10, 0.0), "in the wall's shadow"),
+        ("shadow_x80_25cm", (0.80, t + 0.25, 0.0), "in the wall's shadow"),
+        ("shadow_x75_z30", (0.75, t + 0.20, 0.30), "in the wall's shadow"),
+        ("front_x30_30cm", (0.30, -0.30, 0.0), "in front"),
+        ("front_x70_20cm", (0.70, -0.20, 0.0), "in front"),
+    ]
+    obs = []
+    for label, p, region in specs:
+        p = tuple(round(v, 9) for v in p)
+        obs.append(Observer(label, p, nearest_edge_m(p, outline), math.degrees(math.atan2(p[1], p[0])), region))
+    return Case(
+        name="doorway",
+        description=f"concrete wall 2.1 × 1.6 × {t:g} m (x ∈ [−1.05, 1.05], z ∈ [−0.8, 0.8], y ∈ [0, {t:g}]; "
+                    f"ε' = {CONCRETE_EPS_R:.2f}, σ = {CONCRETE_SIGMA_S_M:.4f} S/m) with a doorway 0.9 × 1.1 m "
+                    f"(|x| < 0.45, |z| < 0.55); z dipole at (0, −0.8, 0); rfidray: the front face y = 0 (one facet "
+                    f"with a hole) with --thickness {t:g}",
+        boxes=boxes,
+        source=WALL_SOURCE_M,
+        axis="z",
+        observers=tuple(obs),
+        domain_lo=(-1.20, -0.95, -0.95),
+        domain_hi=(1.20, 0.65, 0.95),
+        polarization_name="vertical (z)",
+        symmetries=(("x", 1), ("z", -1)),
+        eps_averaging=True,
+        convergence_order=2,
+    )
+
+
 CASES = {
     "sheet_edge_soft": lambda: sheet_edge("z"),
     "sheet_edge_hard": lambda: sheet_edge("x"),
@@ -218,4 +281,5 @@ CASES = {
     "plate_front": plate_front,
     "rack_bay": rack_bay,
     "upright": upright,
+    "doorway": doorway,
 }

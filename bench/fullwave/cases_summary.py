@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Per-region error summary of the cases other than the sheet edge (issue #33 cases b–e), from their CSVs.
+"""Per-region error summary of the cases other than the sheet edge (issue #33 cases b–f), from their CSVs.
 
   /usr/bin/python3 bench/fullwave/cases_summary.py -o bench/results/fullwave
 
@@ -18,7 +18,7 @@ import numpy as np
 
 from summary import read_rows
 
-CASES = ("concrete_wall", "plate_front", "rack_bay", "upright")
+CASES = ("concrete_wall", "doorway", "plate_front", "rack_bay", "upright")
 LEVELS = ("los", "los+blocked", "single-bounce", "double-bounce", "full-selective", "full")
 CONVERGED = 0.05
 

@@ -75,7 +75,8 @@ def _hertz_weight(axis, d):
     return np.linalg.norm(np.cross(axis, d / n)) if n > 0 else 0.0
 
 
-def link(binary: str, scene: str, case: Case, position, level: str, thickness_m: float | None = None) -> dict:
+def link_json(binary: str, scene: str, case: Case, position, level: str, thickness_m: float | None = None) -> dict:
+    """`rfidray link --json` for the case's source and a tag at `position` (same polarization), parsed."""
     a = axis_vector(case.axis)
     pol = "linear:{},{},{}".format(*a)
     cmd = [binary, "link", "--scene", scene, "--antenna", "{},{},{}".format(*case.source),
@@ -87,9 +88,13 @@ def link(binary: str, scene: str, case: Case, position, level: str, thickness_m:
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed ({r.returncode}): {r.stderr.strip()}")
-    j = json.loads(r.stdout)
+    return json.loads(r.stdout)
+
+
+def link(binary: str, scene: str, case: Case, position, level: str, thickness_m: float | None = None) -> dict:
+    j = link_json(binary, scene, case, position, level, thickness_m)
     src, tag = np.array(case.source), np.array(position, dtype=float)
-    axis = np.array(a)
+    axis = np.array(axis_vector(case.axis))
     los = tag - src
     w_los = _hertz_weight(axis, los) * _hertz_weight(axis, -los)
     h_raw = complex(j["raytraced"]["h"]["re"], j["raytraced"]["h"]["im"])
@@ -107,14 +112,20 @@ def link(binary: str, scene: str, case: Case, position, level: str, thickness_m:
     return {"ratio": h / h0, "ratio_isotropic": h_raw / h0, "paths": [p["kind"] for p in j["raytraced"]["paths"]]}
 
 
-def all_levels(binary: str, case: Case, scratch: str, levels=LEVELS, thickness_m=None, jobs: int = 2) -> dict:
-    """{level: complex array of h/h_ideal per observer (short-dipole weighted)}, plus '<level>:isotropic'.
-    A case with walls (Box.slab_m > 0) passes their thickness as `--thickness` (one per case)."""
+def case_thickness(case: Case, thickness_m: float | None = None) -> float | None:
+    """The `--thickness` of a case with walls (Box.slab_m > 0; one per case), else `thickness_m`."""
     slabs = {b.slab_m for b in case.boxes if b.slab_m > 0.0}
     if len(slabs) > 1:
         raise ValueError(f"case {case.name}: walls of different thickness {sorted(slabs)} (rfidray link takes one)")
     if slabs and thickness_m is None:
         thickness_m = slabs.pop()
+    return thickness_m
+
+
+def all_levels(binary: str, case: Case, scratch: str, levels=LEVELS, thickness_m=None, jobs: int = 2) -> dict:
+    """{level: complex array of h/h_ideal per observer (short-dipole weighted)}, plus '<level>:isotropic'.
+    A case with walls (Box.slab_m > 0) passes their thickness as `--thickness` (one per case)."""
+    thickness_m = case_thickness(case, thickness_m)
     scene = write_obj(case, os.path.join(scratch, case.name + ".obj"))
     tasks = [(lv, i, o.position) for lv in levels for i, o in enumerate(case.observers)]
     with ThreadPoolExecutor(max_workers=jobs) as ex:

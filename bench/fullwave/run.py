@@ -5,11 +5,13 @@
       [--resolution 60 --resolution 90] [--pml 0.2 --pml 0.35] [--thickness 0.02] -o bench/results/fullwave
   /usr/bin/python3 bench/fullwave/run.py --halfplane-2d [--resolution 60 ...] -o bench/results/fullwave
   /usr/bin/python3 bench/fullwave/run.py --summary -o bench/results/fullwave
+  /usr/bin/python3 bench/fullwave/run.py --validity --rfidray build/rfidray -o bench/results/fullwave
 
 Per case it writes CASE.md and CASE.csv: for every observer the FDTD's E/E_free at the finest resolution, the
 reference's own error (resolution spread, PML and sheet-thickness changes) and for every level h/h_ideal and the
 error |h/h_ideal − E/E_free| (a fraction of the free-space field). FDTD runs are cached in OUT/fdtd/*.json.
---summary builds sheet_edge.md, validity_bands.csv and error_vs_krho.png from the sheet cases' CSVs.
+--summary builds sheet_edge.md, validity_bands.csv and error_vs_krho.png from the sheet cases' CSVs; --validity
+checks `link --json`'s validity verdicts against every stored observer (validity_table.py).
 Exit 2 on bad input (unknown case, missing binary), with the reason.
 """
 from __future__ import annotations
@@ -201,6 +203,10 @@ def main():
     ap.add_argument("--thickness", type=float, default=0.0, help="also run sheets this thick (m) at the coarsest resolution")
     ap.add_argument("--halfplane-2d", action="store_true", help="the 2-D FDTD vs exact half-plane study")
     ap.add_argument("--summary", action="store_true", help="bands, CSV and chart from the sheet cases' CSVs")
+    ap.add_argument("--validity", action="store_true",
+                    help="validity's verdicts against every stored observer (validity.md/.csv; no FDTD run)")
+    ap.add_argument("--before", help="with --validity: an earlier validity.csv to compare with")
+    ap.add_argument("--reuse", action="store_true", help="with --validity: re-render from OUT/validity.csv")
     ap.add_argument("--no-richardson", action="store_true", help="reference = the finest run, not the extrapolation")
     ap.add_argument("--rerun", action="store_true", help="ignore cached FDTD runs")
     ap.add_argument("--scratch", default="/tmp/rfidray_fullwave", help="scratch directory for OBJ scenes")
@@ -215,6 +221,18 @@ def main():
     if a.summary:
         import summary
         return summary.write(a.out, log)
+    if a.validity:
+        if not a.reuse and (not a.rfidray or not os.path.isfile(a.rfidray)):
+            fail(f"--validity needs --rfidray BINARY (got {a.rfidray!r}: no such file)")
+        if a.reuse and not os.path.isfile(os.path.join(a.out, "validity.csv")):
+            fail(f"--reuse: no validity.csv in {a.out} (run --validity --rfidray BINARY first)")
+        if a.before and not os.path.isfile(a.before):
+            fail(f"--before {a.before}: no such file")
+        import validity_table
+        try:
+            return validity_table.write(a.rfidray, a.out, a.scratch, a.before, log=log, reuse=a.reuse)
+        except ValueError as e:
+            fail(str(e))
     if not a.case or a.case not in cases.CASES:
         fail(f"--case: expected one of {', '.join(cases.CASES)} (got {a.case!r})")
     if not a.rfidray:

@@ -1,0 +1,58 @@
+#pragma once
+// What a link sees beyond its nearest edge (core/edge_sight.h): the geometries that the canonical wedge check of
+// core/level_validity.h does not cover and that the FDTD runs of bench/fullwave/ found the ray levels wrong in
+// (docs/fullwave.md, "Other geometries"): a narrow obstacle on or beside the direct line (a rack upright), the
+// direct line through a penetrable slab near the slab's edge (a concrete wall), an end between two facing parallel
+// metal plates (a rack bay), an end behind a penetrable slab near its edge or opening (a doorway). Values: raytrace fills them from the scene (Channel::obstacle_sight), core judges
+// them (core/level_validity.h). Units: metres.
+#include <optional>
+
+namespace rfidray {
+
+// Two edges close together near one end of the link (or near where the direct segment is blocked): an object
+// whose cross-section is a fraction of a wavelength, lying within the first Fresnel zone of the direct line.
+// Rays treat it as an opaque screen with single-edge diffraction; the field behind it is neither that shadow nor
+// the single-edge transition (behind a 5 cm post, FDTD finds 0.25–0.62 of the free-space field).
+struct NarrowObstacle {
+  double width_m = 0.0;           // distance between the two edges' points nearest to where it was seen
+  double distance_m = 0.0;        // from the link's end (or the blocking point) to the nearer edge
+  double clearance_m = 0.0;       // the direct segment's distance from the nearer edge (0 when it is blocked)
+  double fresnel_radius_m = 0.0;  // first Fresnel zone radius √(λ d1 d2 / (d1 + d2)) where the segment passes it
+  bool blocks = false;            // the direct segment is blocked by it
+  bool at_end = true;             // seen from an end (else from the point where metal blocks the direct segment)
+};
+
+// The direct segment's first obstacle is a penetrable (non-metal) surface: the link is a slab transmission
+// (P.2040), which is exact for an infinite slab; the slab's nearest edge to the crossing point diffracts a field
+// of ~0.225/ν of the free-space one (knife edge, ITU-R P.526-15 §4.1 for ν > 1), where
+// ν = h·√(2 (d1 + d2) / (λ d1 d2)), h the edge's distance from the crossing point.
+struct SlabCrossing {
+  double edge_distance_m = 0.0;  // crossing point to the slab's nearest edge (its facet's border when no edge is
+                                 // indexed that close)
+  double fresnel_nu = 0.0;       // ν of that edge
+};
+
+// An end on the far side of a penetrable slab's plane from the other end, with the slab's edge (an outline or an
+// opening's jamb) within the edge index's reach: every level models the slab as a zero-thickness sheet with a
+// transmission coefficient, and the field that passes a thick slab's edge or opening (a doorway) is neither that
+// nor UTD with heuristic coefficients.
+struct PenetrableEdge {
+  double distance_m = 0.0;  // the end's distance from the edge
+};
+
+// An end between two facing parallel metal plates (a shelf bay): multiple bounces between the plates and the
+// plates' edges both matter; rays with first-order UTD were measured 0.14–0.19 (median) off between two plates
+// 0.4 m apart and 0.12 off just in front of them.
+struct ParallelPlates {
+  double gap_m = 0.0;     // distance between the two plates' planes
+  bool inside = false;    // the end faces both plates (its perpendicular foot lies on each); else in front of them
+};
+
+struct ObstacleSight {
+  std::optional<NarrowObstacle> narrow;
+  std::optional<SlabCrossing> slab;
+  std::optional<PenetrableEdge> beyond_slab_edge;
+  std::optional<ParallelPlates> plates;
+};
+
+}  // namespace rfidray
