@@ -12,7 +12,8 @@ What it does, with rfidray's own commands only:
  1. every run folder (dataset/<d>/<split>/<run>/<stop>.csv) -> `rfidray import --layout per-stop` (antenna at
     the stop positions, facing +y) and a truth CSV built from dataset/config.txt and the tag order in
     codes/config.py, as the dataset's README describes (tags on a row at y = Y, x = X + S·(i - (n-1)/2), cm);
- 2. `rfidray calibrate` over the D1 training runs (the only place tuning data comes from) -> antenna.yaml;
+ 2. `rfidray calibrate` over the D1 training runs (the only place tuning data comes from) -> antenna.yaml, with
+    the D2-D4 training runs as --allowance-pair (they measure the radius allowance, not the antenna);
  3. for each test run of D1-D4, exactly the acceptance command:
     `rfidray localize R.csv --truth T.csv --method all --height-known --mirror-prior boresight --max-range 3
      --antenna-file antenna.yaml --json`;
@@ -22,7 +23,9 @@ What it does, with rfidray's own commands only:
  5. real_vs_sim.csv, real_vs_sim.md (the README table), real_vs_sim.png, antenna.yaml; the per-run JSON stays
     in the work folder (--keep), since it names the set's tags.
 
---quick takes the first runs of each split only (for a smoke test); --layout-check only converts.
+--quick takes the first runs of each split only (for a smoke test). --peers adds the set's own Tagoram,
+MobiTagbot, RF-Scanner and STPP (bench/real_peers.py, imported from --adarf at run time) on the same runs and
+truth: real_vs_peers.md.
 """
 import argparse
 import csv
@@ -234,6 +237,9 @@ def main():
     ap.add_argument("--train-every", type=int, default=1,
                     help="calibrate on every K-th D1 training run (the runs are ordered by distance: spreading "
                          "them covers every distance, which separates the phase centre from the pattern)")
+    ap.add_argument("--allowance-datasets", default="2,3,4",
+                    help="training splits whose runs (every --train-every-th) calibrate only the radius allowance "
+                         "(calibrate --allowance-pair): the denser rows the antenna file is used on; '' for none")
     ap.add_argument("--quick", action="store_true", help="two runs per split (smoke test)")
     ap.add_argument("--split", default="test", choices=["test", "train"],
                     help="the runs localized (train: for tuning, with --every/--offset keeping them apart from the "
@@ -289,6 +295,9 @@ def main():
     cal_cmd = [args.rfidray, "calibrate", "--height-known", "-o", antenna_file]
     for _, readings, truth_csv, _, _ in train:
         cal_cmd += ["--pair", readings + "," + truth_csv]
+    for d in [int(x) for x in args.allowance_datasets.split(",") if x]:
+        for _, readings, truth_csv, _, _ in runs(d, "train", args.train_every):
+            cal_cmd += ["--allowance-pair", readings + "," + truth_csv]
     print(run(cal_cmd).strip())
 
     # 3.-4. Test splits: real, and simulated with the same geometry.

@@ -20,6 +20,7 @@ namespace {
 
 struct CalibrateState {
   std::vector<std::string> pairs;
+  std::vector<std::string> allowance_pairs;
   std::string output;
   std::string antenna;
   bool height_known = false;
@@ -42,13 +43,17 @@ nlohmann::json allowance(const loc::AntennaCalibration& c) {
 int run_calibrate(const CalibrateState& s) {
   std::vector<loc::CalibrationSample> samples;
   std::set<std::string> antennas;
-  for (const std::string& pair : s.pairs) {
+  auto add = [&](const std::string& pair, const char* option, bool fit_geometry) {
     const size_t comma = pair.find(',');
     if (comma == std::string::npos || comma == 0 || comma + 1 == pair.size() || pair.find(',', comma + 1) != std::string::npos)
-      throw field_error("--pair", "must be READINGS.csv,TRUTH.csv (got '" + pair + "')");
+      throw field_error(option, "must be READINGS.csv,TRUTH.csv (got '" + pair + "')");
     const std::string readings = pair.substr(0, comma), truth_file = pair.substr(comma + 1);
+    const size_t before = samples.size();
     io::add_reference_tags(io::read_readings_csv(readings), io::read_truth_csv(truth_file), samples, antennas);
-  }
+    for (size_t i = before; i < samples.size(); ++i) samples[i].fit_geometry = fit_geometry;
+  };
+  for (const std::string& pair : s.pairs) add(pair, "--pair", true);
+  for (const std::string& pair : s.allowance_pairs) add(pair, "--allowance-pair", false);
   const std::string antenna = io::antenna_to_calibrate(s.antenna, antennas, "--antenna");
   loc::CalibrationOptions o;
   o.planar = s.height_known;
@@ -107,6 +112,10 @@ std::function<int()> setup_calibrate(CLI::App& app) {
       "uncertainty) from readings of reference tags at known positions; use it with `localize --antenna-file`.");
   sub->add_option("--pair", state->pairs, "READINGS.csv,TRUTH.csv of one run (repeatable); truth header name,x,y,z")
       ->required();
+  sub->add_option("--allowance-pair", state->allowance_pairs,
+                  "READINGS.csv,TRUTH.csv of a run used only to measure the radius allowance, not to fit the antenna "
+                  "(repeatable): reference tags of the other setups the antenna will localize in (denser rows, "
+                  "other distances)");
   sub->add_option("-o,--output", state->output, "antenna file to write (YAML)")->required();
   sub->add_option("--antenna", state->antenna, "antenna name to calibrate (default: the only one in the readings)");
   sub->add_flag("--height-known", state->height_known,

@@ -84,7 +84,7 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   std::vector<double> freqs;
   for (const CalibrationSample& s : samples)
     for (const ReadGroup& g : s.reads.groups)
-      if (g.antenna == antenna && !g.reads.empty() &&
+      if (s.fit_geometry && g.antenna == antenna && !g.reads.empty() &&
           std::none_of(freqs.begin(), freqs.end(), [&](double f) { return std::abs(f - g.frequency_hz) < 1e3; }))
         freqs.push_back(g.frequency_hz);
   std::sort(freqs.begin(), freqs.end());
@@ -102,6 +102,7 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   mo.floor_sigma_rad = options.floor_sigma_rad;
   mo.fold_pi = options.fold_pi;
   for (const CalibrationSample& s : samples) {
+    if (!s.fit_geometry) continue;
     TagReads mine;
     mine.tag = s.reads.tag;
     for (const ReadGroup& g : s.reads.groups)
@@ -134,6 +135,7 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
       if (n.term == term) return;
     out.not_fitted.push_back({term, why});
   };
+  bool horizontal_plane = options.planar;  // every tag at the antennas' height: the allowance localizes in 2-D
   if (options.planar) {
     const std::string why = "--height-known: antenna and tags in one horizontal plane";
     fix_offset[2] = true, note_fixed("dz", why);
@@ -161,6 +163,7 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
     const bool spans_plane = svd.singularValues()[1] / std::sqrt(static_cast<double>(all.size())) > 5.0 * options.planar_tolerance_m;
     if (rms_out_m < options.planar_tolerance_m && spans_plane) {
       const Vec3 normal = svd.matrixV().col(2);
+      horizontal_plane = horizontal_plane || std::abs(normal.z()) > std::cos(10.0 * kPi / 180.0);
       // The normal in each antenna frame: one axis for every point, or the offset mixes axes (left to the
       // Jacobian test below).
       Vec3 frame_normal = points.front().orientation.conjugate() * normal;
@@ -357,7 +360,11 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
       out.prior_bounded.push_back({kGeometryTermNames[g], why.str()});
     }
   }
-  if (options.measure_allowance) measure_allowance(samples, options, out);
+  if (options.measure_allowance) {
+    CalibrationOptions measured = options;
+    measured.planar = horizontal_plane;
+    measure_allowance(samples, measured, out);
+  }
   return out;
 }
 

@@ -24,6 +24,9 @@ namespace rfidray::loc {
 struct CalibrationSample {
   TagReads reads;     // one tag in one run
   Vec3 tag_m = Vec3::Zero();
+  // false: used only to measure the radius allowance (allowance.h), not to fit the antenna — reference tags of
+  // other setups (denser rows, other rooms) the antenna will be used in, whose own misfit would bend its model.
+  bool fit_geometry = true;
 };
 
 struct CalibrationOptions {
