@@ -69,7 +69,7 @@ def main():
                 "boresight", "--max-range", "3", "--json"]
         for label, extra in (("phase only", []), ("--scenario", ["--scenario", scenario])):
             for r in json.loads(run(base + extra))["results"]:
-                status = r["status"] if r["status"] == "ok" else "failed (%s)" % r["reason"]
+                status = r["status"] if r["status"] == "ok" else "%s (%s)" % (r["status"], r["reason"])
                 error = "%.0f" % (1e3 * r["error_m"]) if r.get("error_m") is not None else "-"
                 radius = "%.0f" % (1e3 * r["uncertainty_m"]) if r.get("uncertainty_m") is not None else "-"
                 allowance = "%.2f" % r["multipath_phase_rad"] if r.get("multipath_phase_rad") is not None else "-"

@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
           }
           if (s == 0 && di == 1) first_seed_errors[static_cast<int>(mi)].push_back(err);
           csv << scenario.seed << "," << tags[t].tag << "," << loc::to_string(methods[mi]) << "," << modes[di].name
-              << "," << (r.result.ok ? "ok" : "failed") << "," << loc::to_string(r.result.reason) << ","
+              << "," << loc::to_string(r.result.status()) << "," << loc::to_string(r.result.reason) << ","
               << r.result.position.x() << "," << r.result.position.y() << "," << r.result.position.z() << "," << err
               << "," << r.time_ms << "," << tags[t].read_count() << "\n";
         }

@@ -12,7 +12,8 @@ What it does, with rfidray's own commands only:
  1. every run folder (dataset/<d>/<split>/<run>/<stop>.csv) -> `rfidray import --layout per-stop` (antenna at
     the stop positions, facing +y) and a truth CSV built from dataset/config.txt and the tag order in
     codes/config.py, as the dataset's README describes (tags on a row at y = Y, x = X + S·(i - (n-1)/2), cm);
- 2. `rfidray calibrate` over the D1 training runs (the only place tuning data comes from) -> antenna.yaml;
+ 2. `rfidray calibrate` over the D1 training runs (the only place tuning data comes from) -> antenna.yaml, with
+    the D2-D4 training runs as --allowance-pair (they measure the radius allowance, not the antenna);
  3. for each test run of D1-D4, exactly the acceptance command:
     `rfidray localize R.csv --truth T.csv --method all --height-known --mirror-prior boresight --max-range 3
      --antenna-file antenna.yaml --json`;
@@ -22,7 +23,9 @@ What it does, with rfidray's own commands only:
  5. real_vs_sim.csv, real_vs_sim.md (the README table), real_vs_sim.png, antenna.yaml; the per-run JSON stays
     in the work folder (--keep), since it names the set's tags.
 
---quick takes the first runs of each split only (for a smoke test); --layout-check only converts.
+--quick takes the first runs of each split only (for a smoke test). --peers adds the set's own Tagoram,
+MobiTagbot, RF-Scanner and STPP (bench/real_peers.py, imported from --adarf at run time) on the same runs and
+truth: real_vs_peers.md.
 """
 import argparse
 import csv
@@ -52,8 +55,9 @@ def fail(message):
 
 
 def run(cmd, capture=True):
-    """Runs an rfidray command; exits with its message when it fails."""
-    r = subprocess.run(cmd, capture_output=capture, text=True)
+    """Runs an rfidray command; exits with its message when it fails. One OpenMP thread, so a result's time_ms
+    is the CPU time of that tag (comparable with the peers' process time)."""
+    r = subprocess.run(cmd, capture_output=capture, text=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
     if r.returncode != 0:
         fail("command failed (exit %d): %s\n%s" % (r.returncode, " ".join(cmd), (r.stderr or "")[-2000:]))
     return r.stdout
@@ -132,14 +136,17 @@ def convert(args, d, split, run_dir, truth, work):
     name = os.path.basename(run_dir)
     base = os.path.join(work, "D%d" % d, split, name)
     os.makedirs(base, exist_ok=True)
+    readings = os.path.join(base, "readings.csv")
+    truth_csv = os.path.join(base, "truth.csv")
+    if args.keep and os.path.isfile(readings) and os.path.isfile(truth_csv):
+        return readings, truth_csv  # converted by an earlier run into the same --keep folder
     raw = os.path.join(base, "imported.csv")
     # The README of the set calls its y column ("1.63") invalid, default 0: a constant replaces it.
     run([args.rfidray, "import", "--layout", "per-stop", run_dir, "--columns", "y=0", "--antenna-rpy", "0,0,90",
          "--antenna-name", "stage", "-q", "-o", raw])
-    readings = os.path.join(base, "readings.csv")
     if filter_to_truth(raw, {t[0] for t in truth}, readings) == 0:
         return None
-    truth_csv = os.path.join(base, "truth.csv")
+    os.remove(raw)
     with open(truth_csv, "w") as f:
         f.write("name,x,y,z\n")
         for epc, x, y, z in truth:
@@ -155,24 +162,36 @@ def localize(args, readings, truth_csv, antenna_file):
     return json.loads(run(cmd))
 
 
+def error_stats(errs):
+    errs = sorted(errs)
+    nan = float("nan")
+    return {
+        "mean_mm": 1e3 * statistics.fmean(errs) if errs else nan,
+        "median_mm": 1e3 * statistics.median(errs) if errs else nan,
+        "p90_mm": 1e3 * errs[min(len(errs) - 1, int(math.ceil(0.9 * len(errs))) - 1)] if errs else nan,
+        "max_mm": 1e3 * errs[-1] if errs else nan,
+    }
+
+
 def stats(results):
-    """Per method: ok fraction, error mean/median/p90/max of ok results, ok outside their uncertainty."""
+    """Per method: ok count, error mean/median/p90/max of ok results, ok outside their uncertainty; and over every
+    result with a position (ok + uncertain): count, errors, share inside the 95 % radius, median radius, time."""
     out = {}
     for m in METHODS:
         rows = [r for r in results if r["method"] == m]
         ok = [r for r in rows if r["status"] == "ok" and r.get("error_m") is not None]
-        errs = sorted(r["error_m"] for r in ok)
+        pos = [r for r in rows if r["status"] in ("ok", "uncertain") and r.get("error_m") is not None]
         outside = sum(1 for r in ok if r.get("uncertainty_m") is not None and r["error_m"] > r["uncertainty_m"])
         resid = [r["residual_rad"] for r in rows if r.get("residual_rad")]
-        out[m] = {
-            "tags": len(rows), "ok": len(ok),
-            "mean_mm": 1e3 * statistics.fmean(errs) if errs else float("nan"),
-            "median_mm": 1e3 * statistics.median(errs) if errs else float("nan"),
-            "p90_mm": 1e3 * errs[min(len(errs) - 1, int(math.ceil(0.9 * len(errs))) - 1)] if errs else float("nan"),
-            "max_mm": 1e3 * errs[-1] if errs else float("nan"),
-            "ok_outside_uncertainty": outside,
-            "residual_rms_rad": statistics.fmean(resid) if resid else float("nan"),
-        }
+        s = {"tags": len(rows), "ok": len(ok), "ok_outside_uncertainty": outside,
+             "residual_rms_rad": statistics.fmean(resid) if resid else float("nan")}
+        s.update(error_stats([r["error_m"] for r in ok]))
+        s["positioned"] = len(pos)
+        s.update({"pos_" + k: v for k, v in error_stats([r["error_m"] for r in pos]).items()})
+        s["covered"] = sum(1 for r in pos if r["error_m"] <= r["uncertainty_m"])
+        s["median_radius_mm"] = 1e3 * statistics.median([r["uncertainty_m"] for r in pos]) if pos else float("nan")
+        s["time_ms"] = statistics.fmean([r["time_ms"] for r in rows]) if rows else float("nan")
+        out[m] = s
     return out
 
 
@@ -218,9 +237,24 @@ def main():
     ap.add_argument("--train-every", type=int, default=1,
                     help="calibrate on every K-th D1 training run (the runs are ordered by distance: spreading "
                          "them covers every distance, which separates the phase centre from the pattern)")
+    ap.add_argument("--allowance-datasets", default="2,3,4",
+                    help="training splits whose runs (every --train-every-th) calibrate only the radius allowance "
+                         "(calibrate --allowance-pair): the denser rows the antenna file is used on; '' for none")
     ap.add_argument("--quick", action="store_true", help="two runs per split (smoke test)")
+    ap.add_argument("--split", default="test", choices=["test", "train"],
+                    help="the runs localized (train: for tuning, with --every/--offset keeping them apart from the "
+                         "calibration's)")
+    ap.add_argument("--every", type=int, default=1, help="localize every K-th run of the split")
+    ap.add_argument("--offset", type=int, default=0, help="... starting from this one")
+    ap.add_argument("--peers", action="store_true",
+                    help="also run the set's own Tagoram, MobiTagbot, RF-Scanner and STPP (codes/, imported from "
+                         "--adarf at run time) on the same runs; real_vs_peers.md")
+    ap.add_argument("--peer-every", type=int, default=1,
+                    help="run Tagoram and MobiTagbot (0.5-2 s of CPU per tag) on every K-th run only")
+    ap.add_argument("--jobs", type=int, default=2, help="processes for the peers")
     ap.add_argument("--no-sim", action="store_true", help="skip the simulated counterpart")
-    ap.add_argument("--keep", help="keep the converted files in this folder (never inside the repository)")
+    ap.add_argument("--keep", help="keep the converted files in this folder (never inside the repository); runs "
+                                   "already converted there are reused")
     args = ap.parse_args()
     if not os.path.isfile(args.rfidray):
         fail(args.rfidray + ": no rfidray binary (build first, or give --rfidray)")
@@ -234,12 +268,12 @@ def main():
     work = args.keep or tempfile.mkdtemp(prefix="rfidray-real-")
     datasets = [int(x) for x in args.datasets.split(",")]
 
-    def runs(d, split, every=1, limit=0):
+    def runs(d, split, every=1, limit=0, offset=0):
         folder = os.path.join(dataset, str(d), split)
         names = sorted(os.listdir(folder)) if os.path.isdir(folder) else []
         if args.quick:
             names = names[:2]
-        names = names[::max(1, every)]
+        names = names[offset::max(1, every)]
         if limit > 0:
             names = names[:limit]
         out = []
@@ -250,7 +284,7 @@ def main():
                 continue
             conv = convert(args, d, split, os.path.join(folder, n), truth, work)
             if conv:
-                out.append((n, conv[0], conv[1], truth))
+                out.append((n, conv[0], conv[1], truth, os.path.join(folder, n)))
         return out
 
     # 2. Calibration on D1 training runs only.
@@ -259,17 +293,29 @@ def main():
         fail("no D1 training run could be converted")
     antenna_file = os.path.join(args.output, "antenna.yaml")
     cal_cmd = [args.rfidray, "calibrate", "--height-known", "-o", antenna_file]
-    for _, readings, truth_csv, _ in train:
+    for _, readings, truth_csv, _, _ in train:
         cal_cmd += ["--pair", readings + "," + truth_csv]
+    for d in [int(x) for x in args.allowance_datasets.split(",") if x]:
+        for _, readings, truth_csv, _, _ in runs(d, "train", args.train_every):
+            cal_cmd += ["--allowance-pair", readings + "," + truth_csv]
     print(run(cal_cmd).strip())
 
     # 3.-4. Test splits: real, and simulated with the same geometry.
     table = []
     write_floor(os.path.join(work, "floor.obj"))
+    peer_table = []
+    code = None
+    if args.peers:
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        import real_peers
+        code = real_peers.PeerCode(args.adarf)
     for d in datasets:
-        tests = runs(d, "test")
+        tests = runs(d, args.split, args.every, 0, args.offset)
         real, uncal, sim_ideal, sim_traced, sim_ripple = [], [], [], [], []
-        for name, readings, truth_csv, truth in tests:
+        if args.peers:
+            peer_rows = run_peers(args, real_peers, d, tests, tag_orders)
+            json.dump(peer_rows, open(os.path.join(work, "D%d_peers.json" % d), "w"), indent=1)
+        for name, readings, truth_csv, truth, _ in tests:
             j = localize(args, readings, truth_csv, antenna_file)
             # Per-run results name the set's tags: they stay with the converted data, outside the repository.
             json.dump(j, open(os.path.join(work, "D%d_%s.json" % (d, name)), "w"), indent=1)
@@ -293,9 +339,23 @@ def main():
         for label, results in rows:
             for m, s in stats(results).items():
                 table.append(dict(dataset="D%d" % d, data=label, method=m, **s))
+        if args.peers:
+            for label, results in rows[:2]:
+                for m, s in stats(results).items():
+                    peer_table.append(dict(dataset="D%d" % d, method="rfidray %s, %s" % (m, label.split(", ")[1]),
+                                           tags=s["tags"], positioned=s["positioned"], ok=s["ok"],
+                                           mean_mm=s["pos_mean_mm"], median_mm=s["pos_median_mm"],
+                                           p90_mm=s["pos_p90_mm"], max_mm=s["pos_max_mm"], covered=s["covered"],
+                                           median_radius_mm=s["median_radius_mm"], cpu_ms=s["time_ms"]))
+            for m, s in real_peers.peer_stats(peer_rows).items():
+                peer_table.append(dict(dataset="D%d" % d, method=m, ok=None, covered=None,
+                                       median_radius_mm=float("nan"), **s))
 
+    if args.peers:
+        write_peer_table(args.output, peer_table, args)
     fields = ["dataset", "data", "method", "tags", "ok", "mean_mm", "median_mm", "p90_mm", "max_mm",
-              "ok_outside_uncertainty", "residual_rms_rad"]
+              "ok_outside_uncertainty", "residual_rms_rad", "positioned", "pos_mean_mm", "pos_median_mm",
+              "covered", "median_radius_mm"]
     with open(os.path.join(args.output, "real_vs_sim.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(fields)
@@ -303,15 +363,65 @@ def main():
             w.writerow([("%.4f" % r[k]) if isinstance(r[k], float) else r[k] for k in fields])
     with open(os.path.join(args.output, "real_vs_sim.md"), "w") as f:
         f.write("| dataset | data | method | ok / tags | mean mm | median mm | p90 mm | max mm | ok outside uncertainty "
-                "| residual RMS rad |\n|---|---|---|---|---|---|---|---|---|---|\n")
+                "| residual RMS rad | with a position | their mean / median mm | in their 95 % radius | median radius mm |"
+                "\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
         for r in table:
-            f.write("| %s | %s | %s | %d / %d | %.1f | %.1f | %.1f | %.1f | %d | %.3f |\n" % (
+            f.write("| %s | %s | %s | %d / %d | %.1f | %.1f | %.1f | %.1f | %d | %.3f | %d | %.1f / %.1f | %s | %.1f |\n" % (
                 r["dataset"], r["data"], r["method"], r["ok"], r["tags"], r["mean_mm"], r["median_mm"], r["p90_mm"],
-                r["max_mm"], r["ok_outside_uncertainty"], r["residual_rms_rad"]))
+                r["max_mm"], r["ok_outside_uncertainty"], r["residual_rms_rad"], r["positioned"], r["pos_mean_mm"],
+                r["pos_median_mm"], percent(r["covered"], r["positioned"]), r["median_radius_mm"]))
     plot(args.output, table)
     if not args.keep:
         shutil.rmtree(work, ignore_errors=True)
     print(open(os.path.join(args.output, "real_vs_sim.md")).read())
+
+
+def percent(k, n):
+    return "%d (%.0f %%)" % (k, 100.0 * k / n) if n else "-"
+
+
+def run_peers(args, real_peers, d, tests, tag_orders):
+    """The set's own methods on the runs of `tests` (in --jobs processes), against the same truth."""
+    import multiprocessing
+    epcs = [e.encode() for e in tag_orders["EPC_%s%d" % ("T" if args.split == "test" else "C", d)]]
+    jobs = []
+    for k, (name, _, _, truth, run_dir) in enumerate(tests):
+        methods = list(real_peers.PEERS) if k % max(1, args.peer_every) == 0 else ["RF-Scanner", "STPP (x only)"]
+        jobs.append((args.adarf, run_dir, epcs, {t[0]: (t[1], t[2]) for t in truth}, methods, args.split))
+    with multiprocessing.Pool(max(1, args.jobs)) as pool:
+        parts = pool.starmap(peer_job, jobs)
+    return [r for part in parts for r in part]
+
+
+_PEER_CODE = {}
+
+
+def peer_job(adarf, run_dir, epcs, truth, methods, split):
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import real_peers
+    if adarf not in _PEER_CODE:
+        _PEER_CODE[adarf] = real_peers.PeerCode(adarf)
+    return real_peers.run_peers_on_run(_PEER_CODE[adarf], run_dir, epcs, truth, methods, split)
+
+
+def write_peer_table(out_dir, rows, args):
+    """real_vs_peers.md / .csv: rfidray's methods (every result with a position) beside the published ones."""
+    fields = ["dataset", "method", "tags", "positioned", "ok", "mean_mm", "median_mm", "p90_mm", "max_mm", "covered",
+              "median_radius_mm", "cpu_ms"]
+    with open(os.path.join(out_dir, "real_vs_peers.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(fields)
+        for r in rows:
+            w.writerow([("%.4f" % r[k]) if isinstance(r[k], float) else ("" if r[k] is None else r[k]) for k in fields])
+    with open(os.path.join(out_dir, "real_vs_peers.md"), "w") as f:
+        f.write("| split | method | with a position / tags | ok | mean / median / p90 / max mm | in its 95 % radius "
+                "| median radius mm | CPU ms per tag |\n|---|---|---|---|---|---|---|---|\n")
+        for r in rows:
+            f.write("| %s %s | %s | %d / %d | %s | %.0f / %.0f / %.0f / %.0f | %s | %s | %.1f |\n" % (
+                r["dataset"], args.split, r["method"], r["positioned"], r["tags"], "-" if r["ok"] is None else r["ok"],
+                r["mean_mm"], r["median_mm"], r["p90_mm"], r["max_mm"],
+                "-" if r["covered"] is None else percent(r["covered"], r["positioned"]),
+                "-" if r["median_radius_mm"] != r["median_radius_mm"] else "%.0f" % r["median_radius_mm"], r["cpu_ms"]))
 
 
 def plot(out_dir, table):

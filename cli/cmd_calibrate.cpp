@@ -20,6 +20,7 @@ namespace {
 
 struct CalibrateState {
   std::vector<std::string> pairs;
+  std::vector<std::string> allowance_pairs;
   std::string output;
   std::string antenna;
   bool height_known = false;
@@ -27,16 +28,32 @@ struct CalibrateState {
   bool json = false;
 };
 
+nlohmann::json notes(const std::vector<loc::AntennaCalibration::TermNote>& list) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& n : list) j.push_back({{"term", n.term}, {"why", n.why}});
+  return j;
+}
+
+nlohmann::json allowance(const loc::AntennaCalibration& c) {
+  if (!c.has_allowance()) return nullptr;
+  return {{"base_rad", c.allowance_base_rad}, {"smooth_factor", c.allowance_smooth_factor},
+          {"samples", c.allowance_samples}, {"coverage", c.allowance_coverage}};
+}
+
 int run_calibrate(const CalibrateState& s) {
   std::vector<loc::CalibrationSample> samples;
   std::set<std::string> antennas;
-  for (const std::string& pair : s.pairs) {
+  auto add = [&](const std::string& pair, const char* option, bool fit_geometry) {
     const size_t comma = pair.find(',');
     if (comma == std::string::npos || comma == 0 || comma + 1 == pair.size() || pair.find(',', comma + 1) != std::string::npos)
-      throw field_error("--pair", "must be READINGS.csv,TRUTH.csv (got '" + pair + "')");
+      throw field_error(option, "must be READINGS.csv,TRUTH.csv (got '" + pair + "')");
     const std::string readings = pair.substr(0, comma), truth_file = pair.substr(comma + 1);
+    const size_t before = samples.size();
     io::add_reference_tags(io::read_readings_csv(readings), io::read_truth_csv(truth_file), samples, antennas);
-  }
+    for (size_t i = before; i < samples.size(); ++i) samples[i].fit_geometry = fit_geometry;
+  };
+  for (const std::string& pair : s.pairs) add(pair, "--pair", true);
+  for (const std::string& pair : s.allowance_pairs) add(pair, "--allowance-pair", false);
   const std::string antenna = io::antenna_to_calibrate(s.antenna, antennas, "--antenna");
   loc::CalibrationOptions o;
   o.planar = s.height_known;
@@ -55,6 +72,9 @@ int run_calibrate(const CalibrateState& s) {
                      {"pattern_rad", c.pattern_rad},
                      {"pattern_sd_rad", c.pattern_sd_rad},
                      {"residual_rms_rad", c.residual_rms_rad},
+                     {"not_fitted", notes(c.not_fitted)},
+                     {"allowance", allowance(c)},
+                     {"prior_bounded", notes(c.prior_bounded)},
                      {"reads_used", c.reads_used},
                      {"tags_used", c.tags_used}};
     nlohmann::json cov = nlohmann::json::array();
@@ -70,6 +90,14 @@ int run_calibrate(const CalibrateState& s) {
               << " reads, residual " << c.residual_rms_rad << " rad RMS; phase centre offset ("
               << c.phase_centre_offset_m.transpose() << ") m; " << c.frequencies_hz.size() << " carriers -> "
               << s.output << "\n";
+    for (const auto& n : c.not_fitted) std::cout << "  not fitted (held at 0): " << n.term << ": " << n.why << "\n";
+    for (const auto& n : c.prior_bounded) std::cout << "  bounded by the prior: " << n.term << ": " << n.why << "\n";
+    if (c.has_allowance())
+      std::cout << "  radius allowance (measured on the " << c.allowance_samples << " reference tags, "
+                << 100.0 * c.allowance_coverage << " % inside their 95 % radius): max(" << c.allowance_base_rad
+                << " rad, " << c.allowance_smooth_factor << " x the fit's smooth misfit)\n";
+    else
+      std::cout << "  radius allowance: not measured (fewer than 10 reference tags localized)\n";
   }
   return 0;
 }
@@ -84,11 +112,17 @@ std::function<int()> setup_calibrate(CLI::App& app) {
       "uncertainty) from readings of reference tags at known positions; use it with `localize --antenna-file`.");
   sub->add_option("--pair", state->pairs, "READINGS.csv,TRUTH.csv of one run (repeatable); truth header name,x,y,z")
       ->required();
+  sub->add_option("--allowance-pair", state->allowance_pairs,
+                  "READINGS.csv,TRUTH.csv of a run used only to measure the radius allowance, not to fit the antenna "
+                  "(repeatable): reference tags of the other setups the antenna will localize in (denser rows, "
+                  "other distances)");
   sub->add_option("-o,--output", state->output, "antenna file to write (YAML)")->required();
   sub->add_option("--antenna", state->antenna, "antenna name to calibrate (default: the only one in the readings)");
   sub->add_flag("--height-known", state->height_known,
                 "antenna and tags in one horizontal plane: elevation pattern terms and the vertical offset are not "
-                "fitted (the data cannot see them)");
+                "fitted (the data cannot see them). Without it, calibrate finds such terms itself (reference tags and "
+                "antenna positions in one plane, or a term the reads do not depend on), holds them at 0 and says so "
+                "(not_fitted in the output and the antenna file)");
   sub->add_flag("--fold-pi", state->fold_pi, "the reader reports phase modulo pi: fit twice the phase");
   sub->add_flag("--json", state->json, "print the calibration as JSON");
   return [state] { return run_calibrate(*state); };

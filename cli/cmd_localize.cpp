@@ -41,6 +41,7 @@ int run_localize(LocalizeState s) {
   loc::LocalizePlan plan = loc::validate(s.request, names);
   const std::vector<loc::Method>& methods = plan.methods;
   if (!s.antenna_file.empty()) plan.options.calibration = io::read_antenna_file(s.antenna_file);
+  loc::apply_calibration_allowance(plan, s.request);
 
   // The known scene: its multipath allowance bounds what a fit cannot see (io/scene_multipath.h).
   std::optional<io::SceneMultipath> scene;
@@ -57,8 +58,9 @@ int run_localize(LocalizeState s) {
   io::label_groups_by_antenna(tags);
 
   nlohmann::json results = nlohmann::json::array();
-  std::map<loc::Method, std::vector<double>> errors, times;
-  std::map<loc::Method, int> failed, outside;
+  // Per method: errors of the ok results (the summary's error columns), and of every result with a position.
+  std::map<loc::Method, std::vector<double>> errors, times, positioned_errors, positioned_radii;
+  std::map<loc::Method, int> failed, uncertain, outside, positioned_outside;
   for (const loc::TagReads& tag : tags) {
     const loc::LocalizeOptions o =
         loc::tag_options(plan, tag.tag, truth, s.truth, names, scene ? scene->allowance_for(tag) : nullptr);
@@ -68,28 +70,40 @@ int run_localize(LocalizeState s) {
       const loc::LocalizeResult r = loc::localize(m, tag, o);
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       times[m].push_back(ms);
+      const loc::Status status = r.status();
+      const bool positioned = status != loc::Status::kFailed;
       nlohmann::json j;
       j["name"] = tag.tag;
       j["method"] = loc::to_string(m);
-      j["status"] = r.ok ? "ok" : "failed";
+      j["status"] = loc::to_string(status);
       if (!r.ok) {
         j["reason"] = loc::to_string(r.reason);
         j["detail"] = r.detail;
-        ++failed[m];
+        ++(status == loc::Status::kUncertain ? uncertain : failed)[m];
       }
-      j["x"] = r.ok ? number_or_null(r.position.x()) : nullptr;
-      j["y"] = r.ok ? number_or_null(r.position.y()) : nullptr;
-      j["z"] = r.ok ? number_or_null(r.position.z()) : nullptr;
-      if (r.ok && t != truth.end()) {
+      j["x"] = positioned ? number_or_null(r.position.x()) : nullptr;
+      j["y"] = positioned ? number_or_null(r.position.y()) : nullptr;
+      j["z"] = positioned ? number_or_null(r.position.z()) : nullptr;
+      if (positioned && t != truth.end()) {
         const double e = (r.position - t->second).norm();
         j["error_m"] = e;
-        errors[m].push_back(e);
-        if (!(e <= r.uncertainty_m)) ++outside[m];
+        positioned_errors[m].push_back(e);
+        positioned_radii[m].push_back(r.uncertainty_m);
+        if (!(e <= r.uncertainty_m)) ++positioned_outside[m];
+        if (r.ok) {
+          errors[m].push_back(e);
+          if (!(e <= r.uncertainty_m)) ++outside[m];
+        }
       }
-      j["uncertainty_m"] = r.ok ? number_or_null(r.uncertainty_m) : nullptr;
+      j["uncertainty_m"] = positioned ? number_or_null(r.uncertainty_m) : nullptr;
       j["residual_rad"] = number_or_null(r.residual_rad);  // robust σ of the wrapped-phase residuals of the fit
+      if (positioned)
+        j["radius_parts"] = {{"statistical_m", number_or_null(r.radius_statistical_m)},
+                             {"bias_m_per_rad", number_or_null(r.radius_bias_m_per_rad)},
+                             {"systematic_rad", number_or_null(r.radius_systematic_rad)},
+                             {"smooth_residual_rad", number_or_null(r.smooth_residual_rad)}};
       if (scene && !std::isnan(r.multipath_phase_rad)) j["multipath_phase_rad"] = number_or_null(r.multipath_phase_rad);
-      if (r.ok && !r.mirror_resolved_by.empty()) j["mirror_resolved_by"] = r.mirror_resolved_by;
+      if (positioned && !r.mirror_resolved_by.empty()) j["mirror_resolved_by"] = r.mirror_resolved_by;
       j["reads"] = tag.read_count();
       j["time_ms"] = ms;
       results.push_back(j);
@@ -98,13 +112,23 @@ int run_localize(LocalizeState s) {
   nlohmann::json summary = nlohmann::json::object();
   for (loc::Method m : methods) {
     const loc::ErrorSummary sum = loc::summarize(errors[m], failed[m], times[m]);
+    const loc::ErrorSummary all = loc::summarize(positioned_errors[m], failed[m], times[m]);
+    const loc::ErrorSummary radius = loc::summarize(positioned_radii[m], failed[m], times[m]);
     summary[loc::to_string(m)] = {{"mean_error_m", number_or_null(sum.mean_error_m)},
                                   {"median_error_m", number_or_null(sum.median_error_m)},
                                   {"max_error_m", number_or_null(sum.max_error_m)},
                                   {"min_error_m", number_or_null(sum.min_error_m)},
                                   {"ok", sum.ok},
+                                  {"uncertain", uncertain[m]},
                                   {"failed", sum.failed},
                                   {"ok_outside_uncertainty", outside[m]},
+                                  // Every result with a position (ok and uncertain) that has a truth.
+                                  {"with_position", {{"count", all.ok},
+                                                     {"mean_error_m", number_or_null(all.mean_error_m)},
+                                                     {"median_error_m", number_or_null(all.median_error_m)},
+                                                     {"max_error_m", number_or_null(all.max_error_m)},
+                                                     {"median_uncertainty_m", number_or_null(radius.median_error_m)},
+                                                     {"outside_uncertainty", positioned_outside[m]}}},
                                   {"mean_time_ms", number_or_null(sum.mean_time_ms)}};
   }
   if (s.json) {
@@ -115,13 +139,13 @@ int run_localize(LocalizeState s) {
   size_t tag_width = 16;
   for (const auto& j : results) tag_width = std::max(tag_width, j["name"].get<std::string>().size() + 2);
   const int tag_w = static_cast<int>(tag_width);
-  std::cout << std::left << std::setw(tag_w) << "tag" << std::setw(12) << "method" << std::setw(9) << "status"
+  std::cout << std::left << std::setw(tag_w) << "tag" << std::setw(12) << "method" << std::setw(11) << "status"
             << std::right << std::setw(10) << "x" << std::setw(10) << "y" << std::setw(10) << "z" << std::setw(12)
             << "error_mm" << std::setw(10) << "unc_mm" << std::setw(10) << "time_ms" << "  reason\n";
   std::cout << std::fixed;
   for (const auto& j : results) {
     std::cout << std::left << std::setw(tag_w) << j["name"].get<std::string>() << std::setw(12)
-              << j["method"].get<std::string>() << std::setw(9) << j["status"].get<std::string>() << std::right
+              << j["method"].get<std::string>() << std::setw(11) << j["status"].get<std::string>() << std::right
               << std::setprecision(4);
     for (const char* c : {"x", "y", "z"})
       if (j[c].is_null()) std::cout << std::setw(10) << "-";
@@ -135,7 +159,8 @@ int run_localize(LocalizeState s) {
     if (j.contains("reason")) std::cout << "  " << j["reason"].get<std::string>() << ": " << j["detail"].get<std::string>();
     std::cout << "\n";
   }
-  std::cout << "\nsummary (errors over ok tags with truth):\n";
+  std::cout << "\nsummary (errors over ok tags with truth; status uncertain: a position and its radius, not "
+               "within --max-uncertainty-m or another gate; failed: no position):\n";
   for (auto& [name, v] : summary.items()) {
     std::cout << "  " << std::left << std::setw(11) << name << std::right << std::setprecision(1);
     for (const char* c : {"mean_error_m", "median_error_m", "max_error_m", "min_error_m"}) {
@@ -143,8 +168,18 @@ int run_localize(LocalizeState s) {
       if (v[c].is_null()) std::cout << "-";
       else std::cout << 1000.0 * v[c].get<double>() << "mm";
     }
-    std::cout << "  ok=" << v["ok"] << " failed=" << v["failed"];
-    if (!s.truth.empty()) std::cout << " ok_outside_uncertainty=" << v["ok_outside_uncertainty"];
+    std::cout << "  ok=" << v["ok"] << " uncertain=" << v["uncertain"] << " failed=" << v["failed"];
+    if (!s.truth.empty()) {
+      const auto& w = v["with_position"];
+      std::cout << " ok_outside_uncertainty=" << v["ok_outside_uncertainty"] << "\n  " << std::setw(11) << ""
+                << "  with a position (ok + uncertain): " << w["count"] << ", median error ";
+      if (w["median_error_m"].is_null()) std::cout << "-";
+      else std::cout << 1000.0 * w["median_error_m"].get<double>() << "mm";
+      std::cout << ", median radius ";
+      if (w["median_uncertainty_m"].is_null()) std::cout << "-";
+      else std::cout << 1000.0 * w["median_uncertainty_m"].get<double>() << "mm";
+      std::cout << ", outside their radius " << w["outside_uncertainty"];
+    }
     std::cout << "\n";
   }
   return 0;
@@ -181,7 +216,7 @@ std::function<int()> setup_localize(CLI::App& app) {
   n.scenario = sub->add_option("--scenario", state->scenario,
                   "the scenario the readings come from (or a survey of the site): its scene's extra paths at each "
                   "estimate, over the tag's antenna positions, bound the bias a fit cannot see in its residuals "
-                  "(multipath_phase_rad in the JSON; status failed, reason multipath, when they make the region "
+                  "(multipath_phase_rad in the JSON; status uncertain, reason multipath, when they make the region "
                   "too large)")
       ->check(CLI::ExistingFile)->get_name();
   n.channel = sub->add_option("--channel", state->channel,
@@ -190,25 +225,29 @@ std::function<int()> setup_localize(CLI::App& app) {
                   "full-selective, full, auto)")->get_name();
   sub->add_flag("--fold-pi", state->request.fold_pi, "the reader reports phase modulo pi: fit twice the phase");
   n.max_residual_rad = sub->add_option("--max-residual-rad", state->request.max_residual_rad,
-                  "status ok needs the robust sigma of the wrapped-phase residuals below this (rad)")
+                  "status ok needs the robust sigma of the wrapped-phase residuals below this (rad); above it the "
+                  "position and radius are still given, status uncertain")
       ->capture_default_str()->get_name();
   n.max_uncertainty_m = sub->add_option("--max-uncertainty-m", state->request.max_uncertainty_m,
                   "status ok needs the 95 % radius uncertainty_m at most this (m): the largest region the "
-                  "application accepts")
+                  "application accepts; a larger one is still given, status uncertain")
       ->capture_default_str()->get_name();
   n.systematic_phase_rad = sub->add_option(
       "--systematic-phase-rad", state->request.systematic_phase_rad,
-      "model-error allowance (rad RMS of an unmodelled smooth phase error) in uncertainty_m; default 0.1 with "
-      "--antenna-file, 0.2 without (an uncalibrated antenna's phase pattern is model error too)")->get_name();
+      "model-error allowance (rad RMS of an unmodelled smooth phase error) in uncertainty_m; default: the "
+      "allowance the antenna file measured on its reference tags (allowance_base_rad and "
+      "allowance_smooth_factor), else 0.1 with --antenna-file, 0.2 without (an uncalibrated antenna's phase "
+      "pattern is model error too)")->get_name();
   n.frequency_hz = sub->add_option("--frequency-hz", state->request.frequency_hz, "carrier when the CSV has no frequency column")
       ->capture_default_str()->get_name();
   n.max_range_m = sub->add_option("--max-range", state->request.max_range_m, "search region: within this distance (m) of the path")
       ->capture_default_str()->get_name();
   n.stride_m = sub->add_option("--stride", state->request.stride_m, "hyperbolic: antenna move (m) between conics (minimum)")
       ->capture_default_str()->get_name();
-  sub->add_flag("--json", state->json, "print JSON: results[] {name, method, status, reason?, x, y, z, error_m?, "
-                                       "uncertainty_m (95 % radius, null when failed), time_ms} and summary per "
-                                       "method (with ok_outside_uncertainty when --truth is given)");
+  sub->add_flag("--json", state->json, "print JSON: results[] {name, method, status (ok | uncertain | failed), "
+                                       "reason?, x, y, z (null when failed), error_m?, uncertainty_m (95 % radius, "
+                                       "null when failed), time_ms} and summary per method (ok, uncertain, failed; "
+                                       "with ok_outside_uncertainty and with_position when --truth is given)");
   n.mirror_prior_truth = n.mirror_prior + " truth";
   return [state] { return run_localize(*state); };
 }

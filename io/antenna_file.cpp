@@ -1,6 +1,7 @@
 #include "io/antenna_file.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 
 #include "io/checked_yaml.h"
@@ -82,6 +83,38 @@ loc::AntennaCalibration parse_node(const YAML::Node& root, const std::string& so
     if (eig.eigenvalues().minCoeff() < -1e-8 * scale)  // the file's 10 digits round it
       throw src.error(*n, key, "must be positive semi-definite (smallest eigenvalue " + num(eig.eigenvalues().minCoeff()) + ")");
   }
+  // Notes of the calibration on terms it could not determine (optional): [{term, why}], term a geometry term.
+  auto notes = [&](const char* key, std::vector<loc::AntennaCalibration::TermNote>& out) {
+    auto n = m.get(key);
+    if (!n) return;
+    if (!n->IsSequence()) throw src.error(*n, key, "must be a list of {term, why}");
+    for (size_t i = 0; i < n->size(); ++i) {
+      const std::string item = std::string(key) + "[" + std::to_string(i) + "]";
+      YamlMap e(src, (*n)[i], item);
+      const std::string term = src.scalar(e.required("term"), e.field("term"));
+      if (std::none_of(std::begin(loc::kGeometryTermNames), std::end(loc::kGeometryTermNames),
+                       [&](const char* t) { return term == t; }))
+        throw src.error((*n)[i], e.field("term"), "must be one of dx, dy, dz, az, el, az2, az_el, el2 (got '" + term + "')");
+      std::string why;
+      if (auto w = e.get("why")) why = src.scalar(*w, e.field("why"));
+      e.finish();
+      out.push_back({term, why});
+    }
+  };
+  notes("not_fitted", c.not_fitted);
+  if (auto n = m.get("allowance")) {
+    YamlMap a(src, *n, "allowance");
+    c.allowance_base_rad = a.non_negative({"base_rad"}, 0.0);
+    c.allowance_smooth_factor = a.non_negative({"smooth_factor"}, 1.0);
+    if (auto k = a.get("samples")) {
+      const long long v = src.integer(*k, a.field("samples"));
+      if (v < 0 || v > 2000000000LL) throw src.error(*k, a.field("samples"), "must be a count >= 0");
+      c.allowance_samples = static_cast<int>(v);
+    }
+    if (auto k = a.get("coverage")) c.allowance_coverage = a.non_negative({"coverage"}, 0.0);
+    a.finish();
+  }
+  notes("prior_bounded", c.prior_bounded);
   c.residual_rms_rad = m.non_negative({"residual_rms_rad"}, 0.0);
   auto count = [&](const char* key) {
     auto n = m.get(key);
@@ -134,6 +167,26 @@ void write_antenna_file(std::ostream& out, const loc::AntennaCalibration& c) {
       for (int j = 0; j < loc::kGeometryTerms; ++j) row[j] = c.geometry_covariance(i, j);
       out << "  - " << list(row) << "\n";
     }
+  }
+  auto quoted = [](const std::string& text) {
+    std::string q = "\"";
+    for (char ch : text) q += ch == '"' || ch == '\\' ? std::string("\\") + ch : std::string(1, ch);
+    return q + "\"";
+  };
+  if (!c.not_fitted.empty()) {
+    out << "not_fitted:   # held at 0 (sd 0): the reference geometry does not determine them\n";
+    for (const auto& n : c.not_fitted) out << "  - {term: " << n.term << ", why: " << quoted(n.why) << "}\n";
+  }
+  if (c.has_allowance()) {
+    out << "allowance:   # radius allowance measured on the reference tags: sigma_sys = max(base, factor x smooth misfit)\n";
+    out << "  base_rad: " << num(c.allowance_base_rad) << "\n";
+    out << "  smooth_factor: " << num(c.allowance_smooth_factor) << "\n";
+    out << "  samples: " << c.allowance_samples << "\n";
+    if (std::isfinite(c.allowance_coverage)) out << "  coverage: " << num(c.allowance_coverage) << "\n";
+  }
+  if (!c.prior_bounded.empty()) {
+    out << "prior_bounded:   # fitted, but their sd is nearly the prior's: the data hardly determine them\n";
+    for (const auto& n : c.prior_bounded) out << "  - {term: " << n.term << ", why: " << quoted(n.why) << "}\n";
   }
   out << "residual_rms_rad: " << num(c.residual_rms_rad) << "\n";
   out << "reads_used: " << c.reads_used << "\n";

@@ -13,6 +13,9 @@
 //   pattern_sd_rad: [...]
 //   geometry_covariance: [[8 numbers] × 8]    # optional: covariance of dx, dy, dz (m), az, el, az2, az_el,
 //                                             # el2 (rad); symmetric, positive semi-definite
+//   not_fitted: [{term: dz, why: "..."}]     # optional: geometry terms held at 0, the data could not tell them
+//   prior_bounded: [{term: ..., why: "..."}] # optional: fitted terms whose sd is nearly the prior's
+//   allowance: {base_rad: b, smooth_factor: f, samples: n, coverage: c}   # optional: measured radius allowance
 //   residual_rms_rad: r
 //   reads_used: n
 //   tags_used: n

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,24 @@ struct AntennaCalibration {
   // Covariance of (offset, pattern) in m², m·rad, rad²; all zero when unknown (files written before it:
   // geometry_covariance_or_sd() then takes the sd's as uncorrelated).
   GeometryCovariance geometry_covariance = GeometryCovariance::Zero();
+  // Terms of the geometry (kGeometryTermNames) the reference tags could not determine, held at 0 (sd 0), each
+  // with the reason (e.g. dz from reference tags and antenna stops in one plane: the range depends on it only
+  // to second order and not on its sign); and terms fitted but bounded by the prior (their sd is nearly the
+  // prior's: the data hardly move them).
+  struct TermNote {
+    std::string term;
+    std::string why;
+  };
+  std::vector<TermNote> not_fitted;
+  std::vector<TermNote> prior_bounded;
+  // The radius allowance measured on the reference tags (calibration.h): σ_sys = max(allowance_base_rad,
+  // allowance_smooth_factor × a fit's smooth misfit) is the smallest pair (in median radius) whose 95 % radius
+  // covers ≥ 95 % of the reference tags, each localized with this calibration. NaN: not measured.
+  double allowance_base_rad = std::numeric_limits<double>::quiet_NaN();
+  double allowance_smooth_factor = std::numeric_limits<double>::quiet_NaN();
+  int allowance_samples = 0;          // reference tags it was measured on
+  double allowance_coverage = std::numeric_limits<double>::quiet_NaN();  // their share inside the radius
+  bool has_allowance() const { return std::isfinite(allowance_base_rad) && std::isfinite(allowance_smooth_factor); }
   double residual_rms_rad = 0.0;  // RMS wrapped residual of the fit (per stop mean)
   int reads_used = 0;
   int tags_used = 0;              // tag × run pairs (each with its own nuisance offset)

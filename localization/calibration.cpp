@@ -1,13 +1,17 @@
 #include "localization/calibration.h"
 
 #include <Eigen/Dense>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <map>
+#include <sstream>
+#include <tuple>
 
 #include "core/error.h"
 #include "core/units.h"
+#include "localization/allowance.h"
 #include "localization/joint_model.h"
 
 namespace rfidray::loc {
@@ -80,7 +84,7 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   std::vector<double> freqs;
   for (const CalibrationSample& s : samples)
     for (const ReadGroup& g : s.reads.groups)
-      if (g.antenna == antenna && !g.reads.empty() &&
+      if (s.fit_geometry && g.antenna == antenna && !g.reads.empty() &&
           std::none_of(freqs.begin(), freqs.end(), [&](double f) { return std::abs(f - g.frequency_hz) < 1e3; }))
         freqs.push_back(g.frequency_hz);
   std::sort(freqs.begin(), freqs.end());
@@ -98,6 +102,7 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   mo.floor_sigma_rad = options.floor_sigma_rad;
   mo.fold_pi = options.fold_pi;
   for (const CalibrationSample& s : samples) {
+    if (!s.fit_geometry) continue;
     TagReads mine;
     mine.tag = s.reads.tag;
     for (const ReadGroup& g : s.reads.groups)
@@ -122,20 +127,86 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   problem.tag_ = tags;
   const int P = layout.size();
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(P);
+  // What the reference geometry cannot determine is held at 0 and said (out.not_fitted).
+  std::array<bool, 3> fix_offset{false, false, false};
+  std::array<bool, kPatternTerms> fix_pattern{};
+  auto note_fixed = [&](const std::string& term, const std::string& why) {
+    for (const auto& n : out.not_fitted)
+      if (n.term == term) return;
+    out.not_fitted.push_back({term, why});
+  };
+  bool horizontal_plane = options.planar;  // every tag at the antennas' height: the allowance localizes in 2-D
+  if (options.planar) {
+    const std::string why = "--height-known: antenna and tags in one horizontal plane";
+    fix_offset[2] = true, note_fixed("dz", why);
+    for (int t : {1, 3, 4}) fix_pattern[t] = true, note_fixed(kPatternTermNames[t], why);
+  }
+  {
+    // Planarity of every antenna position and tag: the smallest singular value of the centred coordinates is
+    // √N × the RMS distance to the best-fit plane.
+    // Each distinct position once (1 mm): thousands of reads at one stop must not outweigh the tags.
+    std::vector<Vec3> all;
+    std::map<std::tuple<long, long, long>, bool> seen;
+    auto add = [&](const Vec3& v) {
+      if (seen.emplace(std::make_tuple(std::lround(v.x() * 1e3), std::lround(v.y() * 1e3), std::lround(v.z() * 1e3)), true).second)
+        all.push_back(v);
+    };
+    for (const CalPoint& p : points) add(p.antenna_m);
+    for (const Vec3& t : tags) add(t);
+    Vec3 mean = Vec3::Zero();
+    for (const Vec3& v : all) mean += v / static_cast<double>(all.size());
+    Eigen::MatrixXd X(all.size(), 3);
+    for (size_t i = 0; i < all.size(); ++i) X.row(i) = (all[i] - mean).transpose();
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(X, Eigen::ComputeThinV);
+    const double rms_out_m = svd.singularValues()[2] / std::sqrt(static_cast<double>(all.size()));
+    // Not a line: the RMS distance from the best-fit line is well above the plane's tolerance.
+    const bool spans_plane = svd.singularValues()[1] / std::sqrt(static_cast<double>(all.size())) > 5.0 * options.planar_tolerance_m;
+    if (rms_out_m < options.planar_tolerance_m && spans_plane) {
+      const Vec3 normal = svd.matrixV().col(2);
+      horizontal_plane = horizontal_plane || std::abs(normal.z()) > std::cos(10.0 * kPi / 180.0);
+      // The normal in each antenna frame: one axis for every point, or the offset mixes axes (left to the
+      // Jacobian test below).
+      Vec3 frame_normal = points.front().orientation.conjugate() * normal;
+      bool same = true;
+      for (const CalPoint& p : points)
+        same = same && std::abs((p.orientation.conjugate() * normal).dot(frame_normal)) > std::cos(5.0 * kPi / 180.0);
+      int axis = 0;
+      frame_normal.cwiseAbs().maxCoeff(&axis);
+      if (same && std::abs(frame_normal[axis]) > std::cos(10.0 * kPi / 180.0)) {
+        std::ostringstream why;
+        why << "reference tags and antenna positions lie in one plane (RMS " << rms_out_m * 100.0
+            << " cm out of it, limit " << options.planar_tolerance_m * 100.0
+            << " cm): the offset normal to it changes every range only to second order and not by its sign";
+        const char* axis_name[] = {"dx", "dy", "dz"};
+        if (!fix_offset[axis]) fix_offset[axis] = true, note_fixed(axis_name[axis], why.str());
+        if (axis == 2) {
+          // The plane holds the antenna's x and y axes: every direction has el = 0.
+          std::ostringstream el_why;
+          el_why << "every reference direction has elevation 0 (the plane of tags and antenna positions holds the "
+                    "antenna's boresight and y axis): the elevation terms have no effect";
+          for (int t : {1, 3, 4})
+            if (!fix_pattern[t]) fix_pattern[t] = true, note_fixed(kPatternTermNames[t], el_why.str());
+        }
+      }
+    }
+  }
   // Free parameters and the prior precision of each.
   std::vector<int> free_params;
   Eigen::VectorXd prior = Eigen::VectorXd::Zero(P);
+  Eigen::VectorXd prior_sd = Eigen::VectorXd::Ones(P);
   for (int a = 0; a < 3; ++a) {
-    if (options.planar && a == 2) continue;
+    if (fix_offset[a]) continue;
     free_params.push_back(a);
     prior[a] = 1.0 / std::pow(options.prior_offset_sd_m, 2);
+    prior_sd[a] = options.prior_offset_sd_m;
   }
   for (int f = 1; f < layout.carriers; ++f) free_params.push_back(layout.carrier(f));
   if (options.fit_pattern)
     for (int t = 0; t < kPatternTerms; ++t) {
-      if (options.planar && t != 0 && t != 2) continue;  // az, az² only
+      if (fix_pattern[t]) continue;
       free_params.push_back(layout.pattern(t));
       prior[layout.pattern(t)] = 1.0 / std::pow(options.prior_pattern_sd_rad, 2);
+      prior_sd[layout.pattern(t)] = options.prior_pattern_sd_rad;
     }
   // Carrier offsets start from the per-sample coherent angles: c_f = arg Σ_s e^{j(θ_{s,f} − θ_{s,0})}.
   {
@@ -150,9 +221,11 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
     }
   }
   const int nf = static_cast<int>(free_params.size());
+  // Over the current free_params (the check below may drop some).
   auto jacobian = [&](const Eigen::VectorXd& th, const Eigen::VectorXd& r0) {
-    Eigen::MatrixXd J(r0.size(), nf);
-    for (int c = 0; c < nf; ++c) {
+    const int cols = static_cast<int>(free_params.size());
+    Eigen::MatrixXd J(r0.size(), cols);
+    for (int c = 0; c < cols; ++c) {
       const double h = free_params[c] < 3 ? 1e-6 : 1e-5;
       Eigen::VectorXd t2 = th;
       t2[free_params[c]] += h;
@@ -164,6 +237,36 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
     }
     return J;
   };
+  // Parameters the reads do not depend on at the start (a Jacobian column, in units of the parameter's prior
+  // sd, below min_relative_information of the largest): the data cannot tell them, so they are not fitted.
+  {
+    const Eigen::VectorXd r0 = problem.residuals(theta);
+    const Eigen::MatrixXd J0 = jacobian(theta, r0);
+    Eigen::VectorXd info(nf);
+    for (int c = 0; c < nf; ++c) info[c] = J0.col(c).norm() * prior_sd[free_params[c]];
+    const double largest = info.maxCoeff();
+    std::vector<int> kept;
+    for (int c = 0; c < nf; ++c) {
+      const int g = free_params[c] < 3 ? free_params[c] : -1;
+      int t = -1;
+      for (int k = 0; k < kPatternTerms; ++k)
+        if (free_params[c] == layout.pattern(k)) t = k;
+      if ((g >= 0 || t >= 0) && !(info[c] >= options.min_relative_information * largest)) {
+        std::ostringstream why;
+        why << "the reads do not depend on it (its Jacobian column, scaled by its prior sd, is " << info[c] / largest
+            << " of the largest)";
+        note_fixed(g >= 0 ? kGeometryTermNames[g] : kPatternTermNames[t], why.str());
+        continue;
+      }
+      kept.push_back(free_params[c]);
+    }
+    if (static_cast<int>(kept.size()) != nf) {
+      for (int c = 0; c < P; ++c)
+        if (std::find(kept.begin(), kept.end(), c) == kept.end()) prior[c] = 0.0;
+      free_params = kept;
+    }
+  }
+  const int nf_used = static_cast<int>(free_params.size());
   auto objective = [&](const Eigen::VectorXd& th, const Eigen::VectorXd& r) {
     double f = r.squaredNorm();
     for (int c : free_params) f += prior[c] * th[c] * th[c];
@@ -176,7 +279,7 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   for (int it = 0; it < options.max_iterations; ++it) {
     Eigen::MatrixXd A = J.transpose() * J;  // (normal equations of the weighted residuals + prior)
     Eigen::VectorXd g = J.transpose() * r;
-    for (int c = 0; c < nf; ++c) A(c, c) += prior[free_params[c]], g[c] += prior[free_params[c]] * theta[free_params[c]];
+    for (int c = 0; c < nf_used; ++c) A(c, c) += prior[free_params[c]], g[c] += prior[free_params[c]] * theta[free_params[c]];
     // Nearly linear near the truth (δ small, pattern and offsets linear): start close to Gauss–Newton.
     if (mu < 0.0) mu = 1e-6;
     Eigen::MatrixXd Ad = A;
@@ -185,11 +288,11 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
     // Trust region: the wrapped cost has other basins (a cycle per λ/2 of offset), so no step may move the
     // offset by more than 1 cm or a phase parameter by more than 0.3 rad.
     double scale = 1.0;
-    for (int c = 0; c < nf; ++c)
+    for (int c = 0; c < nf_used; ++c)
       scale = std::min(scale, (free_params[c] < 3 ? 0.01 : 0.3) / std::max(std::abs(step[c]), 1e-300));
     step *= scale;
     Eigen::VectorXd t2 = theta;
-    for (int c = 0; c < nf; ++c) t2[free_params[c]] += step[c];
+    for (int c = 0; c < nf_used; ++c) t2[free_params[c]] += step[c];
     const Eigen::VectorXd r2 = problem.residuals(t2);
     const double f2 = objective(t2, r2);
     if (f2 < f) {
@@ -205,9 +308,9 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   }
   // Uncertainty.
   Eigen::MatrixXd A = J.transpose() * J;
-  for (int c = 0; c < nf; ++c) A(c, c) += prior[free_params[c]];
+  for (int c = 0; c < nf_used; ++c) A(c, c) += prior[free_params[c]];
   const int n = static_cast<int>(r.size());
-  const double s2 = std::max(1.0, r.squaredNorm() / std::max(1, n - nf - out.tags_used));
+  const double s2 = std::max(1.0, r.squaredNorm() / std::max(1, n - nf_used - out.tags_used));
   double num = 0.0, den = 0.0;
   for (int i = 0; i < n; ++i) {
     den += r[i] * r[i];
@@ -216,7 +319,7 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   const double r1 = den > 0.0 ? std::clamp(num / den, 0.0, 0.95) : 0.0;
   const Eigen::MatrixXd cov = s2 * (1.0 + r1) / (1.0 - r1) * A.inverse();
   Eigen::VectorXd sd = Eigen::VectorXd::Zero(P);
-  for (int c = 0; c < nf; ++c) sd[free_params[c]] = std::sqrt(std::max(0.0, cov(c, c)));
+  for (int c = 0; c < nf_used; ++c) sd[free_params[c]] = std::sqrt(std::max(0.0, cov(c, c)));
   double e2 = 0.0;
   for (int i = 0; i < n; ++i) e2 += r[i] * r[i] / problem.points()[i].weight;
   out.residual_rms_rad = std::sqrt(e2 / std::max(1, n)) / fold;
@@ -240,11 +343,28 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
       if (param == layout.pattern(t)) return 3 + t;
     return -1;
   };
-  for (int a = 0; a < nf; ++a)
-    for (int b = 0; b < nf; ++b) {
+  for (int a = 0; a < nf_used; ++a)
+    for (int b = 0; b < nf_used; ++b) {
       const int ga = geometry_index(free_params[a]), gb = geometry_index(free_params[b]);
       if (ga >= 0 && gb >= 0) out.geometry_covariance(ga, gb) = 0.5 * (cov(a, b) + cov(b, a));
     }
+  // Fitted, but hardly by the data: the posterior sd is nearly the prior's (the prior bounds it).
+  for (int c = 0; c < nf_used; ++c) {
+    const int g = geometry_index(free_params[c]);
+    if (g < 0) continue;
+    const double ratio = sd[free_params[c]] / prior_sd[free_params[c]];
+    if (ratio > options.prior_bounded_fraction) {
+      std::ostringstream why;
+      why << "sd " << sd[free_params[c]] << " is " << ratio << " of its prior sd " << prior_sd[free_params[c]]
+          << ": the reference tags hardly determine it, the prior N(0, sd^2) bounds it";
+      out.prior_bounded.push_back({kGeometryTermNames[g], why.str()});
+    }
+  }
+  if (options.measure_allowance) {
+    CalibrationOptions measured = options;
+    measured.planar = horizontal_plane;
+    measure_allowance(samples, measured, out);
+  }
   return out;
 }
 

@@ -10,6 +10,8 @@
 // them apart), so the prior keeps the split finite and the stated sd honest about it; the prediction
 // (their sum) is what localization uses and is well determined.
 // sd = sqrt(diag(s² ρ (JᵀWJ + P)⁻¹)), s² = max(1, χ²/dof), ρ the lag-1 autocorrelation factor (joint_fit.h).
+// What the reference geometry cannot tell is not fitted (CalibrationOptions: planarity, Jacobian columns) and
+// is listed with the reason in AntennaCalibration::not_fitted.
 // Throws InputError when the samples hold no reads of `antenna` or fewer than 2 samples.
 #include <string>
 #include <vector>
@@ -22,6 +24,9 @@ namespace rfidray::loc {
 struct CalibrationSample {
   TagReads reads;     // one tag in one run
   Vec3 tag_m = Vec3::Zero();
+  // false: used only to measure the radius allowance (allowance.h), not to fit the antenna — reference tags of
+  // other setups (denser rows, other rooms) the antenna will be used in, whose own misfit would bend its model.
+  bool fit_geometry = true;
 };
 
 struct CalibrationOptions {
@@ -30,6 +35,19 @@ struct CalibrationOptions {
   double floor_sigma_rad = 0.02;
   bool fold_pi = false;
   bool planar = false;              // antenna and tags in one horizontal plane: elevation terms and δ_z held 0
+  // Geometry checks (whatever `planar` says): when every tag and antenna position lies within
+  // planar_tolerance_m of one plane (RMS), the phase-centre offset normal to it changes each range only to
+  // second order and not by its sign, so it is held at 0 (and the elevation terms too when that plane contains
+  // the antenna's boresight and y axis: el ≡ 0); a parameter whose Jacobian column (scaled by its prior sd) is
+  // below min_relative_information of the largest is held at 0 as well. Both are listed in not_fitted.
+  double planar_tolerance_m = 0.02;
+  double min_relative_information = 1e-3;
+  // A fitted parameter whose sd exceeds this fraction of its prior sd is listed in prior_bounded.
+  double prior_bounded_fraction = 0.7;
+  // Radius evidence: localize every reference tag (NLLS, joint fit, gates open) with the fitted calibration and
+  // measure the allowance (AntennaCalibration::allowance_*). Needs `planar` or tags off the path's plane.
+  bool measure_allowance = true;
+  double allowance_coverage = 0.95;
   bool fit_pattern = true;
   double prior_offset_sd_m = 0.05;
   double prior_pattern_sd_rad = 1.0;

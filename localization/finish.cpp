@@ -10,7 +10,7 @@
 namespace rfidray::loc {
 
 void gate_uncertainty(LocalizeResult& result, const PreparedTag& prep, const RangeCost& cost, double sigma_m,
-                      const LocalizeOptions& options) {
+                      const LocalizeOptions& options, SoftGate* soft) {
   if (!result.ok) return;
   result.predicted_std_m = predicted_std_m(cost, result.position, std::max(sigma_m, options.noise_floor_m));
   if (result.predicted_std_m <= options.max_std_m) return;
@@ -18,13 +18,24 @@ void gate_uncertainty(LocalizeResult& result, const PreparedTag& prep, const Ran
   std::ostringstream why;
   why << "predicted position uncertainty " << result.predicted_std_m << " m (1 sigma) > " << options.max_std_m
       << " m; path seen under " << angle << " deg, range noise " << sigma_m << " m per read";
+  const FailReason reason = angle < 60.0 ? FailReason::kApertureTooShort : FailReason::kNoisyPhase;
+  if (soft) {
+    if (!soft->failed) *soft = SoftGate{true, reason, why.str()};
+    return;
+  }
   result.ok = false;
-  result.reason = angle < 60.0 ? FailReason::kApertureTooShort : FailReason::kNoisyPhase;
+  result.reason = reason;
   result.detail = why.str();
 }
 
+void apply_soft_gate(LocalizeResult& result, const SoftGate& soft) {
+  // The unwrapped fit's own finding (cycle slips, a weak geometry) names the cause better than a radius the
+  // joint judgement found too large: it takes precedence whenever a position is reported.
+  if (soft.failed && result.status() != Status::kFailed) result.mark_not_ok(soft.reason, soft.detail);
+}
+
 void finish_unwrapped(LocalizeResult& result, const PreparedTag& prep, const RangeCost& cost,
-                      const LocalizeOptions& options, bool mirror) {
+                      const LocalizeOptions& options, bool mirror, SoftGate* soft) {
   result.reads_used = prep.usable_reads;
   result.segments = static_cast<int>(prep.segments.size());
   if (!result.ok) return;
@@ -46,14 +57,18 @@ void finish_unwrapped(LocalizeResult& result, const PreparedTag& prep, const Ran
     if (slips > options.max_slip_fraction * r.size()) {
       std::ostringstream why;
       why << slips << " of " << r.size() << " reads are more than 0.75 pi off the fit: cycle slips in the unwrapped phase";
-      result.ok = false;
-      result.reason = FailReason::kNoisyPhase;
-      result.detail = why.str();
-      return;
+      if (soft) {
+        *soft = SoftGate{true, FailReason::kNoisyPhase, why.str()};
+      } else {
+        result.ok = false;
+        result.reason = FailReason::kNoisyPhase;
+        result.detail = why.str();
+        return;
+      }
     }
   }
   const int dof_left = std::max(1, cost.residual_count() - cost.dof() - static_cast<int>(prep.segments.size()));
-  gate_uncertainty(result, prep, cost, std::sqrt(cost.ssr(result.position) / dof_left), options);
+  gate_uncertainty(result, prep, cost, std::sqrt(cost.ssr(result.position) / dof_left), options, soft);
   if (!result.ok || !mirror) return;
   Objective objective;
   objective.ssr = [&](const Vec3& x) { return cost.ssr(x); };

@@ -416,7 +416,8 @@ LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& o
   result.position = best_mode();
   result.ok = true;
   const Vec3 own = result.position;
-  finish_unwrapped(result, prep, cost, options);
+  SoftGate soft;  // cycle slips / predicted σ: the joint judgement still gives a position and radius (uncertain)
+  finish_unwrapped(result, prep, cost, options, true, &soft);
   // A prior that picked the mirror side picked the least-squares mirror point: report instead the mode of
   // this method's own intersection set there (the mirror cluster exists: conics are mirror-symmetric).
   if (result.ok && !result.mirror_resolved_by.empty() && (result.position - own).norm() > 0.0)
@@ -431,6 +432,7 @@ LocalizeResult localize_hyperbolic(const TagReads& tag, const LocalizeOptions& o
                                     focus_min_step_m(model));
     const JointFit fit = fit_joint(model, focused, options);
     judge_joint(result, model, fit, modes, prep, options, true);
+    apply_soft_gate(result, soft);
   }
   return result;
 }

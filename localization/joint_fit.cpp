@@ -226,9 +226,11 @@ JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOpt
   // (multipath off nearby objects, pattern residue) that happens to lie in the span of J shifts the estimate
   // by (J_uᵀJ_u)⁻¹J_uᵀε, at most σ_sys · sqrt(N λ_max((J_uᵀJ_u)⁻¹)) (Cauchy–Schwarz; J_u unweighted, rad/m).
   // It is invisible in the residuals (the fit absorbs it), so it is added as a bias bound, not averaged.
-  // Its RMS is the larger of the allowance and the smooth misfit measured in this fit's residuals (and, with
+  // Its RMS is the larger of the allowance and (a multiple of) the smooth misfit measured in this fit's residuals
+// (the fit absorbs part of a smooth error, so what is left understates it; the factor is measured with the
+// allowance on reference tags by calibrate) (and, with
   // a known scene, of its multipath allowance: below).
-  const double fixed_rad = std::max(options.systematic_phase_rad, fit.smooth_residual_rad);
+  const double fixed_rad = std::max(options.systematic_phase_rad, options.smooth_misfit_factor * fit.smooth_residual_rad);
   double bias_m_per_rad = 0.0;
   {
     Eigen::MatrixXd Ju = J;
@@ -241,6 +243,9 @@ JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOpt
                                          : std::numeric_limits<double>::infinity();
   }
   const double stat_radius_m = fit.radius_m;
+  fit.statistical_radius_m = stat_radius_m;
+  fit.bias_m_per_rad = bias_m_per_rad;
+  fit.systematic_rad = fixed_rad;
   auto radius_with = [&](double systematic_rad) {
     return systematic_rad > 0.0 ? stat_radius_m + systematic_rad * bias_m_per_rad : stat_radius_m;
   };
@@ -275,6 +280,7 @@ JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOpt
     }
     fit.multipath_phase_rad = allowance;
     fit.radius_m = radius_with(std::max(fixed_rad, allowance));
+    fit.systematic_rad = std::max(fixed_rad, allowance);
   }
   if (!std::isfinite(fit.radius_m)) fit.radius_m = std::numeric_limits<double>::infinity();
   return fit;
@@ -291,15 +297,41 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
     const Vec3 own = result.position;
     result.position = report_own_position ? own : f.position;
     result.uncertainty_m = f.radius_m + (report_own_position ? (own - f.position).norm() : 0.0);
+    result.radius_statistical_m = f.statistical_radius_m;
+    result.radius_bias_m_per_rad = f.bias_m_per_rad;
+    result.radius_systematic_rad = f.systematic_rad;
+    result.smooth_residual_rad = f.smooth_residual_rad;
     result.residual_rad = f.residual_rad;
     result.multipath_phase_rad = f.multipath_phase_rad;
     result.outliers = f.outliers;
   };
-  auto fail = [&](FailReason reason, const std::string& why) {
-    result.ok = false;
-    result.reason = reason;
-    result.detail = why;
+  // No position (two optima fit equally, the prior excludes the fit, no path reaches it).
+  auto fail = [&](FailReason reason, const std::string& why) { result.fail_without_position(reason, why); };
+  // A position and its radius, not ok: the first such reason is kept, the checks that can still fail the
+  // result go on (a rival optimum makes it failed whatever its misfit).
+  FailReason soft_reason = FailReason::kNone;
+  std::string soft_detail;
+  auto not_ok = [&](FailReason reason, const std::string& why) {
+    if (soft_reason == FailReason::kNone) soft_reason = reason, soft_detail = why;
   };
+  // A rival that re-converges to a clearly lower cost than the start's optimum is the better answer: the fit
+  // moves there (the hyperbolic cluster mode or the unwrapped start fell into a worse basin), once.
+  {
+    double best_cost = fit.cost;
+    Vec3 best_at = fit.position;
+    for (const Vec3& start : rivals) {
+      if ((start - fit.position).norm() <= lambda4) continue;
+      const JointLm c = joint_lm(model, start, options.lm_max_iterations, &fit.mask);
+      if (!in_region(c.position, prep) || (c.position - fit.position).norm() <= lambda4) continue;
+      const double cost = model.cost(c.position, &fit.mask);
+      if (cost < best_cost - 1e-6 * fit.cost) best_cost = cost, best_at = c.position;
+    }
+    if (best_at != fit.position) {
+      fit = fit_joint(model, best_at, options);
+      result.position = fit.position;
+      report_own_position = false;
+    }
+  }
   apply_fit(fit);
   if (std::isinf(fit.multipath_phase_rad)) {
     fail(FailReason::kMultipath, kNoPathDetail);
@@ -371,14 +403,12 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
   if (fit.residual_rad > options.max_residual_rad) {
     std::ostringstream why;
     why << "wrapped-phase residual sigma " << fit.residual_rad << " rad > " << options.max_residual_rad << " rad";
-    fail(FailReason::kInconsistentResiduals, why.str());
-    return;
+    not_ok(FailReason::kInconsistentResiduals, why.str());
   }
   if (fit.outliers > options.max_outlier_fraction * n) {
     std::ostringstream why;
     why << fit.outliers << " of " << n << " stops are > " << options.outlier_sigmas << " sigma outliers";
-    fail(FailReason::kInconsistentResiduals, why.str());
-    return;
+    not_ok(FailReason::kInconsistentResiduals, why.str());
   }
   for (const Vec3& start : rivals) {
     const double sep = std::max(fit.radius_m, lambda4);
@@ -401,7 +431,7 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
   if (!(result.uncertainty_m <= options.max_uncertainty_m)) {
     const double angle = aperture_angle_deg(positions, result.position);
     std::ostringstream why;
-    if (fit.multipath_phase_rad > std::max(options.systematic_phase_rad, fit.smooth_residual_rad)) {
+    if (fit.multipath_phase_rad > std::max(options.systematic_phase_rad, options.smooth_misfit_factor * fit.smooth_residual_rad)) {
       if (std::isinf(fit.multipath_phase_rad)) {
         fail(FailReason::kMultipath, kNoPathDetail);
         return;
@@ -409,13 +439,14 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
       why << "the scene's extra paths bend the phase near the estimate by " << fit.multipath_phase_rad
           << " rad RMS along the aperture (a fit absorbs such an error without a trace in its residuals): 95% "
           << "position uncertainty " << result.uncertainty_m << " m > " << options.max_uncertainty_m << " m";
-      fail(FailReason::kMultipath, why.str());
-      return;
+      not_ok(FailReason::kMultipath, why.str());
+    } else {
+      why << "95% position uncertainty " << result.uncertainty_m << " m > " << options.max_uncertainty_m
+          << " m; path seen under " << angle << " deg, wrapped residual sigma " << fit.residual_rad << " rad";
+      not_ok(angle < 60.0 ? FailReason::kApertureTooShort : FailReason::kNoisyPhase, why.str());
     }
-    why << "95% position uncertainty " << result.uncertainty_m << " m > " << options.max_uncertainty_m
-        << " m; path seen under " << angle << " deg, wrapped residual sigma " << fit.residual_rad << " rad";
-    fail(angle < 60.0 ? FailReason::kApertureTooShort : FailReason::kNoisyPhase, why.str());
   }
+  if (soft_reason != FailReason::kNone) result.mark_not_ok(soft_reason, soft_detail);
 }
 
 }  // namespace rfidray::loc

@@ -57,6 +57,9 @@ struct JointFit {
   double smooth_residual_rad = 0.0;  // RMS of their smooth part: √(lag-1 autocovariance in time order, ≥ 0)
   double multipath_phase_rad = std::numeric_limits<double>::quiet_NaN();  // known-scene allowance at position
   double calibration_radius_m = 0.0;  // sqrt(χ²_{d,0.95} λ_max(Cov_cal)); 0 without a calibration
+  double statistical_radius_m = 0.0;  // the radius before the bias bound (noise, jackknife, calibration)
+  double bias_m_per_rad = 0.0;        // sqrt(N λ_max((J_uᵀJ_u)⁻¹)): the bias bound per rad of smooth error
+  double systematic_rad = 0.0;        // σ_sys the bias bound used
   double radius_m = 0.0;
   double predicted_std_m = 0.0;    // sqrt(trace Cov_LS)
 };

@@ -59,6 +59,12 @@ LocalizePlan validate(const LocalizeRequest& r, const LocalizeFieldNames& names)
   return plan;
 }
 
+void apply_calibration_allowance(LocalizePlan& plan, const LocalizeRequest& request) {
+  if (request.systematic_phase_rad || !plan.options.calibration || !plan.options.calibration->has_allowance()) return;
+  plan.options.systematic_phase_rad = plan.options.calibration->allowance_base_rad;
+  plan.options.smooth_misfit_factor = plan.options.calibration->allowance_smooth_factor;
+}
+
 LocalizeOptions tag_options(const LocalizePlan& plan, const std::string& tag, const std::map<std::string, Vec3>& truth,
                             const std::string& truth_source, const LocalizeFieldNames& names,
                             std::function<double(const Vec3& tag_m)> multipath_phase_rad) {

@@ -53,6 +53,11 @@ struct LocalizePlan {
 // mirror_prior truth without truth.
 LocalizePlan validate(const LocalizeRequest& request, const LocalizeFieldNames& names);
 
+// After the front end read the antenna file into plan.options.calibration: when the user gave no
+// systematic_phase_rad and the calibration measured its allowance on its reference tags (allowance.h), that
+// allowance (base and smooth-misfit factor) replaces the default.
+void apply_calibration_allowance(LocalizePlan& plan, const LocalizeRequest& request);
+
 // The options for one tag: the plan's, the tag's true height and prior point when the plan needs them (InputError
 // "TRUTH_SOURCE: no ground truth for tag 'NAME' (…)" when `truth` lacks the tag), and the scene's multipath
 // allowance for this tag (empty: none).

@@ -65,19 +65,16 @@ void settle_mirror(LocalizeResult& result, const MirrorCheck& check, const std::
                    const std::vector<Quat>& orientations, const LocalizeOptions& options) {
   if (!result.ok || !check.ambiguous) return;
   if (check.degenerate) {
-    result.ok = false;
-    result.reason = FailReason::kAmbiguousMirror;
-    result.detail = "straight antenna path in 3-D: the tag can be anywhere on a circle around it";
+    result.fail_without_position(FailReason::kAmbiguousMirror,
+                                 "straight antenna path in 3-D: the tag can be anywhere on a circle around it");
     return;
   }
   std::ostringstream why;
   why << "mirror candidate (" << check.mirror.x() << ", " << check.mirror.y() << ", " << check.mirror.z()
       << ") fits within " << check.delta_chi2 << " chi2 units of the estimate";
   switch (options.mirror_prior) {
-    case MirrorPrior::kNone:
-      result.ok = false;
-      result.reason = FailReason::kAmbiguousMirror;
-      result.detail = why.str();
+    case MirrorPrior::kNone:  // two positions fit equally: neither is reported
+      result.fail_without_position(FailReason::kAmbiguousMirror, why.str());
       return;
     case MirrorPrior::kBoresight: {
       // Score = mean cosine between the boresight (local +X) and the direction to the candidate.

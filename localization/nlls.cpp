@@ -61,7 +61,10 @@ LocalizeResult localize_nlls(const TagReads& tag, const LocalizeOptions& options
   // The unwrapped fit's own checks (cycle slips, aperture, predicted σ), then the joint multi-carrier model
   // on the wrapped phases takes over from the unwrapped optimum: final position, honest uncertainty, and the
   // uniqueness test (mirror and the other grid starts as rivals).
-  finish_unwrapped(result, prep, cost, options, false);
+  // Its soft gates (cycle slips, predicted σ of the unwrapped fit) leave the position to the joint fit, which
+  // does not unwrap: the result is then at best uncertain, with a position and radius.
+  SoftGate soft;
+  finish_unwrapped(result, prep, cost, options, false, &soft);
   if (!result.ok) return result;
   const JointModel model = make_joint_model(tag, options);
   const Vec3 focused = focus_near(model, result.position, model.min_wavelength_m() / 8.0, options.height_known,
@@ -74,6 +77,7 @@ LocalizeResult localize_nlls(const TagReads& tag, const LocalizeOptions& options
   std::vector<Vec3> rivals;
   if (!initial) rivals = starts;
   judge_joint(result, model, fit, rivals, prep, options);
+  apply_soft_gate(result, soft);
   return result;
 }
 

@@ -58,6 +58,10 @@ struct LocalizeOptions {
   // Model-error allowance (joint_fit.h): RMS of an unmodelled smooth phase error that the fit cannot see;
   // it enters uncertainty_m as a bias bound. Tuned on the AdaRF train split (real Impinj reads).
   double systematic_phase_rad = 0.1;  // callers without a user value: default_systematic_phase_rad() below
+  // σ_sys = max(systematic_phase_rad, smooth_misfit_factor × the fit's own smooth misfit) (joint_fit.h). An
+  // antenna file whose calibration measured both on its reference tags (AntennaCalibration::allowance_*) sets
+  // them (localize_request.h: apply_calibration_allowance).
+  double smooth_misfit_factor = 1.0;
   // Known-scene allowance (multipath_allowance.h): the RMS (rad) of the smooth phase error the scene's extra
   // paths add at a candidate tag position, over this tag's antenna positions. Set per tag by callers that know
   // the scene (`rfidray localize --scenario`); empty: none. Called from the localizing thread, a few times per

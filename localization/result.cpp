@@ -28,6 +28,15 @@ const char* to_string(FailReason r) {
   return "?";
 }
 
+const char* to_string(Status s) {
+  switch (s) {
+    case Status::kOk: return "ok";
+    case Status::kUncertain: return "uncertain";
+    case Status::kFailed: return "failed";
+  }
+  return "?";
+}
+
 bool parse_method(const std::string& name, Method& out) {
   if (name == "hyperbolic") out = Method::kHyperbolic;
   else if (name == "nlls") out = Method::kNlls;

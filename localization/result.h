@@ -1,6 +1,12 @@
 #pragma once
-// What every localization method returns: a position with status ok, or failed with a reason — never a
-// silent wrong point.
+// What every localization method returns. Three outcomes (status()):
+//   ok        — a position whose 95 % radius uncertainty_m meets the request (max_uncertainty_m) and every gate;
+//   uncertain — a position and its 95 % radius, with the reason it is not ok (radius above the request, a misfit
+//               larger than the phase model allows, a short aperture): the answer, but not the accuracy asked for;
+//   failed    — no position (too few reads, separated optima that fit equally, no convergence, a fit the prior
+//               excludes), with the reason.
+// Never a silent wrong point: an uncertain position is reported with its radius and its reason.
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -9,6 +15,8 @@
 namespace rfidray::loc {
 
 enum class Method { kHyperbolic, kNlls, kSar };
+
+enum class Status { kOk, kUncertain, kFailed };
 
 enum class FailReason {
   kNone,
@@ -26,12 +34,13 @@ enum class FailReason {
 
 const char* to_string(Method m);
 const char* to_string(FailReason r);
+const char* to_string(Status s);  // "ok" | "uncertain" | "failed"
 // "hyperbolic" | "nlls" | "sar"; returns false for anything else.
 bool parse_method(const std::string& name, Method& out);
 
 struct LocalizeResult {
-  bool ok = false;
-  FailReason reason = FailReason::kNone;
+  bool ok = false;                 // status() == Status::kOk
+  FailReason reason = FailReason::kNone;  // why not ok (uncertain or failed)
   std::string detail;              // human-readable explanation of the reason
   Vec3 position = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   double rms_residual_m = 0.0;     // RMS of the relative-range residual at the estimate
@@ -40,12 +49,38 @@ struct LocalizeResult {
   // height is known, else 3-D), from the actual residuals (joint_fit.h); NaN when failed before a fit.
   double uncertainty_m = std::numeric_limits<double>::quiet_NaN();
   double residual_rad = 0.0;       // robust σ of the wrapped-phase residuals of the joint fit
+  double smooth_residual_rad = 0.0;  // RMS of their smooth part (joint_fit.h)
+  // What uncertainty_m is made of (joint_fit.h): statistical radius (noise, jackknife, calibration) + bias bound
+  // radius_systematic_rad × radius_bias_m_per_rad (+ the hyperbolic mode's distance to the joint optimum).
+  double radius_statistical_m = std::numeric_limits<double>::quiet_NaN();
+  double radius_bias_m_per_rad = std::numeric_limits<double>::quiet_NaN();
+  double radius_systematic_rad = std::numeric_limits<double>::quiet_NaN();
   // Known-scene allowance at the fit (LocalizeOptions::multipath_phase_rad), rad RMS; NaN when not evaluated.
   double multipath_phase_rad = std::numeric_limits<double>::quiet_NaN();
   int outliers = 0;                // stops trimmed as outliers
   int reads_used = 0;
   int segments = 0;
   std::string mirror_resolved_by;  // non-empty when a detected mirror ambiguity was settled by a prior
+  // ok; else uncertain when a position and a finite radius were found; else failed.
+  Status status() const {
+    if (ok) return Status::kOk;
+    return position.allFinite() && std::isfinite(uncertainty_m) ? Status::kUncertain : Status::kFailed;
+  }
+  bool has_position() const { return status() != Status::kFailed; }
+  // Turns the result into failed: no position, no radius (e.g. two optima that fit equally).
+  void fail_without_position(FailReason r, std::string why) {
+    ok = false;
+    reason = r;
+    detail = std::move(why);
+    position = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+    uncertainty_m = std::numeric_limits<double>::quiet_NaN();
+  }
+  // Keeps position and radius (uncertain when both are finite), with the reason it is not ok.
+  void mark_not_ok(FailReason r, std::string why) {
+    ok = false;
+    reason = r;
+    detail = std::move(why);
+  }
   static LocalizeResult failure(FailReason r, std::string detail) {
     LocalizeResult out;
     out.reason = r;

@@ -59,6 +59,28 @@ pyb::dict run_calibrate(const pyb::list& references, const std::string& antenna_
   for (int i = 0; i < loc::kGeometryTerms; ++i)
     for (int j = 0; j < loc::kGeometryTerms; ++j) cov.mutable_at(i, j) = c.geometry_covariance(i, j);
   d["geometry_covariance"] = cov;
+  auto notes = [](const std::vector<loc::AntennaCalibration::TermNote>& list) {
+    pyb::list out;
+    for (const auto& n : list) {
+      pyb::dict e;
+      e["term"] = n.term;
+      e["why"] = n.why;
+      out.append(e);
+    }
+    return out;
+  };
+  d["not_fitted"] = notes(c.not_fitted);
+  d["prior_bounded"] = notes(c.prior_bounded);
+  if (c.has_allowance()) {
+    pyb::dict a;
+    a["base_rad"] = c.allowance_base_rad;
+    a["smooth_factor"] = c.allowance_smooth_factor;
+    a["samples"] = c.allowance_samples;
+    a["coverage"] = c.allowance_coverage;
+    d["allowance"] = a;
+  } else {
+    d["allowance"] = pyb::none();
+  }
   d["residual_rms_rad"] = c.residual_rms_rad;
   d["reads_used"] = c.reads_used;
   d["tags_used"] = c.tags_used;

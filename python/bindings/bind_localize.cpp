@@ -45,6 +45,7 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
   const loc::LocalizeFieldNames& names = kKeywordNames;
   loc::LocalizePlan plan = loc::validate(request, names);
   if (antenna_file) plan.options.calibration = io::read_antenna_file(*antenna_file);
+  loc::apply_calibration_allowance(plan, request);
   // The known scene (io/scene_multipath.h), as `rfidray localize --scenario [--channel]`.
   std::optional<io::SceneMultipath> scene;
   if (scenario_file) scene = io::load_scene_multipath(*scenario_file, channel, "channel");
@@ -71,7 +72,7 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
       const auto t = truth.find(tag.tag);
       for (loc::Method m : plan.methods) {
         Item it{tag.tag, m, loc::localize(m, tag, o), tag.read_count(), std::nullopt};
-        if (it.result.ok && t != truth.end()) it.error_m = (it.result.position - t->second).norm();
+        if (it.result.has_position() && t != truth.end()) it.error_m = (it.result.position - t->second).norm();
         items.push_back(std::move(it));
       }
     }
@@ -84,17 +85,18 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
     pyb::dict d;
     d["name"] = it.tag;
     d["method"] = loc::to_string(it.method);
-    d["status"] = r.ok ? "ok" : "failed";
+    const bool positioned = r.has_position();
+    d["status"] = loc::to_string(r.status());
     d["reason"] = r.ok ? pyb::object(pyb::none()) : pyb::object(pyb::str(loc::to_string(r.reason)));
     d["detail"] = r.ok ? pyb::object(pyb::none()) : pyb::object(pyb::str(r.detail));
-    d["x"] = r.ok ? number(r.position.x()) : pyb::none();
-    d["y"] = r.ok ? number(r.position.y()) : pyb::none();
-    d["z"] = r.ok ? number(r.position.z()) : pyb::none();
+    d["x"] = positioned ? number(r.position.x()) : pyb::none();
+    d["y"] = positioned ? number(r.position.y()) : pyb::none();
+    d["z"] = positioned ? number(r.position.z()) : pyb::none();
     d["error_m"] = it.error_m ? pyb::object(pyb::float_(*it.error_m)) : pyb::none();
-    d["uncertainty_m"] = r.ok ? number(r.uncertainty_m) : pyb::none();
+    d["uncertainty_m"] = positioned ? number(r.uncertainty_m) : pyb::none();
     d["residual_rad"] = number(r.residual_rad);
     d["multipath_phase_rad"] = scene ? number(r.multipath_phase_rad) : pyb::none();
-    d["mirror_resolved_by"] = r.ok && !r.mirror_resolved_by.empty() ? pyb::object(pyb::str(r.mirror_resolved_by)) : pyb::none();
+    d["mirror_resolved_by"] = positioned && !r.mirror_resolved_by.empty() ? pyb::object(pyb::str(r.mirror_resolved_by)) : pyb::none();
     d["reads"] = it.reads;
     out.append(d);
   }

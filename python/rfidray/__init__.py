@@ -180,9 +180,10 @@ def localize(readings: ReadingsLike, *, method: str = "all",
     status 'ok' (``--max-residual-rad``, ``--max-uncertainty-m``). ``scenario`` (a scenario file) and ``channel`` (a level): the
     known scene whose extra paths bound the bias (``localize --scenario --channel``; README "Known scene"),
     reported as ``multipath_phase_rad``. Returns one dict per (tag, method) with the keys of
-    ``localize --json``: name, method, status ('ok' | 'failed'), reason, detail, x, y, z, error_m,
+    ``localize --json``: name, method, status ('ok' | 'uncertain' | 'failed'), reason, detail, x, y, z, error_m,
     uncertainty_m (95 % radius), residual_rad, multipath_phase_rad, mirror_resolved_by, reads; None where the JSON
-    has null.
+    has null. 'uncertain': a position and its radius that do not meet the gates (the reason says which);
+    'failed': no position.
     """
     return _localize(_reading_files(readings), _truth_arg(truth), method, height_known, mirror_prior, frequency_hz,
                      max_range_m, stride_m, None if antenna_file is None else os.fspath(antenna_file), fold_pi,

@@ -185,16 +185,25 @@ TEST(LocalizeCli, MaxUncertaintyIsTheLargestRegionAccepted) {
     ASSERT_EQ(r["status"], "ok") << r.dump();
     smallest = std::min(smallest, r["uncertainty_m"].get<double>());
   }
-  // A limit below every radius fails every result, and the reason says by how much.
+  // A limit below every radius makes every result uncertain: the same position and radius, and the reason
+  // says by how much.
   std::ostringstream limit;
   limit << smallest / 2.0;
   const nlohmann::json tight = nlohmann::json::parse(run(base + " --max-uncertainty-m " + limit.str(), status));
   ASSERT_EQ(status, 0);
-  for (const auto& r : tight["results"]) {
-    EXPECT_EQ(r["status"], "failed") << r.dump();
+  ASSERT_EQ(tight["results"].size(), j["results"].size());
+  for (size_t i = 0; i < tight["results"].size(); ++i) {
+    const auto& r = tight["results"][i];
+    EXPECT_EQ(r["status"], "uncertain") << r.dump();
     EXPECT_NE(r["detail"].get<std::string>().find("position uncertainty"), std::string::npos) << r.dump();
-    EXPECT_TRUE(r["uncertainty_m"].is_null()) << r.dump();
+    ASSERT_FALSE(r["uncertainty_m"].is_null()) << r.dump();
+    ASSERT_FALSE(r["x"].is_null()) << r.dump();
+    EXPECT_DOUBLE_EQ(r["x"].get<double>(), j["results"][i]["x"].get<double>());
+    EXPECT_DOUBLE_EQ(r["uncertainty_m"].get<double>(), j["results"][i]["uncertainty_m"].get<double>());
   }
+  EXPECT_EQ(tight["summary"]["nlls"]["ok"], 0);
+  EXPECT_EQ(tight["summary"]["nlls"]["uncertain"], j["summary"]["nlls"]["ok"]);
+  EXPECT_EQ(tight["summary"]["nlls"]["with_position"]["count"], j["results"].size());
   for (const char* bad : {"0", "-1", "nan", "inf"}) {
     const std::string out = run(base + " --max-uncertainty-m " + bad, status);
     EXPECT_EQ(status, 2) << bad;

@@ -110,6 +110,47 @@ std::string replace_line(const std::string& text, const std::string& key, const 
   return out;
 }
 
+// What calibrate could not determine travels with the file, and is checked when read.
+TEST(AntennaFile, NotFittedTermsRoundTripAndAreChecked) {
+  loc::AntennaCalibration e = example();
+  e.not_fitted = {{"dz", "reference tags and antenna positions lie in one plane: \"second order\""}, {"el", "el = 0"}};
+  e.prior_bounded = {{"az2", "sd 0.9 of the prior's"}};
+  e.allowance_base_rad = 0.12;
+  e.allowance_smooth_factor = 2.5;
+  e.allowance_samples = 250;
+  e.allowance_coverage = 0.952;
+  std::ostringstream out;
+  write_antenna_file(out, e);
+  const loc::AntennaCalibration c = parse_antenna_yaml(out.str(), "a.yaml");
+  ASSERT_TRUE(c.has_allowance());
+  EXPECT_DOUBLE_EQ(c.allowance_base_rad, 0.12);
+  EXPECT_DOUBLE_EQ(c.allowance_smooth_factor, 2.5);
+  EXPECT_EQ(c.allowance_samples, 250);
+  EXPECT_DOUBLE_EQ(c.allowance_coverage, 0.952);
+  EXPECT_FALSE(parse_antenna_yaml([] {
+    std::ostringstream o;
+    write_antenna_file(o, example());
+    return o.str();
+  }(), "b.yaml").has_allowance());
+  ASSERT_EQ(c.not_fitted.size(), 2u);
+  EXPECT_EQ(c.not_fitted[0].term, "dz");
+  EXPECT_EQ(c.not_fitted[0].why, e.not_fitted[0].why);
+  EXPECT_EQ(c.not_fitted[1].term, "el");
+  ASSERT_EQ(c.prior_bounded.size(), 1u);
+  EXPECT_EQ(c.prior_bounded[0].term, "az2");
+  std::ostringstream again;
+  write_antenna_file(again, c);
+  EXPECT_EQ(again.str(), out.str());
+  std::string negative = out.str();
+  negative.replace(negative.find("base_rad: 0.12"), 14, "base_rad: -0.1");
+  EXPECT_NE(error_of(negative).find("allowance.base_rad"), std::string::npos) << error_of(negative);
+  std::string bad = out.str();
+  bad.replace(bad.find("{term: el,"), 10, "{term: ez,");
+  const std::string msg = error_of(bad);
+  EXPECT_NE(msg.find("not_fitted[1].term"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("must be one of"), std::string::npos) << msg;
+}
+
 TEST(AntennaFile, MalformedFilesNameFileLineAndField) {
   std::ostringstream good;
   write_antenna_file(good, example());

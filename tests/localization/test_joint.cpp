@@ -2,6 +2,8 @@
 // (hardware_reads.h), and the calibration from reference tags.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <Eigen/Eigenvalues>
 
 #include <cmath>
@@ -12,6 +14,8 @@
 
 #include "core/error.h"
 #include "core/units.h"
+#include "localization/allowance.h"
+#include "localization/localize_request.h"
 #include "localization/multipath_allowance.h"
 #include "localization/antenna_calibration.h"
 #include "localization/calibration.h"
@@ -537,6 +541,171 @@ TEST(Calibration, CalibratedLocalizationBeatsUncalibrated) {
     ++n;
   }
   EXPECT_LT(err_cal / n, 0.5 * err_raw / n) << "calibrated " << err_cal / n << " m, raw " << err_raw / n << " m";
+}
+
+bool listed(const std::vector<AntennaCalibration::TermNote>& notes, const std::string& term) {
+  return std::any_of(notes.begin(), notes.end(), [&](const auto& n) { return n.term == term; });
+}
+
+// Reference tags and stops all in one plane (z = 0), calibrated without --height-known: the vertical offset and
+// the elevation terms are not fitted (the range depends on dz only to second order, and el ≡ 0), and the
+// calibration says so; the terms the plane does determine are fitted as before.
+TEST(Calibration, PlanarReferencesHoldTheVerticalOffsetAndSayWhy) {
+  Hardware hw;
+  hw.truth = testing::example_hardware();
+  hw.noise_rad = 0.1;
+  CalibrationOptions free_fit;
+  ASSERT_FALSE(free_fit.planar);
+  const AntennaCalibration c = calibrate_antenna(reference_tags(hw, 21), "a0", free_fit);
+  for (const char* term : {"dz", "el", "az_el", "el2"}) EXPECT_TRUE(listed(c.not_fitted, term)) << term;
+  for (const char* term : {"dx", "dy", "az", "az2"}) EXPECT_FALSE(listed(c.not_fitted, term)) << term;
+  for (const auto& n : c.not_fitted) EXPECT_FALSE(n.why.empty()) << n.term;
+  const auto dz = std::find_if(c.not_fitted.begin(), c.not_fitted.end(), [](const auto& n) { return n.term == "dz"; });
+  ASSERT_NE(dz, c.not_fitted.end());
+  EXPECT_NE(dz->why.find("one plane"), std::string::npos) << dz->why;
+  EXPECT_EQ(c.phase_centre_offset_m.z(), 0.0);
+  EXPECT_EQ(c.phase_centre_offset_sd_m.z(), 0.0);
+  EXPECT_EQ(c.geometry_covariance(2, 2), 0.0);
+  for (int a = 0; a < 2; ++a)
+    EXPECT_LE(std::abs(c.phase_centre_offset_m[a] - hw.truth.phase_centre_offset_m[a]), 3.0 * c.phase_centre_offset_sd_m[a]) << a;
+  // The same as with --height-known, which states the plane.
+  CalibrationOptions stated;
+  stated.planar = true;
+  const AntennaCalibration p = calibrate_antenna(reference_tags(hw, 21), "a0", stated);
+  EXPECT_NEAR(c.phase_centre_offset_m.x(), p.phase_centre_offset_m.x(), 1e-6);
+  EXPECT_NEAR(c.pattern_rad[2], p.pattern_rad[2], 1e-5);
+}
+
+// Reference tags at several heights (stage at z = 0): the plane test does not fire and dz is fitted, within its
+// stated uncertainty of the truth.
+TEST(Calibration, ReferencesAtSeveralHeightsFitTheVerticalOffset) {
+  Hardware hw;
+  hw.truth = testing::example_hardware();
+  hw.truth.phase_centre_offset_m.z() = 0.02;
+  hw.noise_rad = 0.1;
+  std::vector<CalibrationSample> refs;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int run = 0; run < 6; ++run)
+    for (int t = 0; t < 3; ++t) {
+      const Vec3 tag(0.2 + 0.3 * t + 0.1 * u(rng), 0.45 + 0.45 * u(rng), -0.3 + 0.3 * t);
+      Hardware h = hw;
+      h.tag_offset_rad = kTwoPi * u(rng);
+      refs.push_back({testing::hardware_reads("ref", tag, kStage, h, 700 + run * 10 + t), tag});
+    }
+  const AntennaCalibration c = calibrate_antenna(refs, "a0");
+  EXPECT_FALSE(listed(c.not_fitted, "dz"));
+  ASSERT_GT(c.phase_centre_offset_sd_m.z(), 0.0);
+  EXPECT_LE(std::abs(c.phase_centre_offset_m.z() - 0.02), 3.0 * c.phase_centre_offset_sd_m.z());
+}
+
+// The allowance choice: ≥ 95 % of the samples covered, and no other (base, factor) of its grid covering as many
+// has a smaller median radius.
+TEST(Allowance, CoversTheSamplesWithTheSmallestMedianRadius) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<AllowanceSample> s;
+  for (int i = 0; i < 200; ++i) {
+    AllowanceSample a;
+    a.statistical_radius_m = 0.01 + 0.02 * u(rng);
+    a.bias_m_per_rad = 0.1 + 0.2 * u(rng);
+    a.smooth_residual_rad = 0.05 + 0.4 * u(rng);
+    // The error grows with the smooth misfit (as a fit that absorbs part of a smooth error leaves the rest).
+    a.error_m = a.statistical_radius_m + 2.0 * a.smooth_residual_rad * a.bias_m_per_rad * u(rng);
+    s.push_back(a);
+  }
+  const Allowance a = choose_allowance(s, 0.95);
+  EXPECT_EQ(a.samples, 200);
+  EXPECT_GE(a.coverage, 0.95);
+  auto radius = [&](const AllowanceSample& x, double base, double factor) {
+    return x.statistical_radius_m + std::max(base, factor * x.smooth_residual_rad) * x.bias_m_per_rad;
+  };
+  int covered = 0;
+  std::vector<double> r;
+  for (const AllowanceSample& x : s) {
+    covered += radius(x, a.base_rad, a.smooth_factor) >= x.error_m;
+    r.push_back(radius(x, a.base_rad, a.smooth_factor));
+  }
+  EXPECT_NEAR(a.coverage, covered / 200.0, 1e-12);
+  std::nth_element(r.begin(), r.begin() + 100, r.end());
+  EXPECT_NEAR(a.median_radius_m, r[100], 1e-12);
+  // Brute force over the same factors and a fine grid of bases: nothing covering ≥ 95 % is smaller.
+  for (double factor : {0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0})
+    for (double base = 0.0; base <= 2.0; base += 0.005) {
+      int c = 0;
+      std::vector<double> rr;
+      for (const AllowanceSample& x : s) c += radius(x, base, factor) >= x.error_m, rr.push_back(radius(x, base, factor));
+      if (c < 190) continue;
+      std::nth_element(rr.begin(), rr.begin() + 100, rr.end());
+      EXPECT_GE(rr[100], a.median_radius_m - 1e-12) << "base " << base << " factor " << factor;
+    }
+  EXPECT_EQ(choose_allowance({}, 0.95).samples, 0);
+}
+
+// The allowance measured on reference tags with a smooth error the model lacks (a reflecting wall behind the
+// row, at distances that vary from run to run) makes the radius of other tags in the same room cover ≥ 90 %
+// of them: evidence from the references, not a constant.
+TEST(Allowance, MeasuredOnReferencesCoversTagsOfTheSameRoom) {
+  Hardware hw;
+  hw.truth = testing::example_hardware();
+  hw.noise_rad = 0.1;
+  hw.reads_per_stop = 2;
+  hw.wall_gamma = -0.3;
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto tag_in_room = [&](uint64_t seed, Vec3& tag) {
+    tag = Vec3(0.15 + 0.7 * u(rng), 0.5 + 0.35 * u(rng), 0.0);
+    Hardware h = hw;
+    h.wall_y_m = tag.y() + 0.15 + 0.3 * u(rng);
+    h.tag_offset_rad = kTwoPi * u(rng);
+    return testing::hardware_reads("t", tag, kStage, h, seed);
+  };
+  std::vector<CalibrationSample> refs;
+  for (int i = 0; i < 24; ++i) {
+    Vec3 tag;
+    TagReads reads = tag_in_room(300 + i, tag);
+    refs.push_back({std::move(reads), tag});
+  }
+  CalibrationOptions co;
+  co.planar = true;
+  const AntennaCalibration cal = calibrate_antenna(refs, "a0", co);
+  ASSERT_TRUE(cal.has_allowance());
+  EXPECT_GE(cal.allowance_samples, 20);
+  EXPECT_GE(cal.allowance_coverage, 0.95);
+  // The front ends' path: the file's allowance replaces the default when the user gives none.
+  LocalizeRequest request;
+  request.has_antenna_file = true;
+  request.has_truth = true;
+  request.height_known = true;
+  request.mirror_prior = "boresight";
+  request.max_range_m = 1.5;
+  LocalizePlan plan = validate(request, LocalizeFieldNames{});
+  plan.options.calibration = cal;
+  apply_calibration_allowance(plan, request);
+  EXPECT_EQ(plan.options.systematic_phase_rad, cal.allowance_base_rad);
+  EXPECT_EQ(plan.options.smooth_misfit_factor, cal.allowance_smooth_factor);
+  int positioned = 0, covered = 0;
+  const int tags = 24;
+  for (int i = 0; i < tags; ++i) {
+    Vec3 tag;
+    const TagReads reads = tag_in_room(900 + i, tag);
+    LocalizeOptions o = plan.options;
+    o.tag_height_m = 0.0;
+    const LocalizeResult r = localize(Method::kNlls, reads, o);
+    if (r.status() == Status::kFailed) continue;
+    ++positioned;
+    covered += (r.position - tag).norm() <= r.uncertainty_m;
+  }
+  EXPECT_GE(positioned, tags - 1);
+  EXPECT_GE(covered, 0.9 * positioned) << covered << " of " << positioned;
+  // A value the user gives wins over the file's.
+  LocalizePlan own = validate(request, LocalizeFieldNames{});
+  request.systematic_phase_rad = 0.05;
+  own = validate(request, LocalizeFieldNames{});
+  own.options.calibration = cal;
+  apply_calibration_allowance(own, request);
+  EXPECT_EQ(own.options.systematic_phase_rad, 0.05);
+  EXPECT_EQ(own.options.smooth_misfit_factor, 1.0);
 }
 
 TEST(Calibration, NeedsReadsOfTheAntenna) {

@@ -105,6 +105,39 @@ TEST_P(EachMethod, TooFewReadsFails) {
   const LocalizeResult r = localize(GetParam(), synthesize("t", kTag, p, clean_spec()), options_2d());
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(r.reason, FailReason::kTooFewReads);
+  EXPECT_EQ(r.status(), Status::kFailed);
+}
+
+TEST_P(EachMethod, TwoReadsAreFailedWithoutAPosition) {
+  std::vector<PathSample> p = l_path();
+  p.resize(2);
+  const LocalizeResult r = localize(GetParam(), synthesize("t", kTag, p, clean_spec()), options_2d());
+  EXPECT_EQ(r.status(), Status::kFailed);
+  EXPECT_EQ(r.reason, FailReason::kTooFewReads) << r.detail;
+  EXPECT_FALSE(r.position.allFinite());
+  EXPECT_TRUE(std::isnan(r.uncertainty_m));
+  EXPECT_STREQ(to_string(r.status()), "failed");
+}
+
+// A radius above the user's limit is reported, with the position, as uncertain — not thrown away.
+TEST_P(EachMethod, RadiusAboveTheLimitIsUncertainWithItsPosition) {
+  SyntheticSpec s = clean_spec();
+  s.phase_noise_rad = 0.1;
+  const TagReads reads = synthesize("t", kTag, l_path(), s);
+  const LocalizeResult ok = localize(GetParam(), reads, options_2d());
+  ASSERT_TRUE(ok.ok) << to_string(ok.reason) << ": " << ok.detail;
+  LocalizeOptions tight = options_2d();
+  tight.max_uncertainty_m = ok.uncertainty_m / 2.0;
+  const LocalizeResult r = localize(GetParam(), reads, tight);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.status(), Status::kUncertain) << to_string(r.reason) << ": " << r.detail;
+  EXPECT_STREQ(to_string(r.status()), "uncertain");
+  ASSERT_TRUE(r.position.allFinite());
+  EXPECT_GT(r.uncertainty_m, tight.max_uncertainty_m);
+  EXPECT_NE(r.detail.find("position uncertainty"), std::string::npos) << r.detail;
+  // The same fit as the ok one: the gate changes the status, not the answer.
+  EXPECT_LT((r.position - ok.position).norm(), 1e-9);
+  EXPECT_DOUBLE_EQ(r.uncertainty_m, ok.uncertainty_m);
 }
 
 TEST_P(EachMethod, StraightPathIsAmbiguousMirror) {
@@ -112,6 +145,9 @@ TEST_P(EachMethod, StraightPathIsAmbiguousMirror) {
   const LocalizeResult r = localize(GetParam(), reads, options_2d());
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(r.reason, FailReason::kAmbiguousMirror) << r.detail;
+  // Two positions fit equally: neither is reported.
+  EXPECT_EQ(r.status(), Status::kFailed);
+  EXPECT_FALSE(r.position.allFinite());
 }
 
 TEST_P(EachMethod, StraightPathMirrorSettledByPriors) {
@@ -171,7 +207,18 @@ TEST(QualityGates, UnwrappingMethodsFailOnCycleSlipsInsteadOfReturningAWrongPoin
     for (Method m : {Method::kHyperbolic, Method::kNlls}) {
       const LocalizeResult r = localize(m, reads, options_2d());
       EXPECT_FALSE(r.ok) << to_string(m) << " error " << (r.position - kTag).norm();
-      EXPECT_EQ(r.reason, FailReason::kNoisyPhase) << to_string(m) << ": " << r.detail;
+      // The joint fit on the wrapped phase (no unwrapping) goes on from the slipped estimate: with a position
+      // it is uncertain, reason phase too noisy, and its radius holds the truth; or it finds other optima that
+      // fit as well and gives none.
+      if (r.status() == Status::kUncertain) {
+        EXPECT_EQ(r.reason, FailReason::kNoisyPhase) << to_string(m) << ": " << r.detail;
+        EXPECT_LE((r.position - kTag).norm(), r.uncertainty_m) << to_string(m) << ": " << r.detail;
+      } else {
+        EXPECT_TRUE(r.reason == FailReason::kAmbiguousMirror || r.reason == FailReason::kAmbiguousPeak ||
+                    r.reason == FailReason::kNoisyPhase)
+            << to_string(m) << ": " << r.detail;
+        EXPECT_FALSE(r.position.allFinite()) << to_string(m);
+      }
     }
   }
 }
@@ -186,6 +233,9 @@ TEST(QualityGates, WeakGeometryFailsOnPredictedUncertainty) {
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(r.reason, FailReason::kApertureTooShort) << r.detail;
   EXPECT_GT(r.predicted_std_m, options_2d().max_std_m);
+  // Uncertain, not failed: the position and a radius that holds the truth.
+  ASSERT_EQ(r.status(), Status::kUncertain) << r.detail;
+  EXPECT_LE((r.position - kTag).norm(), r.uncertainty_m);
 }
 
 TEST(QualityGates, PaperNoiseLevelPassesWithSmallPredictedUncertainty) {

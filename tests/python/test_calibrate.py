@@ -47,7 +47,7 @@ def test_calibrate_matches_the_command(runs, tmp_path):
     # The file is what localize takes.
     results = rfidray.localize(b / "stage.csv", method="nlls", truth=b / "tags.csv", height_known=True,
                                mirror_prior="boresight", max_range_m=3, antenna_file=py_file)
-    assert len(results) == 3 and all(r["status"] in ("ok", "failed") for r in results)
+    assert len(results) == 3 and all(r["status"] in ("ok", "uncertain", "failed") for r in results)
 
 
 def test_calibrate_errors_name_the_argument(runs, tmp_path):

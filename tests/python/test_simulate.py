@@ -105,7 +105,9 @@ def test_localize_gates_match_the_command(paper_run):
     expected = json.loads(run_cli("localize", csv_file, "--truth", out / "tags.csv", *args).stdout)["results"]
     got = rfidray.localize(csv_file, method="nlls", truth=out / "tags.csv", height_known=True, mirror_prior="truth",
                            max_uncertainty_m=0.1, max_residual_rad=0.3)
-    assert {g["status"] for g in got} == {"ok", "failed"}  # the gate decides some, not all
+    # The gate decides some, not all; a result over it keeps its position and radius (uncertain).
+    assert {"ok", "uncertain"} <= {g["status"] for g in got} <= {"ok", "uncertain", "failed"}
+    assert all(g["x"] is not None and g["uncertainty_m"] is not None for g in got if g["status"] == "uncertain")
     assert [g["status"] for g in got] == [e["status"] for e in expected]
     assert [g["detail"] for g in got] == [e.get("detail") for e in expected]
     with pytest.raises(rfidray.InputError, match="max_uncertainty_m"):

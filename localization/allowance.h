@@ -1,0 +1,47 @@
+#pragma once
+// The radius allowance measured on reference tags (the evidence behind AntennaCalibration::allowance_*).
+//
+// A localization's 95 % radius is a statistical radius plus a bias bound σ_sys · B (joint_fit.h), where σ_sys is
+// the RMS of the smooth phase error the fit cannot see (the room's multipath, a tag's coupling to its
+// neighbours, what the calibration left) and B = sqrt(N λ_max((J_uᵀJ_u)⁻¹)) the shift per rad such an error can
+// cause. How large σ_sys is on a setup is not a property of the reader but of the room and the tag rows — so it
+// is measured where the truth is known: every reference tag is localized (NLLS, joint fit, every gate open) with
+// the calibration just fitted, and the pair (base, factor) of σ_sys = max(base, factor · smooth misfit of the
+// fit) with the smallest median radius that puts ≥ `coverage` of the reference tags inside their radius is kept.
+// The fit's own smooth misfit carries a tag's condition (a worse row, a worse residual) into its radius; the
+// factor says how much of a smooth error a fit absorbs and leaves unseen.
+//
+// The reference tags also determined the calibration (8 geometry terms over all of them), so their errors are
+// slightly optimistic. Pure function; throws nothing; runs the samples in parallel (deterministic).
+#include <vector>
+
+#include "localization/antenna_calibration.h"
+#include "localization/calibration.h"
+
+namespace rfidray::loc {
+
+struct AllowanceSample {
+  double error_m = 0.0;             // localized position − truth
+  double statistical_radius_m = 0.0;
+  double bias_m_per_rad = 0.0;
+  double smooth_residual_rad = 0.0;
+};
+
+struct Allowance {
+  double base_rad = 0.0;
+  double smooth_factor = 1.0;
+  double coverage = 0.0;            // share of the samples inside their radius
+  double median_radius_m = 0.0;
+  int samples = 0;
+};
+
+// The smallest-median-radius (base, factor) on a grid of factors (0 … 8) covering ≥ `coverage` of `samples`;
+// samples.empty(): coverage 0, samples 0.
+Allowance choose_allowance(const std::vector<AllowanceSample>& samples, double coverage);
+
+// Localizes every reference tag of `antenna` with `calibration` and fills its allowance_* fields (left NaN when
+// fewer than 10 tags could be localized).
+void measure_allowance(const std::vector<CalibrationSample>& references, const CalibrationOptions& options,
+                       AntennaCalibration& calibration);
+
+}  // namespace rfidray::loc
