@@ -684,8 +684,11 @@ TEST(Allowance, MeasuredOnReferencesCoversTagsOfTheSameRoom) {
   apply_calibration_allowance(plan, request);
   EXPECT_EQ(plan.options.systematic_phase_rad, cal.allowance_base_rad);
   EXPECT_EQ(plan.options.smooth_misfit_factor, cal.allowance_smooth_factor);
+  // Fresh tags of the same room. With 200 of them (release build) 194 had a position and 188 of those were inside
+  // their radius (96.9 %); 60 keep the test short and the bounds below hold with margin: at a true coverage of 0.95,
+  // P(covered < 0.85 n) < 0.5 % for n ≈ 58 (binomial).
   int positioned = 0, covered = 0;
-  const int tags = 24;
+  const int tags = 60;
   for (int i = 0; i < tags; ++i) {
     Vec3 tag;
     const TagReads reads = tag_in_room(900 + i, tag);
@@ -696,8 +699,8 @@ TEST(Allowance, MeasuredOnReferencesCoversTagsOfTheSameRoom) {
     ++positioned;
     covered += (r.position - tag).norm() <= r.uncertainty_m;
   }
-  EXPECT_GE(positioned, tags - 1);
-  EXPECT_GE(covered, 0.9 * positioned) << covered << " of " << positioned;
+  EXPECT_GE(positioned, 0.9 * tags);
+  EXPECT_GE(covered, 0.85 * positioned) << covered << " of " << positioned;
   // A value the user gives wins over the file's.
   LocalizePlan own = validate(request, LocalizeFieldNames{});
   request.systematic_phase_rad = 0.05;
