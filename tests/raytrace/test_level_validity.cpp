@@ -15,6 +15,8 @@
 #include "raytrace/raytraced_channel.h"
 #include "raytrace/warehouse.h"
 
+#include "tests/support/endpoint_at.h"
+
 namespace rfidray {
 namespace {
 
@@ -69,13 +71,7 @@ std::shared_ptr<const Scene> metal_quad(const Vec3& corner, const Vec3& u, const
   return std::make_shared<const Scene>(std::vector<TriangleMesh>{sheet}, MaterialAssignment{});
 }
 
-Endpoint z_dipole_at(const Vec3& p) {
-  Endpoint e;
-  e.pose.position = p;
-  e.polarization.kind = PolarizationKind::kLinear;
-  e.polarization.axis_local = Vec3::UnitZ();
-  return e;
-}
+using testing::z_dipole_at;
 
 // A tag 2 cm from the edge of a large metal sheet (the half-plane y = 0, x ≥ 0), lit from 1 km at φ' = 60°:
 // the traced field of `full` is the exact wedge series (UTD is exact on a half-plane under a plane wave, at any

@@ -11,18 +11,14 @@
 #include "raytrace/raytraced_channel.h"
 #include "raytrace/warehouse.h"
 
+#include "tests/support/endpoint_at.h"
+
 namespace rfidray {
 namespace {
 
 constexpr double kF = 866e6;
 
-Endpoint z_dipole_at(const Vec3& p) {
-  Endpoint e;
-  e.pose.position = p;
-  e.polarization.kind = PolarizationKind::kLinear;
-  e.polarization.axis_local = Vec3::UnitZ();
-  return e;
-}
+using testing::z_dipole_at;
 
 std::shared_ptr<const Scene> scene_of(std::vector<TriangleMesh> meshes) {
   return std::make_shared<const Scene>(std::move(meshes), MaterialAssignment{});

@@ -11,4 +11,12 @@ inline Endpoint endpoint_at(const Vec3& position_m) {
   return e;
 }
 
+// The same with a linear polarization along its local z: a vertical dipole, E ∥ z (the edge-validity tests' source).
+inline Endpoint z_dipole_at(const Vec3& position_m) {
+  Endpoint e = endpoint_at(position_m);
+  e.polarization.kind = PolarizationKind::kLinear;
+  e.polarization.axis_local = Vec3::UnitZ();
+  return e;
+}
+
 }  // namespace rfidray::testing
