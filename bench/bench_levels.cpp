@@ -28,6 +28,7 @@
 
 using namespace rfidray;
 using bench::take_pool_rays;
+using bench::take_pool_plane_pairs;
 
 namespace {
 
@@ -90,6 +91,11 @@ int main(int argc, char** argv) {
     if (static_cast<int>(level) > static_cast<int>(*reference_parsed)) continue;
     TraceOptions o;
     o.level = level;
+    if (level == ChannelLevel::kDoubleBounce) {  // the plane pairs shared per block of tags, and not (same paths)
+      TraceOptions never = o;
+      never.plane_pair_sharing = TraceOptions::Sharing::kNever;
+      rows.emplace_back("double-bounce unshared", never);
+    }
     if (level != ChannelLevel::kFullSelective) {
       rows.emplace_back(to_string(level), o);
       continue;
@@ -102,7 +108,7 @@ int main(int argc, char** argv) {
     }
   }
   std::ofstream csv(std::filesystem::path(out_dir) / "levels.csv");
-  csv << "scene,triangles,edges,level,threads,links,links_per_s_median,us_per_link,rays_per_link,"
+  csv << "scene,triangles,edges,level,threads,links,links_per_s_median,us_per_link,rays_per_link,plane_pairs_per_link,"
          "readable,read_flips,phase_p95_rad,rssi_p95_db,phase_p95_both_rad,rssi_p95_both_db\n";
   std::vector<io::Series> phase_series, rssi_series;
   for (const bench::BenchScene& bs : scenes) {
@@ -115,8 +121,9 @@ int main(int argc, char** argv) {
     omp_set_num_threads(2);
     const auto t_ref = std::chrono::steady_clock::now();
     const auto ref = values(reference, w);
-    std::printf("%s: %zu triangles, %zu edges; %zu tags x %zu poses; reference (%s %s) %.1f µs/link\n",
-                bs.name.c_str(), scene->triangle_count(), reference.finder().edges().size(), w.tags.size(),
+    std::printf("%s: %zu triangles, %zu planes, %zu edges; %zu tags x %zu poses; reference (%s %s) %.1f µs/link\n",
+                bs.name.c_str(), scene->triangle_count(), reference.finder().plane_count(),
+                reference.finder().edges().size(), w.tags.size(),
                 w.antennas.size(), reference_level.c_str(), to_string(ref_candidates), 1e6 * seconds_since(t_ref) / double(w.links()));
     const std::vector<double> min_h2(ref.size(), min_readable_h2(ReaderParams{}, TagParams{}));
     io::Series ph{bs.name + " phase p95 (rad)", {}, {}, "linespoints", {}};
@@ -128,6 +135,7 @@ int main(int argc, char** argv) {
         omp_set_num_threads(threads);
         std::vector<double> rates;
         take_pool_rays();
+        take_pool_plane_pairs();
         std::vector<std::complex<double>> h(w.tags.size());
         for (int r = 0; r < runs; ++r) {
           const auto t0 = std::chrono::steady_clock::now();
@@ -135,15 +143,16 @@ int main(int argc, char** argv) {
           rates.push_back(double(w.links()) / seconds_since(t0));
         }
         const double rays = double(take_pool_rays()) / double(runs * w.links());
+        const double pairs = double(take_pool_plane_pairs()) / double(runs * w.links());
         std::sort(rates.begin(), rates.end());
         const double median = rates[rates.size() / 2];
-        std::printf("  %-22s %d thread%s %11.0f links/s %8.2f µs/link %8.1f rays/link | readable %zu, flips %zu, "
-                    "phase p95 %.4g rad, RSSI p95 %.4g dB (readable in both: %.4g rad, %.4g dB)\n",
-                    label.c_str(), threads, threads == 1 ? " " : "s", median, 1e6 / median, rays, e.links,
+        std::printf("  %-22s %d thread%s %11.0f links/s %8.2f µs/link %8.1f rays/link %8.0f plane pairs/link | readable %zu, "
+                    "flips %zu, phase p95 %.4g rad, RSSI p95 %.4g dB (readable in both: %.4g rad, %.4g dB)\n",
+                    label.c_str(), threads, threads == 1 ? " " : "s", median, 1e6 / median, rays, pairs, e.links,
                     e.status_mismatches, e.phase_p95_rad, e.rssi_p95_db, e.phase_p95_both_rad, e.rssi_p95_both_db);
         csv << bs.name << "," << scene->triangle_count() << "," << reference.finder().edges().size() << ","
             << label << "," << threads << "," << w.links() << "," << median << "," << 1e6 / median << ","
-            << rays << "," << e.links << "," << e.status_mismatches << "," << e.phase_p95_rad << "," << e.rssi_p95_db
+            << rays << "," << pairs << "," << e.links << "," << e.status_mismatches << "," << e.phase_p95_rad << "," << e.rssi_p95_db
             << "," << e.phase_p95_both_rad << "," << e.rssi_p95_both_db << "\n";
         if (threads == 1) {
           // Links readable in only one channel make the p95 infinite: the chart shows the p95 over links

@@ -1,6 +1,6 @@
 #pragma once
 // The ray tracer's per-thread counters (tl_rays_traced, tl_segments_culled, tl_mirror_points,
-// tl_reflections_found), summed over the caller and every
+// tl_reflections_found, tl_plane_pairs_tried), summed over the caller and every
 // thread of the OpenMP pool (its threads persist between regions) and reset: what the benchmarks report per link.
 #include <omp.h>
 
@@ -39,6 +39,11 @@ inline uint64_t take_pool_mirror_points() {
 // Single reflections found (both legs clear) since the last call.
 inline uint64_t take_pool_reflections() {
   return take_from_pool([]() -> uint64_t& { return tl_reflections_found; });
+}
+
+// Double-bounce plane pairs tried (raytrace/path_finder.h) since the last call.
+inline uint64_t take_pool_plane_pairs() {
+  return take_from_pool([]() -> uint64_t& { return tl_plane_pairs_tried; });
 }
 
 }  // namespace rfidray::bench

@@ -4,6 +4,10 @@
 //    which facet is at P1 (the ray A→P1) and at P2 (the ray P1→P2) and that the leg is clear;
 //  - exhaustive: the points are tested against every facet of their plane (point in triangle) and every leg
 //    by an occlusion ray. Both give the same paths (tests/raytrace/test_double_bounce.cpp).
+// Links traced together (trace_sum) share the pair scan: per block of nearby tags, plane_pairs_near keeps
+// only the pairs whose reflection points can land on occupied cells for some tag of the block, and each link
+// of the block walks those (tests/raytrace/test_double_bounce.cpp: the same paths as every pair).
+#include <algorithm>
 #include <cmath>
 
 #include "core/fresnel.h"
@@ -14,7 +18,12 @@
 namespace rfidray {
 
 void PathFinder::double_reflections(const Endpoint& ant, const Endpoint& tag, double f, const PoseCandidates& c,
-                                    double floor, std::vector<TracedPath>& out) const {
+                                    double floor, const std::vector<PlanePair>* pairs,
+                                    std::vector<TracedPath>& out) const {
+  if (pairs) {  // the pairs plane_pairs_near kept for this link's block (trace_sum sorts the paths afterwards)
+    for (const PlanePair& p : *pairs) try_plane_pair(p.first, p.second, ant, tag, f, c, floor, out);
+    return;
+  }
   const auto n = static_cast<uint32_t>(planes_.size());
   for (uint32_t g2 = 0; g2 < n; ++g2)
     for (uint32_t g1 = 0; g1 < n; ++g1)
@@ -23,6 +32,7 @@ void PathFinder::double_reflections(const Endpoint& ant, const Endpoint& tag, do
 
 void PathFinder::try_plane_pair(uint32_t g1, uint32_t g2, const Endpoint& ant, const Endpoint& tag, double f,
                                 const PoseCandidates& c, double floor, std::vector<TracedPath>& out) const {
+  ++tl_plane_pairs_tried;
   const PlaneGroup& a_plane = planes_[g1];
   const PlaneGroup& b_plane = planes_[g2];
   const Vec3& a = ant.pose.position;
@@ -128,6 +138,111 @@ void PathFinder::try_plane_pair(uint32_t g1, uint32_t g2, const Endpoint& ant, c
   path.coefficient = g * polarization_match(e2, tag.polarization, tag.pose.orientation, u3);
   path.contribution = path_contribution(path.length_m, path.coefficient, f);
   out.push_back(path);
+}
+
+// The reflection point P between an apex X and a point T on one side of an axis-aligned plane (n = σ·e_k,
+// n·x = c) is X + s (T − X) in the plane's two other coordinates, s = d_X / (d_X + d_T) with d the signed
+// distances (one sign). Over a box of T it is bounded by the box's corners: for fixed d_T it is linear in
+// T's coordinate, for a fixed coordinate monotone in d_T (d_X + d_T keeps its sign), and the two vary
+// independently in a box. The margin covers the per-link computation's rounding: its point is off the exact
+// one by a few ulps of the coordinates divided by the cosine of the incidence, and that cosine is at least
+// d_min / L, L the apex's largest distance from the box mirrored in the plane (the unfolded leg): 1e-12 is
+// 10⁴ times the few ulps (2⁻⁵³ relative) of that computation.
+bool PathFinder::reflection_window(const PlaneGroup& g, const Vec3& apex, const Vec3& lo, const Vec3& hi,
+                                   double region[2][2], double* margin_m, double* amplification) const {
+  if (g.axis_sign == 0) return false;
+  const int k = g.axis_k;
+  const double s = g.axis_sign, c = g.offset_m;
+  const double d_apex = s * apex[k] - c;
+  const double dt_lo = (s > 0 ? lo[k] : -hi[k]) - c, dt_hi = (s > 0 ? hi[k] : -lo[k]) - c;
+  constexpr double kTiny = 1e-150;
+  const bool one_side = (d_apex > kTiny && dt_lo > kTiny) || (d_apex < -kTiny && dt_hi < -kTiny);
+  if (!one_side) return false;
+  const double d_lo = d_apex + dt_lo, d_hi = d_apex + dt_hi;
+  const double d_min = std::min(std::abs(d_lo), std::abs(d_hi));
+  // The box mirrored in the plane (only coordinate k changes) and its farthest corner from the apex.
+  const double plane_x = s * c;
+  Vec3 far = (apex - lo).cwiseAbs().cwiseMax((apex - hi).cwiseAbs());
+  far[k] = std::max(std::abs(2.0 * plane_x - lo[k] - apex[k]), std::abs(2.0 * plane_x - hi[k] - apex[k]));
+  const double reach = far.norm();
+  const double scale = std::max({1.0, apex.cwiseAbs().maxCoeff(), lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff(),
+                                 std::abs(plane_x)}) + reach;
+  const double margin = 1e-9 + 1e-12 * scale * (1.0 + 4.0 * reach / d_min);
+  for (int axis = 0; axis < 2; ++axis) {
+    const int a = axis == 0 ? g.axis_u : g.axis_v;
+    const double n_lo = lo[a] - apex[a], n_hi = hi[a] - apex[a];
+    const double q[4] = {d_apex * n_lo / d_lo, d_apex * n_lo / d_hi, d_apex * n_hi / d_lo, d_apex * n_hi / d_hi};
+    region[axis][0] = apex[a] + *std::min_element(q, q + 4) - margin;
+    region[axis][1] = apex[a] + *std::max_element(q, q + 4) + margin;
+    if (!std::isfinite(region[axis][0]) || !std::isfinite(region[axis][1])) return false;
+  }
+  if (margin_m) *margin_m = margin;
+  if (amplification) *amplification = reach / d_min;
+  return std::isfinite(margin);
+}
+
+bool PathFinder::any_occupied(const PlaneGroup& g, const double region[2][2]) const {
+  // cell_bit's grid: [u0, u0 + nu / inv_du) × [v0, v0 + nv / inv_dv); a point outside it is rejected.
+  const double u1 = g.u0 + g.nu / g.inv_du, v1 = g.v0 + g.nv / g.inv_dv;
+  const auto beyond = [](double x, double end) { return x > end + 1e-9 * (std::abs(end) + 1.0); };
+  if (region[0][1] < g.u0 || region[1][1] < g.v0 || beyond(region[0][0], u1) || beyond(region[1][0], v1)) return false;
+  const auto cell = [](double x, double x0, double inv, int n) {
+    return static_cast<int>(std::clamp(std::floor((x - x0) * inv), 0.0, n - 1.0));
+  };
+  const int iu0 = cell(region[0][0], g.u0, g.inv_du, g.nu), iu1 = cell(region[0][1], g.u0, g.inv_du, g.nu);
+  const int iv0 = cell(region[1][0], g.v0, g.inv_dv, g.nv), iv1 = cell(region[1][1], g.v0, g.inv_dv, g.nv);
+  constexpr long kMaxScan = 4096;  // bits; a larger rectangle is taken as occupied (it seldom is empty)
+  if (static_cast<long>(iu1 - iu0 + 1) * (iv1 - iv0 + 1) > kMaxScan) return true;
+  for (int iv = iv0; iv <= iv1; ++iv) {
+    size_t first = g.bit_offset + static_cast<size_t>(iv) * g.nu + iu0;
+    const size_t last = g.bit_offset + static_cast<size_t>(iv) * g.nu + iu1;  // inclusive
+    while (first <= last) {
+      const size_t word = first / 64, end = std::min(last, word * 64 + 63);
+      const int from = static_cast<int>(first % 64), count = static_cast<int>(end - first + 1);
+      const uint64_t mask = (count == 64 ? ~uint64_t{0} : ((uint64_t{1} << count) - 1)) << from;
+      if (occupancy_[word] & mask) return true;
+      first = end + 1;
+    }
+  }
+  return false;
+}
+
+// try_plane_pair rejects a link unless P2 (on plane 2) and P1 (on plane 1) lie on occupied cells. Geometrically
+// (the unfolded path A → P1 → P2 → T is straight from A1, A's image in plane 1, to T2, T's image in plane 2):
+// P2 is the reflection point between A1 and T in plane 2, and P1 the reflection point between A and P2 in
+// plane 1, each apex strictly on the side of its box. So per pair: the window of P2 over the tag box, then
+// the window of P1 over that window (a flat box on plane 2, widened by its margin); a pair with either
+// window off its grid or on empty cells carries no path for any tag of the box. Where a window cannot be
+// bounded (a plane not axis-aligned, an apex or box not strictly on one side) the pair is kept.
+void PathFinder::plane_pairs_near(const Vec3& a, const Vec3& lo, const Vec3& hi, std::vector<PlanePair>& out) const {
+  out.clear();
+  const auto n = static_cast<uint32_t>(planes_.size());
+  for (uint32_t g1 = 0; g1 < n; ++g1) {
+    const PlaneGroup& first = planes_[g1];
+    Vec3 a1 = a;
+    if (first.axis_sign != 0) a1[first.axis_k] = 2.0 * first.axis_sign * first.offset_m - a[first.axis_k];
+    for (uint32_t g2 = 0; g2 < n; ++g2) {
+      if (g1 == g2) continue;
+      const PlaneGroup& second = planes_[g2];
+      double w2[2][2], w1[2][2], margin2 = 0.0;
+      if (first.axis_sign != 0 && reflection_window(second, a1, lo, hi, w2, &margin2)) {
+        if (!any_occupied(second, w2)) continue;
+        // The window of P2 as a flat box on plane 2, as thick as the window's rounding margin.
+        Vec3 box_lo, box_hi;
+        box_lo[second.axis_u] = w2[0][0], box_hi[second.axis_u] = w2[0][1];
+        box_lo[second.axis_v] = w2[1][0], box_hi[second.axis_v] = w2[1][1];
+        const double x2 = second.axis_sign * second.offset_m;
+        box_lo[second.axis_k] = x2 - margin2, box_hi[second.axis_k] = x2 + margin2;
+        // P2's own rounding grows with P1's, which grows as 1 / cos of the first incidence (≤ amplification):
+        // the margins hold up to 10³ (incidence 89.94° from the normal); closer to grazing the pair is kept.
+        double amplification = 0.0;
+        if (reflection_window(first, a, box_lo, box_hi, w1, nullptr, &amplification) && amplification < 1e3 &&
+            !any_occupied(first, w1))
+          continue;
+      }
+      out.push_back({g1, g2});
+    }
+  }
 }
 
 }  // namespace rfidray

@@ -71,6 +71,7 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     g.normal.cwiseAbs().maxCoeff(&k);
     g.axis_u = (k + 1) % 3;
     g.axis_v = (k + 2) % 3;
+    if (g.normal == Vec3::Unit(k) || g.normal == -Vec3::Unit(k)) g.axis_k = k, g.axis_sign = g.normal[k] > 0 ? 1 : -1;
     const double eu = std::max(g.hi[g.axis_u] - g.lo[g.axis_u], 1e-6);
     const double ev = std::max(g.hi[g.axis_v] - g.lo[g.axis_v], 1e-6);
     const double target = std::clamp(64.0 * members[gi].size(), 1.0, 262144.0);
@@ -190,6 +191,29 @@ void PathFinder::prepare_pose(const Vec3& antenna_position, PoseCandidates& out)
     if (plane_seen[gi]) out.planes.push_back(static_cast<uint32_t>(gi));
 }
 
+void PathFinder::decide_plane_pair_sharing(const Vec3& a, std::span<const Endpoint> tags,
+                                           std::span<const uint32_t> order, PoseCandidates& out) const {
+  out.share_plane_pairs = false;
+  if (!includes(options_.level, ChannelLevel::kDoubleBounce) || planes_.size() < 2) return;
+  if (options_.plane_pair_sharing != TraceOptions::Sharing::kAuto) {
+    out.share_plane_pairs = options_.plane_pair_sharing == TraceOptions::Sharing::kAlways;
+    return;
+  }
+  // The probe costs one block's pairs: worth it only when many blocks follow. Sharing pays while fewer than
+  // 2/3 of the pairs are kept: a block's pairs cost ~60 ns per pair against ~12 ns per pair and link without
+  // sharing (bench_levels on w100k), i.e. five links' worth, saved 16 times per pair pruned.
+  constexpr size_t kBlock = 16, kMinTags = 64;
+  if (order.size() < kMinTags) return;
+  Vec3 lo = tags[order[0]].pose.position, hi = lo;
+  for (size_t j = 1; j < kBlock; ++j)
+    lo = lo.cwiseMin(tags[order[j]].pose.position), hi = hi.cwiseMax(tags[order[j]].pose.position);
+  if (!lo.allFinite() || !hi.allFinite() || !a.allFinite()) return;
+  thread_local std::vector<PlanePair> tl_probe;
+  plane_pairs_near(a, lo, hi, tl_probe);
+  const double all_pairs = static_cast<double>(planes_.size()) * static_cast<double>(planes_.size() - 1);
+  out.share_plane_pairs = static_cast<double>(tl_probe.size()) < (2.0 / 3.0) * all_pairs;
+}
+
 void PathFinder::check_link(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) {
   const Vec3& a = antenna.pose.position;
   const Vec3& t = tag.pose.position;
@@ -202,7 +226,7 @@ void PathFinder::check_link(const Endpoint& antenna, const Endpoint& tag, double
 
 void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
                        const PoseCandidates& candidates, std::vector<TracedPath>& out) const {
-  trace_impl(antenna, tag, frequency_hz, candidates, -1, nullptr, out);
+  trace_impl(antenna, tag, frequency_hz, candidates, -1, nullptr, nullptr, out);
 }
 
 void PathFinder::trace_sum(const Endpoint& antenna, std::span<const Endpoint> tags, std::span<const uint32_t> which,
@@ -210,32 +234,43 @@ void PathFinder::trace_sum(const Endpoint& antenna, std::span<const Endpoint> ta
                            std::span<std::complex<double>> h) const {
   thread_local std::vector<TracedPath> tl_paths;  // per-thread scratch: no allocation once warm
   std::vector<TracedPath>& paths = tl_paths;
-  const auto sum = [&](uint32_t k, int hint, const std::vector<uint32_t>* groups = nullptr) {
-    trace_impl(antenna, tags[k], frequency_hz, candidates, hint, groups, paths);
+  const auto sum = [&](uint32_t k, int hint, const std::vector<uint32_t>* groups = nullptr,
+                       const std::vector<PlanePair>* pairs = nullptr) {
+    trace_impl(antenna, tags[k], frequency_hz, candidates, hint, groups, pairs, paths);
     std::complex<double> s{0.0, 0.0};
     for (const TracedPath& p : paths) s += p.contribution;
     h[k] = s;
   };
   if (options_.level != ChannelLevel::kLos || packet_width <= 1 || scene_->empty()) {
-    if (!includes(options_.level, ChannelLevel::kSingleBounce) || options_.candidates == CandidateMode::kExhaustive ||
-        !candidates.all || exact_groups_.empty()) {
+    const bool group_blocks = includes(options_.level, ChannelLevel::kSingleBounce) &&
+                              options_.candidates != CandidateMode::kExhaustive && candidates.all &&
+                              !exact_groups_.empty();
+    const bool pair_blocks = candidates.share_plane_pairs && includes(options_.level, ChannelLevel::kDoubleBounce) &&
+                             planes_.size() >= 2;
+    if (!group_blocks && !pair_blocks) {
       for (uint32_t k : which) sum(k, -1);
       return;
     }
-    // The exact search, per block of 16 nearby tags (the callers pass them in Morton order): the groups
-    // that can matter for any tag of the block, found once, instead of every group for every link.
+    // Per block of 16 nearby tags (the callers pass them in Morton order): the exact search's groups and the
+    // double-bounce search's plane pairs that can matter for any tag of the block, found once, instead of
+    // every group and every pair for every link.
     thread_local std::vector<uint32_t> tl_groups;
+    thread_local std::vector<PlanePair> tl_pairs;
     std::vector<uint32_t>& groups = tl_groups;
+    std::vector<PlanePair>& pairs = tl_pairs;
     constexpr size_t kTagBlock = 16;
     for (size_t i = 0; i < which.size(); i += kTagBlock) {
       const size_t n = std::min(kTagBlock, which.size() - i);
       Vec3 lo = tags[which[i]].pose.position, hi = lo;
       for (size_t j = 1; j < n; ++j)
         lo = lo.cwiseMin(tags[which[i + j]].pose.position), hi = hi.cwiseMax(tags[which[i + j]].pose.position);
-      // (A non-finite endpoint: every group; the link's own check then throws.)
+      // (A non-finite endpoint: every group and pair; the link's own check then throws.)
       const bool finite = lo.allFinite() && hi.allFinite() && antenna.pose.position.allFinite();
-      if (finite) exact_groups_near(antenna.pose.position, lo, hi, groups);
-      for (size_t j = 0; j < n; ++j) sum(which[i + j], -1, finite ? &groups : nullptr);
+      if (finite && group_blocks) exact_groups_near(antenna.pose.position, lo, hi, groups);
+      const bool share_pairs = finite && pair_blocks;
+      if (share_pairs) plane_pairs_near(antenna.pose.position, lo, hi, pairs);
+      for (size_t j = 0; j < n; ++j)
+        sum(which[i + j], -1, finite && group_blocks ? &groups : nullptr, share_pairs ? &pairs : nullptr);
     }
     return;
   }
@@ -289,7 +324,8 @@ bool PathFinder::direct_segment(const Vec3& a, const Vec3& t, Segment& s, double
 
 void PathFinder::trace_impl(const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
                             const PoseCandidates& candidates, int los_hint,
-                            const std::vector<uint32_t>* exact_groups, std::vector<TracedPath>& out) const {
+                            const std::vector<uint32_t>* exact_groups, const std::vector<PlanePair>* plane_pairs,
+                            std::vector<TracedPath>& out) const {
   out.clear();
   if (los_hint < 0) check_link(antenna, tag, frequency_hz);  // (trace_sum checked before its packet)
   direct_path(antenna, tag, frequency_hz, los_hint, out);
@@ -311,7 +347,7 @@ void PathFinder::trace_impl(const Endpoint& antenna, const Endpoint& tag, double
   };
   if (includes(options_.level, ChannelLevel::kDoubleBounce)) {
     const size_t first = out.size();
-    double_reflections(antenna, tag, frequency_hz, candidates, floor_so_far(), out);
+    double_reflections(antenna, tag, frequency_hz, candidates, floor_so_far(), plane_pairs, out);
     std::sort(out.begin() + first, out.end(), [](const TracedPath& x, const TracedPath& y) {
       return std::tie(x.length_m, x.facet, x.facet2) < std::tie(y.length_m, y.facet, y.facet2);
     });

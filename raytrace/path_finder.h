@@ -59,6 +59,10 @@ inline constexpr uint32_t kNoMaterial = std::numeric_limits<uint32_t>::max();
 // report per link: the rays an exact search must spend follow from the first, the paths from the second.
 inline thread_local uint64_t tl_mirror_points = 0;
 inline thread_local uint64_t tl_reflections_found = 0;
+// Double reflections on the calling thread: ordered plane pairs whose two reflection points were computed
+// (try_plane_pair calls), credited likewise. Every pair per link without sharing; what plane_pairs_near
+// keeps when links are traced together.
+inline thread_local uint64_t tl_plane_pairs_tried = 0;
 
 // A path as the tracer produces it (no strings: the hot loop does not allocate).
 struct TracedPath {
@@ -80,6 +84,11 @@ struct TracedPath {
 // With candidate rays, a plane is tried only if a ray from the antenna hit it, and a reflection point only if
 // it lies in a cell of that plane's occupancy grid that some ray's footprint covered (the region of the plane
 // the antenna sees). Each surviving candidate is then made exact by the image method and both legs' rays.
+// An ordered pair of plane groups (first reflection, second reflection) of the double-bounce search.
+struct PlanePair {
+  uint32_t first = 0, second = 0;
+};
+
 struct PoseCandidates {
   bool all = true;                     // test every plane and every point (exact)
   std::vector<uint32_t> planes;        // otherwise only these (plane-group ids) ...
@@ -87,6 +96,7 @@ struct PoseCandidates {
   std::vector<uint32_t> touched_words; // words of seen_cells set since the last clear
   std::vector<RayHit> hits;            // per-ray scratch
   std::vector<char> plane_seen;        // per-plane scratch
+  bool share_plane_pairs = false;      // trace_sum shares double-bounce plane pairs per block (see there)
 };
 
 class PathFinder {
@@ -101,6 +111,12 @@ class PathFinder {
 
   // Per-pose candidate search (shoots options().candidate_rays rays when > 0 in exact mode).
   void prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const;
+  // Sets out.share_plane_pairs for the links from `antenna_position` to tags[order[…]] traced together
+  // (TraceOptions::plane_pair_sharing; kAuto: finds the first block's pairs and shares when fewer than 2/3
+  // of all ordered pairs are kept, with ≥ 64 tags: a block's pairs cost about five per-link pair tests per
+  // pair, saved on its 16 links for each pair pruned).
+  void decide_plane_pair_sharing(const Vec3& antenna_position, std::span<const Endpoint> tags,
+                                 std::span<const uint32_t> order, PoseCandidates& out) const;
   // Every path of one link into `out` (cleared first; reuse it across calls to avoid allocation).
   // Throws InputError if the endpoints coincide or are not finite.
   void trace(const Endpoint& antenna, const Endpoint& tag, double frequency_hz, const PoseCandidates& candidates,
@@ -140,6 +156,7 @@ class PathFinder {
     double u0 = 0, v0 = 0, inv_du = 0, inv_dv = 0;
     int nu = 1, nv = 1;
     size_t bit_offset = 0;  // into occupancy_
+    int axis_k = 0, axis_sign = 0;  // normal = axis_sign · unit(axis_k) exactly, or axis_sign = 0
   };
   // Exact mode (no candidate rays). Facets with bitwise the same normal and offsets within 1e-7 m of their
   // neighbours form an exact group; its facets are binned in a grid over the group's extent in the two world
@@ -186,8 +203,10 @@ class PathFinder {
 
   // los_hint: −1 = trace the level-los visibility ray here, 0 = known clear, 1 = known blocked.
   // exact_groups: as reflections_exact's `groups`.
+  // plane_pairs: as double_reflections' `pairs`.
   void trace_impl(const Endpoint& antenna, const Endpoint& tag, double frequency_hz, const PoseCandidates& candidates,
-                  int los_hint, const std::vector<uint32_t>* exact_groups, std::vector<TracedPath>& out) const;
+                  int los_hint, const std::vector<uint32_t>* exact_groups, const std::vector<PlanePair>* plane_pairs,
+                  std::vector<TracedPath>& out) const;
   static void check_link(const Endpoint& antenna, const Endpoint& tag, double frequency_hz);
   void direct_path(const Endpoint& a, const Endpoint& t, double f, int los_hint, std::vector<TracedPath>& out) const;
   void reflections_exhaustive(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
@@ -200,9 +219,26 @@ class PathFinder {
                       double f, bool check_leg1, std::vector<TracedPath>& out) const;
   bool point_on_facet(const Facet& facet, const Vec3& p) const;
   bool point_on_triangle(const Vec3& facet_normal, uint32_t mesh, uint32_t triangle, const Vec3& p) const;
-  // Level double-bounce (double_bounce.cpp): every plane pair; `floor` is the drop floor so far (power).
+  // Level double-bounce (double_bounce.cpp): every ordered plane pair, or only `pairs` when given (from
+  // plane_pairs_near); `floor` is the drop floor so far (power).
   void double_reflections(const Endpoint& a, const Endpoint& t, double f, const PoseCandidates& c, double floor,
-                          std::vector<TracedPath>& out) const;
+                          const std::vector<PlanePair>* pairs, std::vector<TracedPath>& out) const;
+  // The ordered plane pairs (g1, g2) that can carry a double reflection of some link from `antenna` to a tag
+  // inside the box [tags_lo, tags_hi]: every pair except those where, for every tag of the box, the point on
+  // plane 2 or the point on plane 1 provably falls off that plane's occupancy grid or on empty cells only
+  // (try_plane_pair's first rejections). Shared by the links of a block of nearby tags (trace_sum): the
+  // per-link search then walks these pairs instead of all n² (the same paths: see double_bounce.cpp).
+  void plane_pairs_near(const Vec3& antenna, const Vec3& tags_lo, const Vec3& tags_hi,
+                        std::vector<PlanePair>& out) const;
+  // The (u, v) rectangle of g's plane that holds the reflection point between `apex` and every point of the
+  // box [lo, hi], widened by a rounding margin (metres, in *margin_m when given; *amplification: the bound
+  // on 1 / cos of the incidence on g it assumed); false when it cannot be bounded so (g not axis-aligned, or
+  // apex and box not strictly on one side of it).
+  bool reflection_window(const PlaneGroup& g, const Vec3& apex, const Vec3& lo, const Vec3& hi, double region[2][2],
+                         double* margin_m = nullptr, double* amplification = nullptr) const;
+  // Whether any occupancy bit of g under the (u, v) rectangle is set (true when the rectangle is too large to
+  // scan cheaply); false when the rectangle is off g's grid.
+  bool any_occupied(const PlaneGroup& g, const double region[2][2]) const;
   void try_plane_pair(uint32_t g1, uint32_t g2, const Endpoint& a, const Endpoint& t, double f,
                       const PoseCandidates& c, double floor, std::vector<TracedPath>& out) const;
   // Level full (diffraction.cpp): every edge.

@@ -1,10 +1,12 @@
 // Level double-bounce (raytrace/double_bounce.cpp) against image theory: a corner of two perpendicular metal
 // walls and two parallel metal walls (image positions, path lengths, reflection points and coefficients to
-// 1e-9), and the exact candidate search against the exhaustive one on the paper warehouse.
+// 1e-9), the exact candidate search against the exhaustive one on the paper warehouse, and the plane pairs
+// shared by a block of tags (PathFinder::plane_pairs_near) against every pair per link.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "core/units.h"
 #include "raytrace/raytraced_channel.h"
@@ -199,6 +201,101 @@ TEST(DoubleBounce, FastAgreesWithExhaustiveOnThePaperWarehouse) {
     }
   }
   EXPECT_GT(doubles, 100u);  // floor–rack, rack–rack and wall paths were really exercised
+}
+
+// one_way (links traced together: the plane pairs of each block of 16 nearby tags are found once and shared)
+// against paths() per link (every ordered pair): the same channel, and far fewer pairs tried.
+struct SharingResult {
+  size_t links = 0, doubles = 0;
+  double pairs_shared = 0.0, pairs_every = 0.0;  // try_plane_pair calls per link
+};
+
+SharingResult expect_shared_pairs_exact(const std::shared_ptr<const Scene>& scene, CandidateMode mode,
+                                        const std::vector<Endpoint>& antennas, const std::vector<Endpoint>& tags,
+                                        TraceOptions::Sharing sharing) {
+  TraceOptions o = level_options(ChannelLevel::kDoubleBounce, mode);
+  o.drop_below_db = 60.0;
+  o.plane_pair_sharing = sharing;
+  const RaytracedChannel channel(scene, o);
+  SharingResult r;
+  std::vector<std::complex<double>> h(tags.size());
+  for (const Endpoint& ant : antennas) {
+    tl_plane_pairs_tried = 0;
+    channel.one_way(ant, tags, kF, h);
+    r.pairs_shared += static_cast<double>(tl_plane_pairs_tried);
+    tl_plane_pairs_tried = 0;
+    for (size_t i = 0; i < tags.size(); ++i) {
+      std::complex<double> sum{0.0, 0.0};
+      for (const Path& p : channel.paths(ant, tags[i], kF)) {
+        sum += p.contribution;
+        r.doubles += p.kind == PathKind::kReflection2;
+      }
+      // The same paths in the same order: the same sum to rounding (1e-9 of |h| is the bound).
+      EXPECT_LE(std::abs(h[i] - sum), 1e-9 * std::abs(sum) + 1e-300)
+          << "antenna " << ant.pose.position.transpose() << " tag " << tags[i].pose.position.transpose();
+    }
+    r.pairs_every += static_cast<double>(tl_plane_pairs_tried);
+    r.links += tags.size();
+  }
+  r.pairs_shared /= static_cast<double>(r.links);
+  r.pairs_every /= static_cast<double>(r.links);
+  return r;
+}
+
+TEST(DoubleBounceSharing, BlockPairsGiveEveryLinksPathsOnThePaperWarehouse) {
+  const auto scene = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
+  std::vector<Endpoint> antennas, tags;
+  for (double y = -10.0; y <= 8.0; y += 4.5) antennas.push_back(linear(Vec3(-1.0, y, 1.68), Vec3::UnitZ()));
+  // The paper's tags and a grid along both rack faces at several heights (blocks of near and far tags).
+  tags = paper_tags();
+  for (double y = -9.0; y <= 7.0; y += 0.8)
+    for (double z : {0.4, 1.1, 2.05})
+      for (double x : {2.90, -4.85}) tags.push_back(linear(Vec3(x, y, z), Vec3::UnitZ()));
+  const SharingResult r = expect_shared_pairs_exact(scene, CandidateMode::kExact, antennas, tags,
+                                                    TraceOptions::Sharing::kAuto);
+  EXPECT_GT(r.doubles, 500u);  // floor, rack and wall pairs really exercised
+  // The probe found sharing worth it here (fewer than 2/3 of the pairs kept; 0.62 measured) and the links
+  // walked only their block's pairs.
+  EXPECT_LT(r.pairs_shared, (2.0 / 3.0) * r.pairs_every) << r.pairs_shared << " of " << r.pairs_every;
+  // Off, every link walks every ordered pair.
+  const SharingResult off = expect_shared_pairs_exact(scene, CandidateMode::kExact, antennas, tags,
+                                                      TraceOptions::Sharing::kNever);
+  EXPECT_EQ(off.pairs_shared, off.pairs_every);
+}
+
+TEST(DoubleBounceSharing, BlockPairsGiveEveryLinksPathsInRandomScenes) {
+  // Random axis-aligned boxes (racks, crates; shared planes) and one tilted plate (a plane the windows cannot
+  // bound: its pairs are always kept), tags anywhere including on and near the box faces, both candidate
+  // modes.
+  std::mt19937 rng(20261205);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int scene_index = 0; scene_index < 3; ++scene_index) {
+    TriangleMesh m;
+    m.name = "random";
+    m.material_names = {"metal"};
+    add_quad(m, Vec3(-6, -6, 0), Vec3(12, 0, 0), Vec3(0, 12, 0), 0, 1, 1);  // floor
+    for (int b = 0; b < 8; ++b) {
+      const Vec3 lo(-5 + 9 * u(rng), -5 + 9 * u(rng), std::round(4 * u(rng)) * 0.5);
+      const Vec3 size(0.2 + 1.5 * u(rng), 0.2 + 1.5 * u(rng), 0.05 + 1.0 * u(rng));
+      add_box(m, lo, lo + size, 0, 1, scene_index != 1);
+    }
+    add_quad(m, Vec3(4, -3, 0.5), Vec3(1.0, 0.6, 0), Vec3(0, 0, 1.5), 0, 1, 1);  // tilted about z
+    const auto scene = std::make_shared<const Scene>(std::vector<TriangleMesh>{m}, MaterialAssignment{});
+    std::vector<Endpoint> antennas, tags;
+    for (int i = 0; i < 3; ++i)
+      antennas.push_back(linear(Vec3(-5.5 + 11 * u(rng), -5.5 + 11 * u(rng), 0.3 + 2.5 * u(rng)), Vec3::UnitZ()));
+    for (int i = 0; i < 120; ++i) {
+      Vec3 p(-5.5 + 11 * u(rng), -5.5 + 11 * u(rng), 0.05 + 3.0 * u(rng));
+      if (i % 4 == 0) p.z() = std::round(p.z() * 2.0) * 0.5 + (u(rng) < 0.5 ? 1e-3 : 2e-7);  // near a face
+      tags.push_back(linear(p, Vec3(u(rng), u(rng), 1.0)));
+    }
+    for (CandidateMode mode : {CandidateMode::kExact, CandidateMode::kExhaustive}) {
+      SCOPED_TRACE(testing::Message() << "scene " << scene_index << " mode " << to_string(mode));
+      const SharingResult r = expect_shared_pairs_exact(scene, mode, antennas, tags, TraceOptions::Sharing::kAlways);
+      EXPECT_GT(r.doubles, 50u);
+      EXPECT_LT(r.pairs_shared, r.pairs_every);
+    }
+  }
 }
 
 }  // namespace
