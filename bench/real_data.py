@@ -156,7 +156,7 @@ def convert(args, d, split, run_dir, truth, work):
 
 def localize(args, readings, truth_csv, antenna_file):
     cmd = [args.rfidray, "localize", readings, "--truth", truth_csv, "--method", "all", "--height-known",
-           "--mirror-prior", "boresight", "--max-range", "3", "--json"]
+           "--mirror-prior", "boresight", "--max-range", str(args.max_range), "--json"]
     if antenna_file:
         cmd += ["--antenna-file", antenna_file]
     return json.loads(run(cmd))
@@ -253,6 +253,9 @@ def main():
                     help="run Tagoram and MobiTagbot (0.5-2 s of CPU per tag) on every K-th run only")
     ap.add_argument("--jobs", type=int, default=2, help="processes for the peers")
     ap.add_argument("--no-sim", action="store_true", help="skip the simulated counterpart")
+    ap.add_argument("--max-range", type=float, default=3.0,
+                    help="localize's search region, m from the path (3: the acceptance command; 1: the depth of "
+                         "the peers' hologram grid, the same prior knowledge as theirs)")
     ap.add_argument("--keep", help="keep the converted files in this folder (never inside the repository); runs "
                                    "already converted there are reused")
     args = ap.parse_args()
