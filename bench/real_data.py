@@ -256,6 +256,8 @@ def main():
     ap.add_argument("--max-range", type=float, default=3.0,
                     help="localize's search region, m from the path (3: the acceptance command; 1: the depth of "
                          "the peers' hologram grid, the same prior knowledge as theirs)")
+    ap.add_argument("--calibration", help="use this antenna file (an earlier run's antenna.yaml, same training "
+                                          "options) instead of calibrating again (~12 min)")
     ap.add_argument("--keep", help="keep the converted files in this folder (never inside the repository); runs "
                                    "already converted there are reused")
     args = ap.parse_args()
@@ -295,13 +297,16 @@ def main():
     if not train:
         fail("no D1 training run could be converted")
     antenna_file = os.path.join(args.output, "antenna.yaml")
-    cal_cmd = [args.rfidray, "calibrate", "--height-known", "-o", antenna_file]
-    for _, readings, truth_csv, _, _ in train:
-        cal_cmd += ["--pair", readings + "," + truth_csv]
-    for d in [int(x) for x in args.allowance_datasets.split(",") if x]:
-        for _, readings, truth_csv, _, _ in runs(d, "train", args.train_every):
-            cal_cmd += ["--allowance-pair", readings + "," + truth_csv]
-    print(run(cal_cmd).strip())
+    if args.calibration:  # an antenna file calibrate wrote before with the same training runs
+        shutil.copyfile(args.calibration, antenna_file)
+    else:
+        cal_cmd = [args.rfidray, "calibrate", "--height-known", "-o", antenna_file]
+        for _, readings, truth_csv, _, _ in train:
+            cal_cmd += ["--pair", readings + "," + truth_csv]
+        for d in [int(x) for x in args.allowance_datasets.split(",") if x]:
+            for _, readings, truth_csv, _, _ in runs(d, "train", args.train_every):
+                cal_cmd += ["--allowance-pair", readings + "," + truth_csv]
+        print(run(cal_cmd).strip())
 
     # 3.-4. Test splits: real, and simulated with the same geometry.
     table = []
