@@ -34,6 +34,24 @@ nlohmann::json notes(const std::vector<loc::AntennaCalibration::TermNote>& list)
   return j;
 }
 
+// The antenna's own reference tags localized with and without the calibration (antenna_calibration.h).
+nlohmann::json references_localized(const loc::AntennaCalibration& c) {
+  if (c.reference_error_tags == 0) return nullptr;
+  return {{"tags", c.reference_error_tags}, {"median_error_m", c.reference_median_error_m},
+          {"median_error_uncalibrated_m", c.reference_median_error_uncalibrated_m},
+          {"helps", c.helps_its_references()}};
+}
+
+void warn_if_no_help(const loc::AntennaCalibration& c) {
+  if (c.helps_its_references()) return;
+  std::cerr << "rfidray: warning: calibrate: this calibration does not localize its own " << c.reference_error_tags
+            << " reference tags better than none (median error " << 1e3 * c.reference_median_error_m << " mm with it, "
+            << 1e3 * c.reference_median_error_uncalibrated_m
+            << " mm without): its terms fit the references' phases but not their positions, and tags it was not made "
+               "on usually fare worse; compare localize with and without --antenna-file on held-out tags before using "
+               "it\n";
+}
+
 nlohmann::json allowance(const loc::AntennaCalibration& c) {
   if (!c.has_allowance()) return nullptr;
   return {{"base_rad", c.allowance_base_rad}, {"smooth_factor", c.allowance_smooth_factor},
@@ -74,6 +92,7 @@ int run_calibrate(const CalibrateState& s) {
                      {"residual_rms_rad", c.residual_rms_rad},
                      {"not_fitted", notes(c.not_fitted)},
                      {"allowance", allowance(c)},
+                     {"references_localized", references_localized(c)},
                      {"prior_bounded", notes(c.prior_bounded)},
                      {"reads_used", c.reads_used},
                      {"tags_used", c.tags_used}};
@@ -98,7 +117,12 @@ int run_calibrate(const CalibrateState& s) {
                 << " rad, " << c.allowance_smooth_factor << " x the fit's smooth misfit)\n";
     else
       std::cout << "  radius allowance: not measured (fewer than 10 reference tags localized)\n";
+    if (c.reference_error_tags > 0)
+      std::cout << "  its own " << c.reference_error_tags << " reference tags localized (NLLS, side known): median error "
+                << 1e3 * c.reference_median_error_m << " mm with this calibration, "
+                << 1e3 * c.reference_median_error_uncalibrated_m << " mm without\n";
   }
+  warn_if_no_help(c);
   return 0;
 }
 

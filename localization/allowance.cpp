@@ -54,6 +54,10 @@ void measure_allowance(const std::vector<CalibrationSample>& references, const C
   applied.allowance_base_rad = applied.allowance_smooth_factor = std::numeric_limits<double>::quiet_NaN();
   std::vector<AllowanceSample> found(references.size());
   std::vector<char> usable(references.size(), 0);
+  // The antenna's own references, localized without any calibration too (AntennaCalibration::
+  // reference_median_error_uncalibrated_m): NaN where either fit failed.
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> error_with(references.size(), kNaN), error_without(references.size(), kNaN);
 #pragma omp parallel for schedule(dynamic)
   for (long i = 0; i < static_cast<long>(references.size()); ++i) {
     const CalibrationSample& ref = references[i];
@@ -83,6 +87,25 @@ void measure_allowance(const std::vector<CalibrationSample>& references, const C
       continue;
     found[i] = {(r.position - ref.tag_m).norm(), r.radius_statistical_m, r.radius_bias_m_per_rad, r.smooth_residual_rad};
     usable[i] = 1;
+    if (!ref.fit_geometry) continue;
+    o.calibration.reset();
+    const LocalizeResult u = localize_nlls(mine, o);
+    if (u.status() == Status::kFailed) continue;
+    error_with[i] = found[i].error_m;
+    error_without[i] = (u.position - ref.tag_m).norm();
+  }
+  std::vector<double> with, without;
+  for (size_t i = 0; i < references.size(); ++i)
+    if (std::isfinite(error_with[i]) && std::isfinite(error_without[i]))
+      with.push_back(error_with[i]), without.push_back(error_without[i]);
+  if (with.size() >= 10) {
+    const auto median = [](std::vector<double> v) {
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    calibration.reference_median_error_m = median(with);
+    calibration.reference_median_error_uncalibrated_m = median(without);
+    calibration.reference_error_tags = static_cast<int>(with.size());
   }
   std::vector<AllowanceSample> samples;
   for (size_t i = 0; i < found.size(); ++i)

@@ -71,6 +71,16 @@ struct AntennaCalibration {
   int allowance_samples = 0;          // reference tags it was measured on
   double allowance_coverage = std::numeric_limits<double>::quiet_NaN();  // their share inside the radius
   bool has_allowance() const { return std::isfinite(allowance_base_rad) && std::isfinite(allowance_smooth_factor); }
+  // Whether the calibration helps where it was made: the antenna's own reference tags (fit_geometry samples)
+  // localized as the allowance localizes them, with this calibration and without any; medians over the tags
+  // localized both ways. NaN: not measured. Not written to the antenna file (calibrate prints it and warns
+  // when the first is not below the second: held-out tags then seldom fare better).
+  double reference_median_error_m = std::numeric_limits<double>::quiet_NaN();
+  double reference_median_error_uncalibrated_m = std::numeric_limits<double>::quiet_NaN();
+  int reference_error_tags = 0;
+  bool helps_its_references() const {
+    return !(reference_median_error_m >= reference_median_error_uncalibrated_m);  // true when not measured
+  }
   double residual_rms_rad = 0.0;  // RMS wrapped residual of the fit (per stop mean)
   int reads_used = 0;
   int tags_used = 0;              // tag × run pairs (each with its own nuisance offset)

@@ -89,6 +89,15 @@ TEST(CalibrateCli, WritesAnAntennaFileThatLocalizeUses) {
   EXPECT_NEAR(j["geometry_covariance"][0][5].get<double>(), c.geometry_covariance(0, 5), 1e-9 * std::abs(c.geometry_covariance(0, 5)));
   EXPECT_GT(std::abs(c.geometry_covariance(0, 5)) / std::sqrt(c.geometry_covariance(0, 0) * c.geometry_covariance(5, 5)), 0.3);
   EXPECT_EQ(c.geometry_covariance(2, 2), 0.0);  // z is not fitted with --height-known
+  // Its own reference tags localized with and without it: these references carry an offset, so it helps, and
+  // calibrate warns only when it does not.
+  const auto& refs = j["references_localized"];
+  ASSERT_TRUE(refs.is_object()) << j.dump();
+  EXPECT_GE(refs["tags"].get<int>(), 10);
+  EXPECT_EQ(refs["helps"].get<bool>(),
+            refs["median_error_m"].get<double>() < refs["median_error_uncalibrated_m"].get<double>());
+  EXPECT_TRUE(refs["helps"].get<bool>()) << refs.dump();
+  EXPECT_EQ(out.find("does not localize its own"), std::string::npos) << out;
 
   // Localize another run with and without the antenna file.
   write_run(d / "run.csv", d / "run_truth.csv", 99, 0.65);
