@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "localization/methods.h"
+#include "localization/summary.h"
 
 namespace rfidray::loc {
 
@@ -99,12 +100,8 @@ void measure_allowance(const std::vector<CalibrationSample>& references, const C
     if (std::isfinite(error_with[i]) && std::isfinite(error_without[i]))
       with.push_back(error_with[i]), without.push_back(error_without[i]);
   if (with.size() >= 10) {
-    const auto median = [](std::vector<double> v) {
-      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-      return v[v.size() / 2];
-    };
-    calibration.reference_median_error_m = median(with);
-    calibration.reference_median_error_uncalibrated_m = median(without);
+    calibration.reference_median_error_m = summarize(with, 0, {}).median_error_m;
+    calibration.reference_median_error_uncalibrated_m = summarize(without, 0, {}).median_error_m;
     calibration.reference_error_tags = static_cast<int>(with.size());
   }
   std::vector<AllowanceSample> samples;

@@ -12,6 +12,7 @@
 
 #include "core/fresnel.h"
 #include "core/units.h"
+#include "raytrace/bit_grid.h"
 #include "raytrace/image_geometry.h"
 #include "raytrace/path_finder.h"
 
@@ -191,20 +192,7 @@ bool PathFinder::any_occupied(const PlaneGroup& g, const double region[2][2]) co
   };
   const int iu0 = cell(region[0][0], g.u0, g.inv_du, g.nu), iu1 = cell(region[0][1], g.u0, g.inv_du, g.nu);
   const int iv0 = cell(region[1][0], g.v0, g.inv_dv, g.nv), iv1 = cell(region[1][1], g.v0, g.inv_dv, g.nv);
-  constexpr long kMaxScan = 4096;  // bits; a larger rectangle is taken as occupied (it seldom is empty)
-  if (static_cast<long>(iu1 - iu0 + 1) * (iv1 - iv0 + 1) > kMaxScan) return true;
-  for (int iv = iv0; iv <= iv1; ++iv) {
-    size_t first = g.bit_offset + static_cast<size_t>(iv) * g.nu + iu0;
-    const size_t last = g.bit_offset + static_cast<size_t>(iv) * g.nu + iu1;  // inclusive
-    while (first <= last) {
-      const size_t word = first / 64, end = std::min(last, word * 64 + 63);
-      const int from = static_cast<int>(first % 64), count = static_cast<int>(end - first + 1);
-      const uint64_t mask = (count == 64 ? ~uint64_t{0} : ((uint64_t{1} << count) - 1)) << from;
-      if (occupancy_[word] & mask) return true;
-      first = end + 1;
-    }
-  }
-  return false;
+  return any_bit_in_rect(occupancy_, g.bit_offset, g.nu, iu0, iu1, iv0, iv1);
 }
 
 // try_plane_pair rejects a link unless P2 (on plane 2) and P1 (on plane 1) lie on occupied cells. Geometrically

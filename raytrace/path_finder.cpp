@@ -12,10 +12,18 @@
 #include "core/error.h"
 #include "core/fresnel.h"
 #include "core/units.h"
+#include "raytrace/bit_grid.h"
 #include "raytrace/image_geometry.h"
 
 namespace rfidray {
 namespace {
+
+// The bounding box of the tags tags[block[…]] (block not empty): what a block of nearby tags shares.
+void tag_block_box(std::span<const Endpoint> tags, std::span<const uint32_t> block, Vec3& lo, Vec3& hi) {
+  lo = hi = tags[block[0]].pose.position;
+  for (size_t j = 1; j < block.size(); ++j)
+    lo = lo.cwiseMin(tags[block[j]].pose.position), hi = hi.cwiseMax(tags[block[j]].pose.position);
+}
 
 bool inside_box(const Vec3& p, const Vec3& lo, const Vec3& hi, double tol) {
   return (p.array() >= lo.array() - tol).all() && (p.array() <= hi.array() + tol).all();
@@ -204,9 +212,8 @@ void PathFinder::decide_plane_pair_sharing(const Vec3& a, std::span<const Endpoi
   // sharing (bench_levels on w100k), i.e. five links' worth, saved 16 times per pair pruned.
   constexpr size_t kBlock = 16, kMinTags = 64;
   if (order.size() < kMinTags) return;
-  Vec3 lo = tags[order[0]].pose.position, hi = lo;
-  for (size_t j = 1; j < kBlock; ++j)
-    lo = lo.cwiseMin(tags[order[j]].pose.position), hi = hi.cwiseMax(tags[order[j]].pose.position);
+  Vec3 lo, hi;
+  tag_block_box(tags, order.first(kBlock), lo, hi);
   if (!lo.allFinite() || !hi.allFinite() || !a.allFinite()) return;
   thread_local std::vector<PlanePair> tl_probe;
   plane_pairs_near(a, lo, hi, tl_probe);
@@ -261,9 +268,8 @@ void PathFinder::trace_sum(const Endpoint& antenna, std::span<const Endpoint> ta
     constexpr size_t kTagBlock = 16;
     for (size_t i = 0; i < which.size(); i += kTagBlock) {
       const size_t n = std::min(kTagBlock, which.size() - i);
-      Vec3 lo = tags[which[i]].pose.position, hi = lo;
-      for (size_t j = 1; j < n; ++j)
-        lo = lo.cwiseMin(tags[which[i + j]].pose.position), hi = hi.cwiseMax(tags[which[i + j]].pose.position);
+      Vec3 lo, hi;
+      tag_block_box(tags, which.subspan(i, n), lo, hi);
       // (A non-finite endpoint: every group and pair; the link's own check then throws.)
       const bool finite = lo.allFinite() && hi.allFinite() && antenna.pose.position.allFinite();
       if (finite && group_blocks) exact_groups_near(antenna.pose.position, lo, hi, groups);
@@ -845,19 +851,8 @@ void PathFinder::exact_groups_near(const Vec3& a, const Vec3& lo, const Vec3& hi
     };
     const int bu0 = bit_cell(region[0][0], g.u0, g.binv_du, g.bnu), bu1 = bit_cell(region[0][1], g.u0, g.binv_du, g.bnu);
     const int bv0 = bit_cell(region[1][0], g.v0, g.binv_dv, g.bnv), bv1 = bit_cell(region[1][1], g.v0, g.binv_dv, g.bnv);
-    constexpr long kMaxScan = 4096;  // bits; a larger region is kept unscanned (it is seldom empty)
-    bool occupied = static_cast<long>(bu1 - bu0 + 1) * (bv1 - bv0 + 1) > kMaxScan;
-    for (int iv = bv0; iv <= bv1 && !occupied; ++iv) {
-      size_t first = g.first_bit + static_cast<size_t>(iv) * g.bnu + bu0;
-      const size_t last = g.first_bit + static_cast<size_t>(iv) * g.bnu + bu1;  // inclusive
-      while (first <= last && !occupied) {
-        const size_t word = first / 64, end = std::min(last, word * 64 + 63);
-        const int from = static_cast<int>(first % 64), count = static_cast<int>(end - first + 1);
-        const uint64_t mask = (count == 64 ? ~uint64_t{0} : ((uint64_t{1} << count) - 1)) << from;
-        occupied = (exact_bits_[word] & mask) != 0;
-        first = end + 1;
-      }
-    }
+    // (A region of more than 4096 bits is kept unscanned: it is seldom empty.)
+    const bool occupied = any_bit_in_rect(exact_bits_, g.first_bit, g.bnu, bu0, bu1, bv0, bv1);
     if (occupied) out.push_back(gi);
   }
 }
