@@ -4,10 +4,10 @@
 // (core/channel_error.h: p95 round-trip phase and RSSI errors over links readable in either, read flips).
 //
 //   bench_levels [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes paper,w10k,w1m] [--reference LEVEL]
-//                [--reference-candidates exhaustive|exact] [--zones 1,3,5]
+//                [--reference-candidates exhaustive|exact] [--skipped-fractions 0.02,0.1]
 // (--reference double-bounce: what double reflections alone add, without diffraction. --reference-candidates
 // fast: the same paths, for scenes where the exhaustive search is too slow (w1m: ~1 s per link at full).
-// --zones: full-selective once per Fresnel-zone count N, TraceOptions::diffraction_fresnel_zones.)
+// --skipped-fractions: full-selective once per ε, TraceOptions::diffraction_skipped_fraction.)
 // Writes DIR/levels.csv and DIR/levels_pareto.png (error against µs per link).
 #include <omp.h>
 
@@ -50,7 +50,7 @@ std::vector<std::complex<double>> values(const Channel& ch, const bench::Workloa
 int main(int argc, char** argv) {
   CLI::App app{"Links/s and accuracy (against full, exhaustive) of every traced channel level"};
   std::string out_dir = "bench/results", scene_list = "paper", reference_level = "full";
-  std::string reference_candidates = "exhaustive", zones_list = "3";
+  std::string reference_candidates = "exhaustive", fractions_list = "0.02";
   int runs = 5, tags = 1000, poses = 8;
   app.add_option("--out", out_dir, "output directory")->capture_default_str();
   app.add_option("--runs", runs, "runs per measurement (median reported)")->capture_default_str()->check(CLI::PositiveNumber);
@@ -60,13 +60,19 @@ int main(int argc, char** argv) {
   app.add_option("--reference", reference_level, "reference level (exhaustive candidates)")->capture_default_str();
   app.add_option("--reference-candidates", reference_candidates, "candidate search of the reference: exhaustive | exact")
       ->capture_default_str();
-  app.add_option("--zones", zones_list, "full-selective: Fresnel-zone counts N, comma-separated")->capture_default_str();
+  app.add_option("--skipped-fractions", fractions_list,
+                 "full-selective: skipped fractions ε of |h| (TraceOptions::diffraction_skipped_fraction), comma-separated")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  std::vector<double> zones;
+  std::vector<double> fractions;
   CandidateMode ref_candidates = CandidateMode::kExhaustive;
   try {
     ref_candidates = parse_candidate_mode(reference_candidates, "--reference-candidates");
-    for (const std::string& z : bench::split_commas(zones_list)) zones.push_back(std::stod(z));
+    for (const std::string& z : bench::split_commas(fractions_list)) {
+      fractions.push_back(std::stod(z));
+      if (!(fractions.back() >= 0.0 && fractions.back() < 1.0))
+        throw std::invalid_argument("--skipped-fractions: each ε must be in [0, 1), got " + z);
+    }
   } catch (const std::exception& e) {
     std::cerr << "bench_levels: " << e.what() << "\n";
     return 2;
@@ -100,10 +106,10 @@ int main(int argc, char** argv) {
       rows.emplace_back(to_string(level), o);
       continue;
     }
-    for (double n : zones) {
-      o.diffraction_fresnel_zones = n;
+    for (double eps : fractions) {
+      o.diffraction_skipped_fraction = eps;
       char label[64];
-      std::snprintf(label, sizeof label, "full-selective N=%g", n);
+      std::snprintf(label, sizeof label, "full-selective e=%g", eps);
       rows.emplace_back(label, o);
     }
   }

@@ -15,10 +15,10 @@ enum class ChannelLevel {
   kLosBlocked,    // "los+blocked": the direct path, through obstacles (transmission loss per crossed surface)
   kSingleBounce,  // "single-bounce": + every single specular reflection (image method), both legs unoccluded
   kDoubleBounce,  // "double-bounce": + every specular path with two reflections (image of the image), all legs
-  kFullSelective, // "full-selective": + edge diffraction only where it matters: links whose direct path is not
-                  //   clear, and edges whose shadow or reflection boundary lies within a few Fresnel zones of the
-                  //   link (raytrace/diffraction.cpp)
-  kFull,          // "full": + first-order edge diffraction (UTD, core/utd.h) at wedges and free sheet edges
+  kFullSelective, // "full-selective": full without its weakest diffractions, all it leaves out summing to at most
+                  //   a fraction ε of |h| (TraceOptions::diffraction_skipped_fraction; raytrace/diffraction.cpp)
+  kFull,          // "full": + first-order edge diffraction (UTD, core/utd.h) at wedges and free sheet edges, and
+                  //   the edge's near field at an end close to it (core/edge_near_field.h)
   kAuto,          // "auto": not a model — pick the cheapest level the scenario needs (raytrace/fidelity.h)
 };
 

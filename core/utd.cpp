@@ -29,14 +29,32 @@ C fresnel_head(double a) {
 
 // e^{z²} erfc(z) for Re z > 0 by Laplace's continued fraction (A&S 7.1.14)
 //   √π e^{z²} erfc(z) = 1/(z + (1/2)/(z + 1/(z + (3/2)/(z + 2/(z + …))))),
-// evaluated backwards from a fixed depth; at |z| ≥ 2 on arg z = π/4, 80 levels give ~3e-15 (40 from |z| = 3,
-// 20 from |z| = 5), checked against an arbitrary-precision erfc.
+// evaluated backwards from a depth that falls with |z|: on arg z = π/4 the depth below is what a depth-600
+// evaluation needs for 2e-15 relative at the interval's smaller |z| (80 at |z| = 2, 37 at 3, 22 at 4, 16 at 5,
+// 13 at 6, 11 at 7, 10 at 8, 8 at 10, 7 at 14), plus one; checked over 2 ≤ |z| ≤ 10⁴ (max 1.9e-15), and the
+// depth-600 value against an arbitrary-precision erfc. This is the hot loop of level `full` (a third of its time
+// before: bench/results/levels/README.md), so each level's division is written out in reals (k ← z + (m/2)·k̄/|k|²)
+// instead of std::complex's, which guards against overflow that |k| ≥ |z| ≥ 2 cannot reach.
 C scaled_erfc(C z) {
   const double r = std::abs(z);
-  const int depth = r < 3.0 ? 80 : r < 5.0 ? 40 : 20;
-  C k = z;
-  for (int m = depth; m >= 1; --m) k = z + (0.5 * m) / k;
-  return 1.0 / (kSqrtPi * k);
+  const int depth = r < 3.0    ? 80
+                    : r < 4.0  ? 40
+                    : r < 5.0  ? 24
+                    : r < 6.0  ? 17
+                    : r < 7.0  ? 14
+                    : r < 8.0  ? 12
+                    : r < 10.0 ? 11
+                    : r < 14.0 ? 9
+                               : 8;
+  double kr = z.real(), ki = z.imag();
+  for (int m = depth; m >= 1; --m) {
+    const double scale = 0.5 * m / (kr * kr + ki * ki);
+    const double next_r = z.real() + scale * kr, next_i = z.imag() - scale * ki;
+    kr = next_r;
+    ki = next_i;
+  }
+  const double scale = 1.0 / (kSqrtPi * (kr * kr + ki * ki));
+  return {scale * kr, -scale * ki};
 }
 
 // e^{jX}·∫_√X^∞ e^{−jτ²} dτ, the factor of F without the 2j√X (no overflow or cancellation for large X).

@@ -192,44 +192,49 @@ TEST(Diffraction, FermatPointAndAHiddenTagInThePaperWarehouse) {
   (void)sb;
 }
 
-// Level full-selective (raytrace/diffraction.cpp): a link whose direct path is not clear takes every edge, as
-// full does; a clear link skips an edge whose transition-function arguments are all ≥ π·N² (N = 3 Fresnel
-// zones). Every path it keeps is full's path unchanged, and every path it skips is a diffraction whose four
-// terms are each at most |F(X)|/(2√(πX)) of the free-space field over its length (core/utd.h), so that is the
-// tolerance: |h_selective − h_full| ≤ Σ over the skipped paths of that bound (isotropic antennas, |p| ≤ 1).
+// Level full-selective (raytrace/diffraction.cpp): the weakest diffracted paths are left out while their summed
+// magnitude is at most ε·|h| of what is kept. Against full on the same link (drop floor off, so that only the
+// skipping differs): every path it keeps is full's path bit for bit, only diffracted rays and edge near fields
+// are left out, and what is left out sums to at most ε|h_selective| — so |h_selective − h_full| ≤ ε|h_selective|,
+// the bound the level promises, however many edges add up.
 struct SelectiveCheck {
   size_t kept_diffractions = 0, skipped = 0;
-  double difference = 0.0, bound = 0.0;
+  double difference = 0.0, skipped_sum = 0.0, selective_abs = 0.0;
 };
-SelectiveCheck compare_selective(const std::shared_ptr<const Scene>& scene, const Endpoint& a, const Endpoint& t) {
+SelectiveCheck compare_selective(const std::shared_ptr<const Scene>& scene, const Endpoint& a, const Endpoint& t,
+                                 double fraction = TraceOptions{}.diffraction_skipped_fraction) {
   TraceOptions o;
   o.level = ChannelLevel::kFull;
   o.drop_below_db = 400.0;
+  o.diffraction_skipped_fraction = fraction;
   const auto full = RaytracedChannel(scene, o).paths(a, t, kF);
   o.level = ChannelLevel::kFullSelective;
   const auto selective = RaytracedChannel(scene, o).paths(a, t, kF);
   SelectiveCheck c;
-  const double x_min = kPi * o.diffraction_fresnel_zones * o.diffraction_fresnel_zones;
-  // Above X = 9π, |F(X)| − 1 < 1e-3 (F ~ 1 + j/2X): the bound of one term is 1.001/(2√(πX)).
-  const double term = 1.001 / (2.0 * std::sqrt(kPi * x_min));
-  size_t j = 0;
+  // An edge's ray and near field share length and edge (their order between them is not fixed): match by kind too.
+  std::vector<char> used(selective.size(), 0);
+  size_t matched = 0;
   for (const Path& p : full) {
-    const bool kept = j < selective.size() && selective[j].kind == p.kind && selective[j].length_m == p.length_m &&
-                      (selective[j].point - p.point).norm() == 0.0;
-    if (kept) {
+    size_t j = 0;
+    while (j < selective.size() && (used[j] || selective[j].kind != p.kind || selective[j].length_m != p.length_m ||
+                                    (selective[j].point - p.point).norm() != 0.0))
+      ++j;
+    if (j < selective.size()) {
+      used[j] = 1;
+      ++matched;
       EXPECT_EQ(selective[j].contribution, p.contribution);  // the same computation, bit for bit
       c.kept_diffractions += p.kind == PathKind::kDiffraction;
-      ++j;
       continue;
     }
-    EXPECT_EQ(p.kind, PathKind::kDiffraction);  // only diffractions are ever skipped
+    EXPECT_TRUE(p.kind == PathKind::kDiffraction || p.kind == PathKind::kEdgeNearField);  // nothing else is skipped
     ++c.skipped;
-    const double free_space = std::abs(path_contribution(p.length_m, 1.0, kF));
-    EXPECT_LE(std::abs(p.contribution), 4.0 * term * free_space);
-    c.bound += 4.0 * term * free_space;
+    c.skipped_sum += std::abs(p.contribution);
   }
-  EXPECT_EQ(j, selective.size());  // nothing that full does not have
+  EXPECT_EQ(matched, selective.size());  // nothing that full does not have
+  c.selective_abs = std::abs(sum_paths(selective));
   c.difference = std::abs(sum_paths(selective) - sum_paths(full));
+  EXPECT_LE(c.difference, c.skipped_sum * (1.0 + 1e-12) + 1e-18);
+  EXPECT_LE(c.skipped_sum, fraction * c.selective_abs * (1.0 + 1e-12) + 1e-18);
   return c;
 }
 
@@ -242,19 +247,24 @@ std::shared_ptr<const Scene> plate_scene(double half) {
   return std::make_shared<const Scene>(std::vector<TriangleMesh>{plate}, MaterialAssignment{});
 }
 
-TEST(SelectiveDiffraction, HiddenTagGetsEveryEdgeAsInFull) {
-  // A 6 m × 6 m plate, the antenna 3 m in front of its centre, the tag 1 m behind: every edge is ~115° from
-  // its shadow boundary (X ≈ 45 > 9π), so only the rule "a shadowed link takes every edge" keeps them.
+TEST(SelectiveDiffraction, HiddenTagKeepsTheDiffractionsThatMatter) {
+  // A 6 m × 6 m plate, the antenna 3 m in front of its centre, the tag 1 m behind: no path but diffraction. Over
+  // the top, under the bottom (no floor) and round both sides: full has 4; the selective level keeps the
+  // strongest until the rest is within ε of them.
   const auto scene = plate_scene(3.0);
   const Endpoint ant = linear(Vec3(0.3, 3.0, 3.2), Vec3::UnitZ());
   const Endpoint hidden = linear(Vec3(-0.2, -1.0, 2.9), Vec3::UnitZ());  // behind the plate: no direct path
   const SelectiveCheck c = compare_selective(scene, ant, hidden);
-  EXPECT_EQ(c.skipped, 0u);
-  EXPECT_EQ(c.kept_diffractions, 4u);  // over the top, under the bottom (no floor) and round both sides
-  EXPECT_EQ(c.difference, 0.0);
+  EXPECT_GE(c.kept_diffractions, 1u);
+  EXPECT_EQ(c.kept_diffractions + c.skipped, 4u);
+  EXPECT_GT(c.selective_abs, 0.0);
+  // ε = 0: every edge, as full (this scene's edges are ≥ 1 m from both ends: no near field).
+  const SelectiveCheck all = compare_selective(scene, ant, hidden, 0.0);
+  EXPECT_EQ(all.skipped, 0u);
+  EXPECT_EQ(all.difference, 0.0);
 }
 
-TEST(SelectiveDiffraction, LinkGrazingAnEdgeKeepsThatEdgeAndStaysWithinTheBound) {
+TEST(SelectiveDiffraction, LinkGrazingAnEdgeKeepsThatEdge) {
   const auto scene = plate_scene(1.0);  // 2 m × 2 m
   // The direct path passes 5 cm above the plate's top edge (z = 2 at y = 0): clear, but inside the edge's
   // incident-shadow transition region (X ≈ 0.06), where the diffracted field is half the direct one.
@@ -262,7 +272,6 @@ TEST(SelectiveDiffraction, LinkGrazingAnEdgeKeepsThatEdgeAndStaysWithinTheBound)
   const Endpoint tag = linear(Vec3(0.0, -1.0, 2.4), Vec3::UnitZ());
   const SelectiveCheck c = compare_selective(scene, ant, tag);
   EXPECT_GE(c.kept_diffractions, 1u);
-  EXPECT_LE(c.difference, c.bound + 1e-15);
   TraceOptions o;
   o.level = ChannelLevel::kFullSelective;
   const auto paths = RaytracedChannel(scene, o).paths(ant, tag, kF);
@@ -273,9 +282,11 @@ TEST(SelectiveDiffraction, LinkGrazingAnEdgeKeepsThatEdgeAndStaysWithinTheBound)
   EXPECT_TRUE(top);
 }
 
-TEST(SelectiveDiffraction, ClearLinkFarFromEveryBoundarySkipsDiffraction) {
+TEST(SelectiveDiffraction, ClearLinkFarFromEveryBoundaryLeavesOutAWeakDiffraction) {
   // A large half-plane y = 0, x ≥ 0 (edge along z); antenna and tag 10 m from the edge at φ' = 90° and
-  // φ = 170° (L = 5 m, kL ≈ 91): 80° from the reflection boundary and 100° from the shadow boundary, X ≥ 75.
+  // φ = 170° (L = 5 m, kL ≈ 91): 80° from the reflection boundary and 100° from the shadow boundary, X ≥ 75:
+  // the diffracted field (the near edge; the sheet's far edges add little) is ~4 % of the direct one (measured
+  // 0.0385 in all), left out at ε = 0.05; at ε = 0.02 the near edge is kept.
   TriangleMesh sheet;
   sheet.name = "sheet";
   sheet.material_names = {"metal"};
@@ -288,20 +299,40 @@ TEST(SelectiveDiffraction, ClearLinkFarFromEveryBoundarySkipsDiffraction) {
   TraceOptions o;
   o.level = ChannelLevel::kFull;
   o.drop_below_db = 400.0;
-  size_t full_diffractions = 0;
-  for (const Path& p : RaytracedChannel(scene, o).paths(ant, tag, kF))
-    full_diffractions += p.kind == PathKind::kDiffraction;
-  EXPECT_GE(full_diffractions, 1u);  // full diffracts at the near edge
+  double diffracted = 0.0, direct = 0.0;
+  for (const Path& p : RaytracedChannel(scene, o).paths(ant, tag, kF)) {
+    if (p.kind == PathKind::kDiffraction) diffracted += std::abs(p.contribution);
+    if (p.kind == PathKind::kLineOfSight) direct = std::abs(p.contribution);
+  }
+  ASSERT_GT(diffracted, 0.0);  // full diffracts at the near edge
+  EXPECT_GT(diffracted / direct, 0.02);
+  EXPECT_LT(diffracted / direct, 0.05);
   o.level = ChannelLevel::kFullSelective;
+  o.diffraction_skipped_fraction = 0.05;
   const auto paths = RaytracedChannel(scene, o).paths(ant, tag, kF);
   ASSERT_EQ(paths.size(), 1u);  // the direct path alone (the reflection point lies off the sheet)
   EXPECT_EQ(paths.front().kind, PathKind::kLineOfSight);
-  const SelectiveCheck c = compare_selective(scene, ant, tag);
-  EXPECT_EQ(c.kept_diffractions, 0u);
-  EXPECT_EQ(c.skipped, full_diffractions);
-  EXPECT_LE(c.difference, c.bound);
+  EXPECT_EQ(compare_selective(scene, ant, tag, 0.05).kept_diffractions, 0u);
+  EXPECT_GE(compare_selective(scene, ant, tag, 0.02).kept_diffractions, 1u);  // the near edge; far ones may go
 }
 
+// The paper warehouse, where a link sees hundreds of edges (the old per-edge rule kept 0.26 rad of error at p95
+// because their small fields add up): over links from the aisle to tags on, in and behind the racks, the bound
+// holds on every link, and some links do leave edges out.
+TEST(SelectiveDiffraction, SummedBoundHoldsOnPaperWarehouseLinks) {
+  const auto warehouse = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
+  size_t skipped = 0, links = 0;
+  for (double x : {-1.0, 0.5, 2.0})
+    for (double tx : {1.2, 2.6, 3.9})
+      for (double tz : {0.4, 1.1, 1.5}) {
+        const Endpoint ant = linear(Vec3(x, -2.3, 1.68), Vec3::UnitZ());
+        const Endpoint tag = linear(Vec3(tx, -1.9, tz), Vec3::UnitZ());
+        skipped += compare_selective(warehouse, ant, tag).skipped;
+        ++links;
+      }
+  EXPECT_EQ(links, 27u);
+  EXPECT_GT(skipped, 0u);
+}
 
 // Continuity of `full` across the shadow and reflection boundaries (issue #33): a finite metal sheet (0.9 × 0.8 m,
 // in the plane y = 0, x ≥ 0, edge along z) and a source 1 m from the edge at 60° (reflection boundary 120°,

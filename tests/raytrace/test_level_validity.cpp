@@ -202,19 +202,22 @@ TEST(LevelValidity, SheetEdgeVerdicts) {
   EXPECT_TRUE(std::isfinite(single.estimated_error_db) && std::isfinite(single.estimated_error_rad));
   EXPECT_LE(single.estimated_error_db, 40.0);
   // The same link with the antenna polarized across the edge (x): the edge's radial near field, which no ray
-  // carries, puts every level below full far outside its validity; full adds it (core/edge_near_field.h) and is
+  // carries, puts every ray level far outside its validity; full adds it (core/edge_near_field.h) and is
   // left with what the FDTD runs measured at that kρ across the edge (0.14: outside, but by far less).
   Endpoint across = z_dipole_at(antenna);
   across.polarization.axis_local = Vec3::UnitX();
   const auto hard_sight = link_edge_sight(full, across, z_dipole_at(near_edge), kF);
   ASSERT_TRUE(hard_sight.has_value());
   EXPECT_LT(hard_sight->soft_share, 0.2);
-  const LevelValidity rays_only = level_validity(ChannelLevel::kFullSelective, hard_sight, kF);
+  const LevelValidity rays_only = level_validity(ChannelLevel::kDoubleBounce, hard_sight, kF);
   EXPECT_FALSE(rays_only.level_ok) << rays_only.reason;
   EXPECT_GT(rays_only.estimated_error, 0.3);
   const LevelValidity with_near_field = level_validity(ChannelLevel::kFull, hard_sight, kF);
   EXPECT_FALSE(with_near_field.level_ok) << with_near_field.reason;
   EXPECT_LT(with_near_field.estimated_error, 0.5 * rays_only.estimated_error);
+  // full-selective has the near field too (it leaves out only the weakest diffractions): the same estimate.
+  EXPECT_EQ(level_validity(ChannelLevel::kFullSelective, hard_sight, kF).estimated_error,
+            with_near_field.estimated_error);
   // Ideal ignores the scene: not judged.
   EXPECT_TRUE(level_validity(ChannelLevel::kIdeal, sight, kF).reason.empty());
   // A metre in front of the sheet's middle: no edge within reach of either end.
