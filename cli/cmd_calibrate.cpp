@@ -26,6 +26,7 @@ struct CalibrateState {
   bool height_known = false;
   bool fold_pi = false;
   bool json = false;
+  int held_out_folds = 5;
 };
 
 nlohmann::json notes(const std::vector<loc::AntennaCalibration::TermNote>& list) {
@@ -42,8 +43,24 @@ nlohmann::json references_localized(const loc::AntennaCalibration& c) {
           {"helps", c.helps_its_references()}};
 }
 
+// Each fold of runs localized with the calibration of the other folds and without any (cross-validation over runs).
+nlohmann::json held_out(const loc::AntennaCalibration& c) {
+  if (c.held_out_tags == 0) return nullptr;
+  return {{"runs", c.held_out_runs}, {"folds", c.held_out_folds}, {"tags", c.held_out_tags}, {"median_error_m", c.held_out_median_error_m},
+          {"median_error_uncalibrated_m", c.held_out_median_error_uncalibrated_m}, {"helps", c.helps_held_out()}};
+}
+
 void warn_if_no_help(const loc::AntennaCalibration& c) {
-  if (c.helps_its_references()) return;
+  if (!c.helps_held_out())
+    std::cerr << "rfidray: warning: calibrate: calibrated on some runs, the antenna localizes the reference tags of "
+                 "the other runs worse than without calibration (" << c.held_out_tags << " tags of " << c.held_out_runs
+              << " runs in " << c.held_out_folds << " folds: median error " << 1e3 * c.held_out_median_error_m
+              << " mm with it, " << 1e3 * c.held_out_median_error_uncalibrated_m
+              << " mm without): its terms do not describe what moves these tags' phases, or what they describe "
+                 "changed between runs (the reader's carrier offsets, the antenna's mounting, the room); localize "
+                 "without --antenna-file, or calibrate from runs of the setup you will localize in\n";
+  // Measured on held-out runs, that is the verdict; the in-sample one below is for when it could not be.
+  if (c.held_out_tags > 0 || c.helps_its_references()) return;
   std::cerr << "rfidray: warning: calibrate: this calibration does not localize its own " << c.reference_error_tags
             << " reference tags better than none (median error " << 1e3 * c.reference_median_error_m << " mm with it, "
             << 1e3 * c.reference_median_error_uncalibrated_m
@@ -61,6 +78,7 @@ nlohmann::json allowance(const loc::AntennaCalibration& c) {
 int run_calibrate(const CalibrateState& s) {
   std::vector<loc::CalibrationSample> samples;
   std::set<std::string> antennas;
+  int run = 0;  // one per pair (the held-out check leaves one out at a time)
   auto add = [&](const std::string& pair, const char* option, bool fit_geometry) {
     const size_t comma = pair.find(',');
     if (comma == std::string::npos || comma == 0 || comma + 1 == pair.size() || pair.find(',', comma + 1) != std::string::npos)
@@ -68,7 +86,11 @@ int run_calibrate(const CalibrateState& s) {
     const std::string readings = pair.substr(0, comma), truth_file = pair.substr(comma + 1);
     const size_t before = samples.size();
     io::add_reference_tags(io::read_readings_csv(readings), io::read_truth_csv(truth_file), samples, antennas);
-    for (size_t i = before; i < samples.size(); ++i) samples[i].fit_geometry = fit_geometry;
+    for (size_t i = before; i < samples.size(); ++i) {
+      samples[i].fit_geometry = fit_geometry;
+      samples[i].run = run;
+    }
+    ++run;
   };
   for (const std::string& pair : s.pairs) add(pair, "--pair", true);
   for (const std::string& pair : s.allowance_pairs) add(pair, "--allowance-pair", false);
@@ -76,6 +98,11 @@ int run_calibrate(const CalibrateState& s) {
   loc::CalibrationOptions o;
   o.planar = s.height_known;
   o.fold_pi = s.fold_pi;
+  if (s.held_out_folds == 1 || s.held_out_folds < 0)
+    throw field_error("--held-out-folds", "must be 0 (no held-out check) or at least 2 (got " +
+                                              std::to_string(s.held_out_folds) + ")");
+  o.held_out_check = s.held_out_folds >= 2;
+  o.held_out_folds = s.held_out_folds;
   const loc::AntennaCalibration c = loc::calibrate_antenna(samples, antenna, o);
   io::check_output_path(s.output, "antenna file");
   io::write_file_atomic(s.output, [&](std::ostream& out) { io::write_antenna_file(out, c); }, "antenna file");
@@ -93,6 +120,7 @@ int run_calibrate(const CalibrateState& s) {
                      {"not_fitted", notes(c.not_fitted)},
                      {"allowance", allowance(c)},
                      {"references_localized", references_localized(c)},
+                     {"held_out", held_out(c)},
                      {"prior_bounded", notes(c.prior_bounded)},
                      {"reads_used", c.reads_used},
                      {"tags_used", c.tags_used}};
@@ -121,6 +149,13 @@ int run_calibrate(const CalibrateState& s) {
       std::cout << "  its own " << c.reference_error_tags << " reference tags localized (NLLS, side known): median error "
                 << 1e3 * c.reference_median_error_m << " mm with this calibration, "
                 << 1e3 * c.reference_median_error_uncalibrated_m << " mm without\n";
+    if (c.held_out_tags > 0)
+      std::cout << "  held out (" << c.held_out_runs << " runs in " << c.held_out_folds
+                << " folds, each fold localized with the calibration of the others, " << c.held_out_tags
+                << " tags): median error " << 1e3 * c.held_out_median_error_m << " mm with it, "
+                << 1e3 * c.held_out_median_error_uncalibrated_m << " mm without\n";
+    else
+      std::cout << "  held out: not measured (needs reference tags from at least 2 --pair runs, and --held-out-folds not 0)\n";
   }
   warn_if_no_help(c);
   return 0;
@@ -149,6 +184,10 @@ std::function<int()> setup_calibrate(CLI::App& app) {
                 "(not_fitted in the output and the antenna file)");
   sub->add_flag("--fold-pi", state->fold_pi, "the reader reports phase modulo pi: fit twice the phase");
   sub->add_flag("--json", state->json, "print the calibration as JSON");
+  sub->add_option("--held-out-folds", state->held_out_folds,
+                  "cross-validate over the --pair runs in this many folds: each fold's reference tags localized with "
+                  "the calibration of the others and without (0: skip; costs one calibration per fold)")
+      ->capture_default_str();
   return [state] { return run_calibrate(*state); };
 }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/error.h"
+#include "localization/calibration.h"
 #include "localization/methods.h"
 #include "localization/summary.h"
 
@@ -49,6 +51,40 @@ Allowance choose_allowance(const std::vector<AllowanceSample>& samples, double c
   return best;
 }
 
+namespace {
+
+// One reference tag's reads of `antenna`, localized as the allowance and the held-out check localize it: NLLS,
+// joint fit, the side known (the truth as prior point), every gate open, no allowance; `calibration` null: none.
+// False when the tag has no reads of the antenna or the fit failed.
+bool localize_reference(const CalibrationSample& ref, const std::string& antenna, const AntennaCalibration* calibration,
+                        const CalibrationOptions& options, LocalizeResult& out) {
+  TagReads mine;
+  mine.tag = ref.reads.tag;
+  double farthest_m = 0.0;
+  for (const ReadGroup& g : ref.reads.groups)
+    if (g.antenna == antenna) {
+      mine.groups.push_back(g);
+      for (const PhaseRead& r : g.reads) farthest_m = std::max(farthest_m, (r.antenna_m - ref.tag_m).norm());
+    }
+  if (mine.read_count() == 0) return false;
+  LocalizeOptions o;
+  if (calibration) o.calibration = *calibration;
+  o.fold_pi = options.fold_pi;
+  o.height_known = options.planar;
+  o.tag_height_m = ref.tag_m.z();
+  o.mirror_prior = MirrorPrior::kPoint;  // the side is known here: the truth
+  o.prior_point = ref.tag_m;
+  o.max_range_m = std::max(1.0, 1.5 * farthest_m);
+  o.systematic_phase_rad = 0.0;  // the radius without any allowance: its parts are what is measured
+  o.smooth_misfit_factor = 0.0;
+  o.max_uncertainty_m = o.max_residual_rad = std::numeric_limits<double>::max();
+  o.max_outlier_fraction = 1.0;
+  out = localize_nlls(mine, o);
+  return out.status() != Status::kFailed;
+}
+
+}  // namespace
+
 void measure_allowance(const std::vector<CalibrationSample>& references, const CalibrationOptions& options,
                        AntennaCalibration& calibration) {
   AntennaCalibration applied = calibration;
@@ -62,36 +98,14 @@ void measure_allowance(const std::vector<CalibrationSample>& references, const C
 #pragma omp parallel for schedule(dynamic)
   for (long i = 0; i < static_cast<long>(references.size()); ++i) {
     const CalibrationSample& ref = references[i];
-    TagReads mine;
-    mine.tag = ref.reads.tag;
-    double farthest_m = 0.0;
-    for (const ReadGroup& g : ref.reads.groups)
-      if (g.antenna == calibration.antenna) {
-        mine.groups.push_back(g);
-        for (const PhaseRead& r : g.reads) farthest_m = std::max(farthest_m, (r.antenna_m - ref.tag_m).norm());
-      }
-    if (mine.read_count() == 0) continue;
-    LocalizeOptions o;
-    o.calibration = applied;
-    o.fold_pi = options.fold_pi;
-    o.height_known = options.planar;
-    o.tag_height_m = ref.tag_m.z();
-    o.mirror_prior = MirrorPrior::kPoint;  // the side is known here: the truth
-    o.prior_point = ref.tag_m;
-    o.max_range_m = std::max(1.0, 1.5 * farthest_m);
-    o.systematic_phase_rad = 0.0;  // the radius without any allowance: its parts are what is measured
-    o.smooth_misfit_factor = 0.0;
-    o.max_uncertainty_m = o.max_residual_rad = std::numeric_limits<double>::max();
-    o.max_outlier_fraction = 1.0;
-    const LocalizeResult r = localize_nlls(mine, o);
-    if (r.status() == Status::kFailed || !std::isfinite(r.radius_statistical_m) || !std::isfinite(r.radius_bias_m_per_rad))
-      continue;
+    LocalizeResult r;
+    if (!localize_reference(ref, calibration.antenna, &applied, options, r)) continue;
+    if (!std::isfinite(r.radius_statistical_m) || !std::isfinite(r.radius_bias_m_per_rad)) continue;
     found[i] = {(r.position - ref.tag_m).norm(), r.radius_statistical_m, r.radius_bias_m_per_rad, r.smooth_residual_rad};
     usable[i] = 1;
     if (!ref.fit_geometry) continue;
-    o.calibration.reset();
-    const LocalizeResult u = localize_nlls(mine, o);
-    if (u.status() == Status::kFailed) continue;
+    LocalizeResult u;
+    if (!localize_reference(ref, calibration.antenna, nullptr, options, u)) continue;
     error_with[i] = found[i].error_m;
     error_without[i] = (u.position - ref.tag_m).norm();
   }
@@ -114,6 +128,57 @@ void measure_allowance(const std::vector<CalibrationSample>& references, const C
   calibration.allowance_smooth_factor = a.smooth_factor;
   calibration.allowance_samples = a.samples;
   calibration.allowance_coverage = a.coverage;
+}
+
+void measure_held_out(const std::vector<CalibrationSample>& samples, const CalibrationOptions& options,
+                      AntennaCalibration& calibration) {
+  std::vector<int> runs;
+  for (const CalibrationSample& s : samples)
+    if (s.fit_geometry) runs.push_back(s.run);
+  std::sort(runs.begin(), runs.end());
+  runs.erase(std::unique(runs.begin(), runs.end()), runs.end());
+  if (runs.size() < 2 || options.held_out_folds < 2) return;
+  // Runs dealt to folds in order (run i of the sorted list to fold i mod k): deterministic, and consecutive runs,
+  // often alike, land in different folds.
+  const int k = std::min<int>(options.held_out_folds, static_cast<int>(runs.size()));
+  auto fold_of = [&](int run) {
+    return static_cast<int>(std::lower_bound(runs.begin(), runs.end(), run) - runs.begin()) % k;
+  };
+  CalibrationOptions fit = options;  // each fold's calibration is what calibrate_antenna fits, nothing measured
+  fit.measure_allowance = false;
+  fit.held_out_check = false;
+  std::vector<double> with, without;
+  int folds = 0;
+  for (int fold = 0; fold < k; ++fold) {
+    std::vector<CalibrationSample> train, test;
+    for (const CalibrationSample& s : samples)
+      if (s.fit_geometry) (fold_of(s.run) == fold ? test : train).push_back(s);
+    AntennaCalibration c;
+    try {
+      c = calibrate_antenna(train, calibration.antenna, fit);
+    } catch (const InputError&) {
+      continue;  // the other runs have no reads of this antenna, or too few tags: no fold
+    }
+    ++folds;
+    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> e_with(test.size(), kNaN), e_without(test.size(), kNaN);
+#pragma omp parallel for schedule(dynamic)
+    for (long i = 0; i < static_cast<long>(test.size()); ++i) {
+      LocalizeResult r, u;
+      if (!localize_reference(test[i], calibration.antenna, &c, options, r)) continue;
+      if (!localize_reference(test[i], calibration.antenna, nullptr, options, u)) continue;
+      e_with[i] = (r.position - test[i].tag_m).norm();
+      e_without[i] = (u.position - test[i].tag_m).norm();
+    }
+    for (size_t i = 0; i < test.size(); ++i)
+      if (std::isfinite(e_with[i]) && std::isfinite(e_without[i])) with.push_back(e_with[i]), without.push_back(e_without[i]);
+  }
+  if (folds < 2 || with.size() < 10) return;
+  calibration.held_out_runs = static_cast<int>(runs.size());
+  calibration.held_out_folds = folds;
+  calibration.held_out_tags = static_cast<int>(with.size());
+  calibration.held_out_median_error_m = summarize(with, 0, {}).median_error_m;
+  calibration.held_out_median_error_uncalibrated_m = summarize(without, 0, {}).median_error_m;
 }
 
 }  // namespace rfidray::loc

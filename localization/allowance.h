@@ -44,4 +44,13 @@ Allowance choose_allowance(const std::vector<AllowanceSample>& samples, double c
 void measure_allowance(const std::vector<CalibrationSample>& references, const CalibrationOptions& options,
                        AntennaCalibration& calibration);
 
+// Cross-validation over runs: the runs of the fitting references (CalibrationSample::run, fit_geometry) dealt to
+// k = min(options.held_out_folds, runs) folds; for each fold, the antenna calibrated from the other folds' runs
+// (calibrate_antenna with `options`, nothing measured), and the fold's reference tags localized as
+// measure_allowance localizes them, with that calibration and without any. Fills held_out_* with the medians over
+// all tags localized both ways; left unset with fewer than 2 folds that could be fitted or fewer than 10 such
+// tags. Costs k calibrations.
+void measure_held_out(const std::vector<CalibrationSample>& samples, const CalibrationOptions& options,
+                      AntennaCalibration& calibration);
+
 }  // namespace rfidray::loc

@@ -81,6 +81,17 @@ struct AntennaCalibration {
   bool helps_its_references() const {
     return !(reference_median_error_m >= reference_median_error_uncalibrated_m);  // true when not measured
   }
+  // Whether it helps tags it was not fitted on: the runs of references dealt to folds, each fold's tags localized
+  // with the calibration fitted on the other folds' runs and without any (allowance.h, measure_held_out); medians
+  // over the tags localized both ways. NaN: not measured (fewer than 2 runs). Not written to the antenna file.
+  double held_out_median_error_m = std::numeric_limits<double>::quiet_NaN();
+  double held_out_median_error_uncalibrated_m = std::numeric_limits<double>::quiet_NaN();
+  int held_out_tags = 0;
+  int held_out_runs = 0;   // runs of reference tags dealt to the folds
+  int held_out_folds = 0;  // folds whose calibration could be fitted
+  bool helps_held_out() const {
+    return !(held_out_median_error_m >= held_out_median_error_uncalibrated_m);  // true when not measured
+  }
   double residual_rms_rad = 0.0;  // RMS wrapped residual of the fit (per stop mean)
   int reads_used = 0;
   int tags_used = 0;              // tag × run pairs (each with its own nuisance offset)

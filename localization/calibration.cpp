@@ -365,6 +365,11 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
     measured.planar = horizontal_plane;
     measure_allowance(samples, measured, out);
   }
+  if (options.held_out_check) {
+    CalibrationOptions measured = options;
+    measured.planar = horizontal_plane;
+    measure_held_out(samples, measured, out);
+  }
   return out;
 }
 

@@ -27,6 +27,8 @@ struct CalibrationSample {
   // false: used only to measure the radius allowance (allowance.h), not to fit the antenna — reference tags of
   // other setups (denser rows, other rooms) the antenna will be used in, whose own misfit would bend its model.
   bool fit_geometry = true;
+  // Which run (readings file pair) it came from: the held-out check leaves one run out at a time.
+  int run = 0;
 };
 
 struct CalibrationOptions {
@@ -48,6 +50,11 @@ struct CalibrationOptions {
   // measure the allowance (AntennaCalibration::allowance_*). Needs `planar` or tags off the path's plane.
   bool measure_allowance = true;
   double allowance_coverage = 0.95;
+  // Whether the calibration helps tags it was not fitted on: cross-validation over runs in held_out_folds folds
+  // (allowance.h, measure_held_out; AntennaCalibration::held_out_*). Needs reference tags from ≥ 2 runs; costs
+  // one more calibration per fold (2 runs: leave one out; 5 or more: each fold a fifth of the runs).
+  bool held_out_check = true;
+  int held_out_folds = 5;
   bool fit_pattern = true;
   double prior_offset_sd_m = 0.05;
   double prior_pattern_sd_rad = 1.0;

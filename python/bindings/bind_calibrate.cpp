@@ -29,7 +29,9 @@ pyb::dict run_calibrate(const pyb::list& references, const std::string& antenna_
     if (pair.size() != 2) throw InputError("references[" + std::to_string(k) + "]: needs (readings, truth)");
     if (pair[1].is_none()) throw InputError("references[" + std::to_string(k) + "]: truth is None");
     const std::map<std::string, Vec3> truth = truth_from(pair[1]);
+    const size_t before = samples.size();
     for (auto f : pair[0].cast<pyb::list>()) io::add_reference_tags(rows_from(f.cast<pyb::dict>(), file++), truth, samples, antennas);
+    for (size_t i = before; i < samples.size(); ++i) samples[i].run = static_cast<int>(k);  // one run per reference
   }
   const std::string antenna = io::antenna_to_calibrate(antenna_requested, antennas, "antenna");
   loc::CalibrationOptions o;
@@ -80,6 +82,23 @@ pyb::dict run_calibrate(const pyb::list& references, const std::string& antenna_
     d["allowance"] = a;
   } else {
     d["allowance"] = pyb::none();
+  }
+  auto localized = [](int tags, double with_m, double without_m, bool helps) -> pyb::object {
+    if (tags == 0) return pyb::none();
+    pyb::dict e;
+    e["tags"] = tags;
+    e["median_error_m"] = with_m;
+    e["median_error_uncalibrated_m"] = without_m;
+    e["helps"] = helps;
+    return e;
+  };
+  d["references_localized"] = localized(c.reference_error_tags, c.reference_median_error_m,
+                                        c.reference_median_error_uncalibrated_m, c.helps_its_references());
+  d["held_out"] = localized(c.held_out_tags, c.held_out_median_error_m, c.held_out_median_error_uncalibrated_m,
+                            c.helps_held_out());
+  if (!d["held_out"].is_none()) {
+    d["held_out"]["runs"] = c.held_out_runs;
+    d["held_out"]["folds"] = c.held_out_folds;
   }
   d["residual_rms_rad"] = c.residual_rms_rad;
   d["reads_used"] = c.reads_used;

@@ -35,9 +35,11 @@ std::string run(const std::string& args, int& exit_code) {
 }
 
 // One run: three tags in a row 0.6–0.9 m from a 1 m stop-and-go stage, written as readings + truth CSVs.
-void write_run(const fs::path& readings, const fs::path& truth, uint64_t seed, double row_y_m) {
+void write_run(const fs::path& readings, const fs::path& truth, uint64_t seed, double row_y_m,
+               double boresight_offset_m = 0.03) {
   Hardware hw;
   hw.truth = loc::testing::example_hardware();
+  hw.truth.phase_centre_offset_m.x() = boresight_offset_m;
   hw.noise_rad = 0.1;
   hw.reads_per_stop = 2;
   const auto stage = loc::testing::straight_stage(Vec3(0, 0, 0), 50, 0.02);
@@ -98,6 +100,45 @@ TEST(CalibrateCli, WritesAnAntennaFileThatLocalizeUses) {
             refs["median_error_m"].get<double>() < refs["median_error_uncalibrated_m"].get<double>());
   EXPECT_TRUE(refs["helps"].get<bool>()) << refs.dump();
   EXPECT_EQ(out.find("does not localize its own"), std::string::npos) << out;
+  // Cross-validation over the --pair runs: the same hardware in every run, so the others' calibration helps the one
+  // left out, and there is no warning.
+  const auto& held = j["held_out"];
+  ASSERT_TRUE(held.is_object()) << j.dump();
+  EXPECT_EQ(held["runs"].get<int>(), 4);
+  EXPECT_EQ(held["folds"].get<int>(), 4);  // fewer runs than 5 folds: one left out at a time
+  EXPECT_GE(held["tags"].get<int>(), 10);
+  EXPECT_EQ(held["helps"].get<bool>(),
+            held["median_error_m"].get<double>() < held["median_error_uncalibrated_m"].get<double>());
+  EXPECT_TRUE(held["helps"].get<bool>()) << held.dump();
+  EXPECT_EQ(out.find("worse than without calibration"), std::string::npos) << out;
+  // The text output says it too; with one run there is nothing to leave out, and it says that.
+  const std::string text = run("calibrate" + pairs + " -o " + (d / "antenna_text.yaml").string() + " --height-known", code);
+  ASSERT_EQ(code, 0) << text;
+  EXPECT_NE(text.find("held out (4 runs in 4 folds"), std::string::npos) << text;
+  const std::string one_pair = pairs.substr(0, pairs.find(" --pair", 1));
+  const std::string single = run("calibrate" + one_pair + " -o " + (d / "antenna_one.yaml").string() + " --height-known", code);
+  ASSERT_EQ(code, 0) << single;
+  EXPECT_NE(single.find("held out: not measured"), std::string::npos) << single;
+  const std::string skipped = run("calibrate" + pairs + " -o " + (d / "antenna_skip.yaml").string() +
+                                      " --height-known --held-out-folds 0 --json", code);
+  ASSERT_EQ(code, 0) << skipped;
+  EXPECT_TRUE(nlohmann::json::parse(skipped)["held_out"].is_null()) << skipped;
+  // Runs whose antenna was remounted between them (phase centre 6 cm forward, then 6 cm back): what some runs fit
+  // does not carry to the others, and calibrate warns, naming the medians.
+  std::string remounted;
+  for (int run_index = 0; run_index < 6; ++run_index) {
+    const std::string r = (d / ("moved" + std::to_string(run_index) + ".csv")).string();
+    const std::string t = (d / ("moved" + std::to_string(run_index) + "_truth.csv")).string();
+    write_run(r, t, 40 + run_index, 0.5 + 0.05 * run_index, run_index % 2 ? 0.06 : -0.06);
+    remounted += " --pair " + r + "," + t;
+  }
+  const std::string moved =
+      run("calibrate" + remounted + " -o " + (d / "antenna_moved.yaml").string() + " --height-known --json", code);
+  ASSERT_EQ(code, 0) << moved;
+  const nlohmann::json jm = nlohmann::json::parse(moved.substr(moved.find('{'), moved.rfind('}') - moved.find('{') + 1));
+  EXPECT_FALSE(jm["held_out"]["helps"].get<bool>()) << jm["held_out"].dump();
+  EXPECT_NE(moved.find("worse than without calibration"), std::string::npos) << moved;
+  EXPECT_EQ(moved.find("does not localize its own"), std::string::npos) << moved;  // the held-out verdict suffices
 
   // Localize another run with and without the antenna file.
   write_run(d / "run.csv", d / "run_truth.csv", 99, 0.65);
@@ -209,6 +250,13 @@ TEST(CalibrateCli, BadInputExitsTwoNamingTheField) {
   out = run("calibrate --pair " + (d / "x.csv").string() + " -o " + (d / "a.yaml").string(), code);
   EXPECT_EQ(code, 2) << out;
   EXPECT_NE(out.find("--pair"), std::string::npos) << out;
+  for (const char* folds : {"1", "-2"}) {
+    out = run("calibrate --pair " + (d / "x.csv").string() + "," + (d / "x_truth.csv").string() + " -o " +
+                  (d / "a.yaml").string() + " --held-out-folds " + folds, code);
+    EXPECT_EQ(code, 2) << out;
+    EXPECT_NE(out.find("--held-out-folds"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(d / "a.yaml"));
+  }
   std::ofstream(d / "bad.yaml") << "antenna: a0\nphase_centre_offset_m: [0, 0]\n";
   out = run("localize " + (d / "x.csv").string() + " --antenna-file " + (d / "bad.yaml").string(), code);
   EXPECT_EQ(code, 2) << out;

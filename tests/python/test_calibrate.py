@@ -41,6 +41,11 @@ def test_calibrate_matches_the_command(runs, tmp_path):
     for key in ("phase_centre_offset_m", "phase_centre_offset_sd_m", "frequencies_hz", "carrier_offsets_rad",
                 "carrier_offsets_sd_rad", "pattern_rad", "pattern_sd_rad", "geometry_covariance"):
         np.testing.assert_array_equal(got[key], np.array(expected[key]), err_msg=key)
+    # What the command says about its own and held-out references, under the same keys (too few tags here to
+    # measure either: 6 of the 10 needed, so both are None in both).
+    for key in ("references_localized", "held_out"):
+        assert got[key] == expected[key], key
+    assert expected["held_out"] is None
     assert got["geometry_covariance"].shape == (8, 8)
     assert got["geometry_covariance"][0, 0] > 0  # the offset along boresight is fitted, with an uncertainty
     assert py_file.read_text() == cli_file.read_text()
