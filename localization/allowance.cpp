@@ -135,6 +135,7 @@ void measure_held_out(const std::vector<CalibrationSample>& samples, const Calib
   std::vector<int> runs;
   for (const CalibrationSample& s : samples)
     if (s.fit_geometry) runs.push_back(s.run);
+  if (runs.size() < 10) return;  // fewer reference tags than the 10 the medians need: no fold is worth fitting
   std::sort(runs.begin(), runs.end());
   runs.erase(std::unique(runs.begin(), runs.end()), runs.end());
   if (runs.size() < 2 || options.held_out_folds < 2) return;
