@@ -1,6 +1,7 @@
 #include "core/utd.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/units.h"
@@ -57,12 +58,51 @@ C scaled_erfc(C z) {
   return {scale * kr, -scale * ki};
 }
 
+// S(a) = e^{ja²}·∫_a^∞ e^{−jτ²} dτ, evaluated directly: the power series below a = 2, the continued fraction above.
+C scaled_tail_direct(double a) {
+  if (a < 2.0) return std::polar(1.0, a * a) * (0.5 * kSqrtPi * kEmjPi4 - fresnel_head(a));
+  // ∫_a^∞ e^{−jτ²} dτ = e^{−jπ/4} (√π/2) erfc(e^{jπ/4} a) and erfc(z) = e^{−z²}·scaled, e^{−z²} = e^{−jX}.
+  return kEmjPi4 * (0.5 * kSqrtPi) * scaled_erfc(kEjPi4 * a);
+}
+
+// Below a = 8 (X = 64) the direct evaluation is slow (up to ~80 terms or levels: 0.55 µs at X = 5, 0.13 µs at
+// X = 30, gcc -O3) and `full` calls it four times per edge and link. There S is a Taylor series about the nearest
+// of 161 nodes a_i = i/20, whose values are computed once by the direct evaluation: S satisfies S' = 2jaS − 1, so
+// S'' = 2jS + 2jaS' and S^(m+1) = 2ja·S^(m) + 2jm·S^(m−1) (m ≥ 1). With |a − a_i| ≤ 1/40 and |2a| ≤ 16 the m-th
+// term is of order 0.4^m/m! of S (1e-17 by m = 19); the series stops once a term is below 1e-17 of the sum
+// (45–60 ns per call below X = 25).
+constexpr double kTaylorStep = 0.05;
+constexpr int kTaylorNodes = 161;  // a_i = 0 … 8
+const std::array<C, kTaylorNodes>& taylor_nodes() {
+  static const std::array<C, kTaylorNodes> nodes = [] {
+    std::array<C, kTaylorNodes> n{};
+    for (int i = 0; i < kTaylorNodes; ++i) n[i] = scaled_tail_direct(kTaylorStep * i);
+    return n;
+  }();
+  return nodes;
+}
+
 // e^{jX}·∫_√X^∞ e^{−jτ²} dτ, the factor of F without the 2j√X (no overflow or cancellation for large X).
 C scaled_tail(double x) {
   const double a = std::sqrt(std::max(x, 0.0));
-  if (a < 2.0) return std::polar(1.0, x) * (0.5 * kSqrtPi * kEmjPi4 - fresnel_head(a));
-  // ∫_a^∞ e^{−jτ²} dτ = e^{−jπ/4} (√π/2) erfc(e^{jπ/4} a) and erfc(z) = e^{−z²}·scaled, e^{−z²} = e^{−jX}.
-  return kEmjPi4 * (0.5 * kSqrtPi) * scaled_erfc(kEjPi4 * a);
+  if (a >= 8.0) return scaled_tail_direct(a);
+  const int i = static_cast<int>(std::lround(a / kTaylorStep));
+  const double a0 = kTaylorStep * i, delta = a - a0;
+  const C two_j_a(0.0, 2.0 * a0);
+  C previous = taylor_nodes()[i];            // S^(m−1)
+  C current = two_j_a * previous - 1.0;      // S^(m), m = 1
+  C sum = previous + current * delta;
+  double power = delta;                      // δ^m / m!
+  for (int m = 1; m < 40; ++m) {
+    const C next = two_j_a * current + C(0.0, 2.0 * m) * previous;
+    power *= delta / double(m + 1);
+    const C term = next * power;
+    sum += term;
+    if (std::abs(term.real()) + std::abs(term.imag()) < 1e-17 * (std::abs(sum.real()) + std::abs(sum.imag()))) break;
+    previous = current;
+    current = next;
+  }
+  return sum;
 }
 
 // cot(u)·F(kL·a) for one of the four terms. δ = 2n(u − mπ) is the observer's angle from the term's boundary,

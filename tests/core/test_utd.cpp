@@ -77,6 +77,23 @@ TEST(Utd, TransitionFunctionLimits) {
   EXPECT_EQ(utd_transition(0.0), C(0.0, 0.0));
 }
 
+// Below X = 64 F comes from Taylor series about nodes 0.05 apart in √X (core/utd.cpp): the series of two
+// neighbouring nodes meet at the midpoint between them, and the series meets the continued fraction at √X = 8,
+// to 1e-14 — a wrong derivative recurrence or node value would open a gap there (and fail the tables above).
+TEST(Utd, TransitionFunctionIsContinuousWhereItsEvaluationChanges) {
+  // Across 2h the tail ∫_a^∞ e^{−jτ²}dτ itself changes by −e^{−ja²}·2h; what is left is the gap.
+  const double h = 1e-9;
+  auto gap = [&](double a) {
+    return std::abs(fresnel_tail(a + h) - fresnel_tail(a - h) + std::polar(2.0 * h, -a * a));
+  };
+  for (int i = 0; i < 160; ++i) {
+    const double a = 0.05 * (i + 0.5);
+    EXPECT_LT(gap(a), 1e-14) << "a = " << a;
+  }
+  EXPECT_LT(gap(8.0), 1e-14);
+  EXPECT_LT(gap(2.0), 1e-14);
+}
+
 // The continued fraction's depth falls with X (core/utd.cpp); at every X from 25 up, F(X) equals its asymptotic
 // series Σ_k (2k − 1)!! (j/2X)^k summed to its smallest term (error below that term: ≤ 4e-11 at X = 25,
 // ≤ 2e-15 from X = 40, < 1e-40 from X = 100), over a fine grid that crosses every change of depth.
