@@ -41,18 +41,28 @@ LocalizeOptions stage_options(double z) {
   return o;
 }
 
-// Reference tags at known positions (several runs of 3 tags), read by `hw`.
-std::vector<CalibrationSample> reference_tags(const Hardware& hw, uint64_t seed) {
+// Reference tags of 6 runs (3 tags each), run r read through `truth_of_run(r)`; each sample knows its run.
+template <typename TruthOfRun>
+std::vector<CalibrationSample> reference_runs(Hardware hw, uint64_t seed, TruthOfRun truth_of_run) {
   std::vector<CalibrationSample> s;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (int run = 0; run < 6; ++run)
     for (int t = 0; t < 3; ++t) {
       const Vec3 tag(0.2 + 0.3 * t + 0.1 * u(rng), 0.45 + 0.45 * u(rng), 0.0);
-      Hardware h = hw;
-      h.tag_offset_rad = kTwoPi * u(rng);
-      s.push_back({testing::hardware_reads("ref", tag, kStage, h, seed * 100 + run * 10 + t), tag});
+      hw.truth = truth_of_run(run);
+      hw.tag_offset_rad = kTwoPi * u(rng);
+      s.push_back({testing::hardware_reads("ref", tag, kStage, hw, seed * 100 + run * 10 + t), tag});
+      s.back().run = run;
     }
+  return s;
+}
+
+// The same tags read by `hw` in every run, all counted as one run (no held-out check: the tests using them do not
+// look at it, and it costs a calibration per fold).
+std::vector<CalibrationSample> reference_tags(const Hardware& hw, uint64_t seed) {
+  std::vector<CalibrationSample> s = reference_runs(hw, seed, [&](int) { return hw.truth; });
+  for (CalibrationSample& c : s) c.run = 0;
   return s;
 }
 
@@ -560,23 +570,6 @@ TEST(Calibration, MeasuresWhetherItHelpsItsOwnReferences) {
   worse.reference_median_error_m = 1.1 * cal.reference_median_error_uncalibrated_m;
   EXPECT_FALSE(worse.helps_its_references());
   EXPECT_TRUE(AntennaCalibration{}.helps_its_references());
-}
-
-// Reference tags of 6 runs (3 tags each), run r read through `truth_of_run(r)`; each sample knows its run.
-template <typename TruthOfRun>
-std::vector<CalibrationSample> reference_runs(Hardware hw, uint64_t seed, TruthOfRun truth_of_run) {
-  std::vector<CalibrationSample> s;
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (int run = 0; run < 6; ++run)
-    for (int t = 0; t < 3; ++t) {
-      const Vec3 tag(0.2 + 0.3 * t + 0.1 * u(rng), 0.45 + 0.45 * u(rng), 0.0);
-      hw.truth = truth_of_run(run);
-      hw.tag_offset_rad = kTwoPi * u(rng);
-      s.push_back({testing::hardware_reads("ref", tag, kStage, hw, seed * 100 + run * 10 + t), tag});
-      s.back().run = run;
-    }
-  return s;
 }
 
 // Cross-validation over runs (allowance.h, measure_held_out): with the same hardware in every run the calibration of the
