@@ -575,19 +575,20 @@ TEST(Calibration, MeasuresWhetherItHelpsItsOwnReferences) {
 // Cross-validation over runs (allowance.h, measure_held_out): with the same hardware in every run the calibration of the
 // other runs localizes each left-out run better than none; when the antenna's phase centre moves between runs
 // (remounted 6 cm forward in half of them, 6 cm back in the others) what the other runs fit does not carry over,
-// and the check says so. Measured (release build): same mounting 0.8 mm with against 62 mm without; remounted, in
-// two folds (one mounting against the other), 120
-// against 61 mm held out, where the in-sample medians (61 against 61 mm) only say "no help".
+// and the check says so. Measured (release build): same mounting 0.8 mm with against 62 mm without (5 folds; 3
+// here); remounted, in two folds (one mounting against the other), 120 against 61 mm held out, where the in-sample
+// medians (61 against 61 mm, measured with the allowance on) only say "no help".
 TEST(Calibration, CrossValidationOverRunsSaysWhetherItCarriesToOtherRuns) {
   Hardware hw;
   hw.noise_rad = 0.1;
   CalibrationOptions o;
   o.planar = true;
   o.measure_allowance = false;  // (only the held-out check is looked at here)
+  o.held_out_folds = 3;         // (fewer calibrations than the default 5: sanitizer time)
   const AntennaCalibration same =
       calibrate_antenna(reference_runs(hw, 41, [](int) { return testing::example_hardware(); }), "a0", o);
   EXPECT_EQ(same.held_out_runs, 6);
-  EXPECT_EQ(same.held_out_folds, 5);  // runs 0 and 5 share a fold
+  EXPECT_EQ(same.held_out_folds, 3);  // runs 0 and 3, 1 and 4, 2 and 5 share a fold
   ASSERT_GE(same.held_out_tags, 10);
   EXPECT_LT(same.held_out_median_error_m, 0.5 * same.held_out_median_error_uncalibrated_m)
       << same.held_out_median_error_m << " vs " << same.held_out_median_error_uncalibrated_m;
@@ -597,10 +598,9 @@ TEST(Calibration, CrossValidationOverRunsSaysWhetherItCarriesToOtherRuns) {
     t.phase_centre_offset_m = Vec3(run % 2 ? 0.06 : -0.06, 0.0, 0.0);
     return t;
   };
-  // Two folds: the runs mounted 6 cm back against those 6 cm forward; the in-sample medians measured too.
+  // Two folds: the runs mounted 6 cm back against those 6 cm forward.
   CalibrationOptions two = o;
   two.held_out_folds = 2;
-  two.measure_allowance = true;
   const AntennaCalibration moved = calibrate_antenna(reference_runs(hw, 41, remounted), "a0", two);
   ASSERT_GE(moved.held_out_tags, 10);
   EXPECT_GT(moved.held_out_median_error_m, moved.held_out_median_error_uncalibrated_m)
@@ -609,8 +609,7 @@ TEST(Calibration, CrossValidationOverRunsSaysWhetherItCarriesToOtherRuns) {
   std::cout << "held out, same mounting: " << 1e3 * same.held_out_median_error_m << " mm with, "
             << 1e3 * same.held_out_median_error_uncalibrated_m << " mm without; remounted: "
             << 1e3 * moved.held_out_median_error_m << " mm with, " << 1e3 * moved.held_out_median_error_uncalibrated_m
-            << " mm without; in-sample (remounted): " << 1e3 * moved.reference_median_error_m << " vs "
-            << 1e3 * moved.reference_median_error_uncalibrated_m << " mm\n";
+            << " mm without\n";
   // One run: nothing to leave out, not measured (and then not a reason to warn).
   std::vector<CalibrationSample> one = reference_runs(hw, 41, [](int) { return testing::example_hardware(); });
   for (CalibrationSample& c : one) c.run = 0;
