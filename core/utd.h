@@ -26,8 +26,10 @@
 namespace rfidray {
 
 // ∫_a^∞ e^{−jτ²} dτ for real a ≥ 0 (a < 0 is taken as 0; fresnel_from_minus_infinity takes any a).
-// Power series (Abramowitz & Stegun 7.3.1 summed as one complex series) below a = 2, the
-// continued fraction of e^{z²}·erfc(z) (A&S 7.1.14) above; ~1e-14 relative, checked against tabulated C, S.
+// Below a = 8: a Taylor series about tabulated nodes (core/utd.cpp), the nodes computed once by the power series
+// (Abramowitz & Stegun 7.3.1 summed as one complex series) below a = 2 and the continued fraction of e^{z²}·erfc(z)
+// (A&S 7.1.14) above; from a = 8 that continued fraction directly. ~1e-14 relative, checked against tabulated C, S.
+// Thread-safe (the node table is a function-local static, built on first use).
 std::complex<double> fresnel_tail(double a);
 // ∫_{−∞}^a e^{−jτ²} dτ for any real a (Sommerfeld's half-plane integral).
 std::complex<double> fresnel_from_minus_infinity(double a);

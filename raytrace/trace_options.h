@@ -43,8 +43,7 @@ struct TraceOptions {
   // Level full-selective (raytrace/diffraction.cpp): the weakest diffracted paths are left out while the sum of
   // their magnitudes is at most this fraction ε of |h| of the paths kept, so |h_selective/h_full − 1| ≤ ε/(1 − ε):
   // at most 2·asin(ε/(1 − ε)) rad of round-trip phase and 40·log10(1/(1 − ε)) dB of RSSI (0.041 rad, 0.35 dB at
-  // the default 0.02, inside `auto`'s default tolerance). 0 keeps every diffraction (= full without the edges'
-  // near field).
+  // the default 0.02, inside `auto`'s default tolerance). 0 keeps every diffraction and near field (= full).
   double diffraction_skipped_fraction = 0.02;
   // Level los: trace a pose's visibility rays in Embree packets (rtcOccluded4/8/16) when timing them on the
   // first pose shows a packet width ≥ 1.25× faster than single rays (raytraced_channel.h). Off by default:
