@@ -85,8 +85,20 @@ bool localize_reference(const CalibrationSample& ref, const std::string& antenna
 
 }  // namespace
 
+std::vector<double> uncalibrated_errors(const std::vector<CalibrationSample>& references, const std::string& antenna,
+                                        const CalibrationOptions& options) {
+  std::vector<double> error(references.size(), std::numeric_limits<double>::quiet_NaN());
+#pragma omp parallel for schedule(dynamic)
+  for (long i = 0; i < static_cast<long>(references.size()); ++i) {
+    LocalizeResult u;
+    if (references[i].fit_geometry && localize_reference(references[i], antenna, nullptr, options, u))
+      error[i] = (u.position - references[i].tag_m).norm();
+  }
+  return error;
+}
+
 void measure_allowance(const std::vector<CalibrationSample>& references, const CalibrationOptions& options,
-                       AntennaCalibration& calibration) {
+                       const std::vector<double>& uncalibrated_error_m, AntennaCalibration& calibration) {
   AntennaCalibration applied = calibration;
   applied.allowance_base_rad = applied.allowance_smooth_factor = std::numeric_limits<double>::quiet_NaN();
   std::vector<AllowanceSample> found(references.size());
@@ -103,11 +115,9 @@ void measure_allowance(const std::vector<CalibrationSample>& references, const C
     if (!std::isfinite(r.radius_statistical_m) || !std::isfinite(r.radius_bias_m_per_rad)) continue;
     found[i] = {(r.position - ref.tag_m).norm(), r.radius_statistical_m, r.radius_bias_m_per_rad, r.smooth_residual_rad};
     usable[i] = 1;
-    if (!ref.fit_geometry) continue;
-    LocalizeResult u;
-    if (!localize_reference(ref, calibration.antenna, nullptr, options, u)) continue;
+    if (!ref.fit_geometry || !std::isfinite(uncalibrated_error_m[i])) continue;
     error_with[i] = found[i].error_m;
-    error_without[i] = (u.position - ref.tag_m).norm();
+    error_without[i] = uncalibrated_error_m[i];
   }
   std::vector<double> with, without;
   for (size_t i = 0; i < references.size(); ++i)
@@ -131,7 +141,7 @@ void measure_allowance(const std::vector<CalibrationSample>& references, const C
 }
 
 void measure_held_out(const std::vector<CalibrationSample>& samples, const CalibrationOptions& options,
-                      AntennaCalibration& calibration) {
+                      const std::vector<double>& uncalibrated_error_m, AntennaCalibration& calibration) {
   std::vector<int> runs;
   for (const CalibrationSample& s : samples)
     if (s.fit_geometry) runs.push_back(s.run);
@@ -151,9 +161,15 @@ void measure_held_out(const std::vector<CalibrationSample>& samples, const Calib
   std::vector<double> with, without;
   int folds = 0;
   for (int fold = 0; fold < k; ++fold) {
-    std::vector<CalibrationSample> train, test;
-    for (const CalibrationSample& s : samples)
-      if (s.fit_geometry) (fold_of(s.run) == fold ? test : train).push_back(s);
+    std::vector<CalibrationSample> train;
+    std::vector<size_t> test;  // indices into samples
+    for (size_t i = 0; i < samples.size(); ++i)
+      if (samples[i].fit_geometry) {
+        if (fold_of(samples[i].run) == fold)
+          test.push_back(i);
+        else
+          train.push_back(samples[i]);
+      }
     AntennaCalibration c;
     try {
       c = calibrate_antenna(train, calibration.antenna, fit);
@@ -162,17 +178,16 @@ void measure_held_out(const std::vector<CalibrationSample>& samples, const Calib
     }
     ++folds;
     constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> e_with(test.size(), kNaN), e_without(test.size(), kNaN);
+    std::vector<double> e_with(test.size(), kNaN);
 #pragma omp parallel for schedule(dynamic)
     for (long i = 0; i < static_cast<long>(test.size()); ++i) {
-      LocalizeResult r, u;
-      if (!localize_reference(test[i], calibration.antenna, &c, options, r)) continue;
-      if (!localize_reference(test[i], calibration.antenna, nullptr, options, u)) continue;
-      e_with[i] = (r.position - test[i].tag_m).norm();
-      e_without[i] = (u.position - test[i].tag_m).norm();
+      const CalibrationSample& ref = samples[test[i]];
+      LocalizeResult r;
+      if (std::isfinite(uncalibrated_error_m[test[i]]) && localize_reference(ref, calibration.antenna, &c, options, r))
+        e_with[i] = (r.position - ref.tag_m).norm();
     }
     for (size_t i = 0; i < test.size(); ++i)
-      if (std::isfinite(e_with[i]) && std::isfinite(e_without[i])) with.push_back(e_with[i]), without.push_back(e_without[i]);
+      if (std::isfinite(e_with[i])) with.push_back(e_with[i]), without.push_back(uncalibrated_error_m[test[i]]);
   }
   if (folds < 2 || with.size() < 10) return;
   calibration.held_out_runs = static_cast<int>(runs.size());

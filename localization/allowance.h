@@ -13,6 +13,7 @@
 //
 // The reference tags also determined the calibration (8 geometry terms over all of them), so their errors are
 // slightly optimistic. Pure function; throws nothing; runs the samples in parallel (deterministic).
+#include <string>
 #include <vector>
 
 #include "localization/antenna_calibration.h"
@@ -39,10 +40,17 @@ struct Allowance {
 // samples.empty(): coverage 0, samples 0.
 Allowance choose_allowance(const std::vector<AllowanceSample>& samples, double coverage);
 
+// Each reference's position error localized without any calibration, as the two below localize it (NLLS, side
+// known, gates open); NaN where the sample is not fit_geometry, has no reads of `antenna` or the fit failed. Computed
+// once and shared by both (same `options`).
+std::vector<double> uncalibrated_errors(const std::vector<CalibrationSample>& references, const std::string& antenna,
+                                        const CalibrationOptions& options);
+
 // Localizes every reference tag of `antenna` with `calibration` and fills its allowance_* fields (left NaN when
-// fewer than 10 tags could be localized).
+// fewer than 10 tags could be localized), and reference_median_error_* from those also in `uncalibrated_error_m`
+// (uncalibrated_errors of the same references and options).
 void measure_allowance(const std::vector<CalibrationSample>& references, const CalibrationOptions& options,
-                       AntennaCalibration& calibration);
+                       const std::vector<double>& uncalibrated_error_m, AntennaCalibration& calibration);
 
 // Cross-validation over runs: the runs of the fitting references (CalibrationSample::run, fit_geometry) dealt to
 // k = min(options.held_out_folds, runs) folds; for each fold, the antenna calibrated from the other folds' runs
@@ -50,7 +58,8 @@ void measure_allowance(const std::vector<CalibrationSample>& references, const C
 // measure_allowance localizes them, with that calibration and without any. Fills held_out_* with the medians over
 // all tags localized both ways; left unset with fewer than 2 folds that could be fitted or fewer than 10 such
 // tags. Costs k calibrations.
+// `uncalibrated_error_m`: uncalibrated_errors of `samples` with `options`.
 void measure_held_out(const std::vector<CalibrationSample>& samples, const CalibrationOptions& options,
-                      AntennaCalibration& calibration);
+                      const std::vector<double>& uncalibrated_error_m, AntennaCalibration& calibration);
 
 }  // namespace rfidray::loc

@@ -360,15 +360,13 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
       out.prior_bounded.push_back({kGeometryTermNames[g], why.str()});
     }
   }
-  if (options.measure_allowance) {
+  if (options.measure_allowance || options.held_out_check) {
     CalibrationOptions measured = options;
     measured.planar = horizontal_plane;
-    measure_allowance(samples, measured, out);
-  }
-  if (options.held_out_check) {
-    CalibrationOptions measured = options;
-    measured.planar = horizontal_plane;
-    measure_held_out(samples, measured, out);
+    // Each reference localized without calibration once, for both checks.
+    const std::vector<double> uncalibrated = uncalibrated_errors(samples, antenna, measured);
+    if (options.measure_allowance) measure_allowance(samples, measured, uncalibrated, out);
+    if (options.held_out_check) measure_held_out(samples, measured, uncalibrated, out);
   }
   return out;
 }
