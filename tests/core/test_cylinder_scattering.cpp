@@ -1,0 +1,102 @@
+// The cylinder series (core/cylinder_scattering.h) against what defines it: the boundary condition on the
+// conductor (the incident field in closed form, H0^(2)(k|ρ − ρ'|), independent of the series), the thin-wire limit
+// of its n = 0 coefficient, and the library Bessel functions its asymptotic Hankel expansion replaces far out.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+
+#include "core/cylinder_scattering.h"
+#include "core/units.h"
+
+namespace rfidray {
+namespace {
+
+using C = std::complex<double>;
+
+C hankel0(double x) { return C(std::cyl_bessel_j(0.0, x), -std::cyl_neumann(0.0, x)); }
+
+// The incident field of the line source at (xs, 0) at the observer (xo, φ), both in units of 1/k.
+C incident(double xs, double xo, double phi) {
+  return hankel0(std::sqrt(xs * xs + xo * xo - 2.0 * xs * xo * std::cos(phi)));
+}
+
+TEST(CylinderScattering, SoftFieldVanishesOnTheConductor) {
+  for (double ka : {0.05, 0.54, 1.8, 6.0}) {
+    const CylinderCoefficients c = cylinder_coefficients(ka);
+    // Down to ρ' = 1.6a: the series is cut at kCylinderMaxTerms, whose last term is (a/ρ')^48 ~ 1e-10 there.
+    for (double xs : {1.6 * ka, 3.0 * ka + 1.0, 27.7, 180.0}) {
+      for (double phi = 0.0; phi < kTwoPi; phi += 0.37) {
+        const C total = incident(xs, ka, phi) + cylinder_scattered(c, CylinderPolarization::kSoft, xs, ka, phi);
+        EXPECT_LT(std::abs(total), 1e-9 * std::abs(incident(xs, ka, phi)) + 1e-12)
+            << "ka " << ka << " k rho' " << xs << " phi " << phi;
+      }
+    }
+  }
+}
+
+TEST(CylinderScattering, HardFieldHasNoNormalDerivativeOnTheConductor) {
+  // ∂/∂(kρ) of incident + scattered at kρ = ka, one-sided second order from ka, ka + h, ka + 2h.
+  for (double ka : {0.2, 0.9, 3.0}) {
+    const CylinderCoefficients c = cylinder_coefficients(ka);
+    const double h = 1e-4 * ka;
+    for (double xs : {2.0 * ka + 0.5, 27.7}) {
+      for (double phi = 0.1; phi < kTwoPi; phi += 0.61) {
+        const auto total = [&](double x) {
+          return incident(xs, x, phi) + cylinder_scattered(c, CylinderPolarization::kHard, xs, x, phi);
+        };
+        const C derivative = (-3.0 * total(ka) + 4.0 * total(ka + h) - total(ka + 2.0 * h)) / (2.0 * h);
+        const C incident_derivative =
+            (-3.0 * incident(xs, ka, phi) + 4.0 * incident(xs, ka + h, phi) - incident(xs, ka + 2.0 * h, phi)) / (2.0 * h);
+        // The finite difference's own error is O(h²) of the second derivative: ~1e-7 of the field here.
+        EXPECT_LT(std::abs(derivative), 2e-6 * (std::abs(incident_derivative) + std::abs(incident(xs, ka, phi))))
+            << "ka " << ka << " k rho' " << xs << " phi " << phi;
+      }
+    }
+  }
+}
+
+TEST(CylinderScattering, ThinWireLimitOfTheFirstCoefficient) {
+  // ka → 0: J_0 → 1, Y_0 → (2/π)(ln(ka/2) + γ), so c_0 → −1 / (1 − j(2/π)(ln(ka/2) + γ)) (Harrington §5.10).
+  constexpr double kEulerGamma = 0.5772156649015329;
+  for (double ka : {1e-3, 1e-2}) {
+    const C expected = -1.0 / C(1.0, -(2.0 / kPi) * (std::log(ka / 2.0) + kEulerGamma));
+    EXPECT_LT(std::abs(cylinder_coefficients(ka).soft[0] - expected), 1e-3 * std::abs(expected)) << ka;
+  }
+}
+
+TEST(CylinderScattering, HankelExpansionMatchesTheBesselFunctionsWhereItTakesOver) {
+  // From x = max(30, 2·count²) hankel2_orders uses Hankel's expansion; the library's Bessel functions there.
+  for (double x : {30.0, 33.0, 50.0, 200.0}) {
+    C h[4];
+    hankel2_orders(x, 4, h);
+    for (int n = 0; n < 4; ++n) {
+      const C exact(std::cyl_bessel_j(n, x), -std::cyl_neumann(n, x));
+      EXPECT_LT(std::abs(h[n] - exact), 1e-8 * std::abs(exact)) << "n " << n << " x " << x;
+    }
+  }
+  // And the far form of H_0 used to map two dimensions to three.
+  EXPECT_LT(std::abs(hankel2_zero_far(400.0) - hankel0(400.0)), 1e-3 * std::abs(hankel0(400.0)));
+}
+
+TEST(CylinderScattering, ForwardScatteringOfAThickCylinderCastsAShadow) {
+  // A cylinder of ka = 6 lit from far away: straight behind it, close to it, the total field is far below the
+  // incident one; to the side (90°, lit) it is not.
+  const CylinderCoefficients c = cylinder_coefficients(6.0);
+  const double xs = 400.0, xo = 7.0;
+  const double behind = std::abs(incident(xs, xo, kPi) + cylinder_scattered(c, CylinderPolarization::kSoft, xs, xo, kPi));
+  const double side =
+      std::abs(incident(xs, xo, kPi / 2) + cylinder_scattered(c, CylinderPolarization::kSoft, xs, xo, kPi / 2));
+  EXPECT_LT(behind, 0.35 * std::abs(incident(xs, xo, kPi)));
+  EXPECT_GT(side, 0.5 * std::abs(incident(xs, xo, kPi / 2)));
+}
+
+TEST(CylinderScattering, RefusesWhatItCannotSum) {
+  EXPECT_THROW(cylinder_coefficients(0.0), std::invalid_argument);
+  EXPECT_THROW(cylinder_coefficients(kCylinderMaxKa * 1.01), std::invalid_argument);
+  EXPECT_THROW(cylinder_coefficients(std::nan("")), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rfidray
