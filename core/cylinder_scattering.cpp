@@ -12,14 +12,14 @@ namespace {
 using C = std::complex<double>;
 
 // Hankel's expansion of H_n^(2)(x), A&S 9.2.5–9.2.10: √(2/πx) (P − jQ) e^{−jχ}, χ = x − (n/2 + 1/4)π,
-// P = Σ_{k even} (−1)^{k/2} a_k, Q = Σ_{k odd} (−1)^{(k−1)/2} a_k, a_k = Π_{m=1}^{k} (4n² − (2m − 1)²) / (k! (8x)^k).
+// (k ≤ 7), P = Σ_{k even} (−1)^{k/2} a_k, Q = Σ_{k odd} (−1)^{(k−1)/2} a_k, a_k = Π_{m=1}^{k} (4n² − (2m − 1)²) / (k! (8x)^k).
 C hankel2_expansion(int n, double x) {
   const double mu = 4.0 * n * n;
   double a = 1.0, p = 1.0, q = 0.0;
-  for (int k = 1; k <= 6; ++k) {
+  for (int k = 1; k <= 7; ++k) {
     a *= (mu - (2.0 * k - 1.0) * (2.0 * k - 1.0)) / (k * 8.0 * x);
     if (k % 2 == 1)
-      q += ((k - 1) / 2 % 2 == 0 ? 1.0 : -1.0) * a;  // Q: +a1 − a3 + a5
+      q += ((k - 1) / 2 % 2 == 0 ? 1.0 : -1.0) * a;  // Q: a1 − a3 + a5 − a7
     else
       p += (k / 2 % 2 == 0 ? 1.0 : -1.0) * a;        // P: 1 − a2 + a4 − a6
   }
@@ -27,15 +27,30 @@ C hankel2_expansion(int n, double x) {
   return std::sqrt(2.0 / (kPi * x)) * C(p, -q) * std::polar(1.0, -chi);
 }
 
-// A rough upper estimate of |H_n^(2)(x)|: the larger of its far value and Y_n's small-argument growth
-// (n − 1)! (2/x)^n / π (in logarithms). Only decides how many terms to sum.
-double log_hankel_bound(int n, double x) {
-  const double far = 0.5 * std::log(2.0 / (kPi * x));
-  if (n == 0) return std::max(far, std::log(std::max(1.0, std::abs(std::log(x)))));
-  return std::max(far, std::lgamma(static_cast<double>(n)) + n * std::log(2.0 / x) - std::log(kPi));
-}
-
 }  // namespace
+
+void bessel_j_orders(double x, int count, double* out) {
+  if (count <= 0) return;
+  // Start well above both the highest order wanted and x (Numerical Recipes' bessj: +√(40 n)).
+  const int top = std::max(count, static_cast<int>(x) + 1);
+  const int m = 2 * ((top + 16 + static_cast<int>(std::sqrt(40.0 * top))) / 2);
+  double j_above = 0.0, j = 1e-300, sum = 0.0;  // J_{k+1}, J_k up to a common factor
+  for (int k = m; k >= 1; --k) {
+    const double j_below = (2.0 * k / x) * j - j_above;  // J_{k−1}
+    j_above = j;
+    j = j_below;
+    if (std::abs(j) > 1e250) {  // rescale everything kept so far
+      j *= 1e-250;
+      j_above *= 1e-250;
+      sum *= 1e-250;
+      for (int n = k; n < count; ++n) out[n] *= 1e-250;
+    }
+    if (k - 1 < count) out[k - 1] = j;
+    if ((k - 1) % 2 == 0 && k - 1 > 0) sum += j;
+  }
+  const double norm = j + 2.0 * sum;  // J_0 + 2 Σ J_2k = 1
+  for (int n = 0; n < count; ++n) out[n] /= norm;
+}
 
 std::complex<double> hankel2_zero_far(double x) {
   return std::sqrt(2.0 / (kPi * x)) * std::polar(1.0, -(x - 0.25 * kPi));
@@ -47,63 +62,68 @@ void hankel2_orders(double x, int count, std::complex<double>* out) {
     for (int n = 0; n < count; ++n) out[n] = hankel2_expansion(n, x);
     return;
   }
-  // Y_n by upward recurrence from Y_0, Y_1 (stable upwards); J_n from the library (upward recurrence is not
-  // stable for n > x).
+  std::array<double, kCylinderMaxTerms + 2> j{};
+  bessel_j_orders(x, count, j.data());
+  // Y_n upwards from Y_0, Y_1 (stable upwards).
   double y_prev = std::cyl_neumann(0.0, x), y = std::cyl_neumann(1.0, x);
-  out[0] = C(std::cyl_bessel_j(0.0, x), -y_prev);
-  if (count > 1) out[1] = C(std::cyl_bessel_j(1.0, x), -y);
+  out[0] = C(j[0], -y_prev);
+  if (count > 1) out[1] = C(j[1], -y);
   for (int n = 2; n < count; ++n) {
     const double y_next = (2.0 * (n - 1) / x) * y - y_prev;
     y_prev = y;
     y = y_next;
-    out[n] = C(std::cyl_bessel_j(static_cast<double>(n), x), -y);
+    out[n] = C(j[n], -y);
   }
 }
 
-CylinderCoefficients cylinder_coefficients(double ka) {
+CylinderCoefficients cylinder_coefficients(double ka, int terms) {
   if (!(ka > 0.0) || ka > kCylinderMaxKa)
     throw std::invalid_argument("cylinder_coefficients: ka must be in (0, " + std::to_string(kCylinderMaxKa) + "]");
   CylinderCoefficients c;
   c.ka = ka;
-  // J_n, H_n for n = 0 … kCylinderMaxTerms (one more than kept: the derivatives need n + 1).
-  std::array<double, kCylinderMaxTerms + 1> j{};
+  c.terms = std::clamp(terms, 2, kCylinderMaxTerms);
+  // J_n, H_n for n = 0 … terms (one more than kept: the derivatives need n + 1).
   std::array<C, kCylinderMaxTerms + 1> h{};
-  hankel2_orders(ka, kCylinderMaxTerms + 1, h.data());
-  for (int n = 0; n <= kCylinderMaxTerms; ++n) j[n] = h[n].real();
-  c.terms = kCylinderMaxTerms;
-  for (int n = 0; n < kCylinderMaxTerms; ++n) {
-    c.soft[n] = -j[n] / h[n];
+  hankel2_orders(ka, c.terms + 1, h.data());
+  for (int n = 0; n < c.terms; ++n) {
     // Z'_n = (Z_{n−1} − Z_{n+1}) / 2, Z'_0 = −Z_1.
-    const double jd = n == 0 ? -j[1] : 0.5 * (j[n - 1] - j[n + 1]);
     const C hd = n == 0 ? -h[1] : 0.5 * (h[n - 1] - h[n + 1]);
-    c.hard[n] = -jd / hd;
-    // Kept until they underflow: with both ends near the cylinder the terms c_n H_n(kρ') H_n(kρ) fall only as
-    // (a²/ρρ')^n, however small c_n is.
-    if (n >= 2 && std::abs(c.soft[n]) < 1e-280 && std::abs(c.hard[n]) < 1e-280) {
-      c.terms = n + 1;
+    if (!std::isfinite(std::abs(h[n + 1]))) {  // Y_n overflowed (a very thin wire): c_n underflowed long before
+      c.terms = std::max(n, 2);
       break;
     }
+    c.soft[n] = -h[n].real() / h[n];
+    c.hard[n] = -hd.real() / hd;
   }
   return c;
+}
+
+int cylinder_terms(double ka, double k_rho_source, double k_rho_observer) {
+  const double xs = std::max(k_rho_source, ka), xo = std::max(k_rho_observer, ka);
+  // |c_n H_n(kρ') H_n(kρ)| from the small-argument forms |J_n(x)| ≈ (x/2)^n / n! and |H_n(x)| ≈ the larger of
+  // √(2/πx) and (n − 1)! (2/x)^n / π (logarithms): an estimate of the tail, where n > ka.
+  const auto log_h = [](int n, double x) {
+    const double far = 0.5 * std::log(2.0 / (kPi * x));
+    return n == 0 ? far : std::max(far, std::lgamma(static_cast<double>(n)) + n * std::log(2.0 / x) - std::log(kPi));
+  };
+  const auto log_term = [&](int n) {
+    return n * std::log(0.5 * ka) - std::lgamma(n + 1.0) - log_h(n, ka) + log_h(n, xs) + log_h(n, xo);
+  };
+  const double first = std::max(log_term(0), log_term(1));
+  int n = 2;
+  while (n < kCylinderMaxTerms && (n < ka + 2.0 || log_term(n) > first - 36.8)) ++n;  // e^−36.8 ≈ 1e-16
+  return std::min(n + 1, kCylinderMaxTerms);
 }
 
 std::complex<double> cylinder_scattered(const CylinderCoefficients& c, CylinderPolarization polarization,
                                         double k_rho_source, double k_rho_observer, double delta_phi_rad) {
   const double xs = std::max(k_rho_source, c.ka), xo = std::max(k_rho_observer, c.ka);
   const auto& cn = polarization == CylinderPolarization::kSoft ? c.soft : c.hard;
-  // Terms to sum: until the n-th term's estimate is below 1e-14 of the first's (the terms fall geometrically).
-  const double log_first = std::log(std::max(std::abs(cn[0]), std::abs(cn[1])) + 1e-300) +
-                           log_hankel_bound(0, xs) + log_hankel_bound(0, xo);
-  int count = 2;
-  while (count < c.terms &&
-         std::log(std::abs(cn[count]) + 1e-300) + log_hankel_bound(count, xs) + log_hankel_bound(count, xo) >
-             log_first - 32.2)  // e^−32.2 ≈ 1e-14
-    ++count;
   std::array<C, kCylinderMaxTerms> hs, ho;
-  hankel2_orders(xs, count, hs.data());
-  hankel2_orders(xo, count, ho.data());
+  hankel2_orders(xs, c.terms, hs.data());
+  hankel2_orders(xo, c.terms, ho.data());
   C sum = cn[0] * hs[0] * ho[0];
-  for (int n = 1; n < count; ++n) sum += 2.0 * std::cos(n * delta_phi_rad) * cn[n] * hs[n] * ho[n];
+  for (int n = 1; n < c.terms; ++n) sum += 2.0 * std::cos(n * delta_phi_rad) * cn[n] * hs[n] * ho[n];
   return sum;
 }
 

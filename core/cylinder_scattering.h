@@ -12,11 +12,11 @@
 // with c_n = −J_n(ka)/H_n^(2)(ka) for the soft case (E along the axis, TM_z: E_z = 0 on the surface) and
 // c_n = −J'_n(ka)/H'^(2)_n(ka) for the hard case (H along the axis, TE_z: ∂H_z/∂ρ = 0). The series converges
 // geometrically, faster the smaller ka and the farther the ends (its n-th term falls as (a²/ρρ')^n): a few terms for
-// a 5–10 cm post at UHF. Terms are summed until an estimate of them falls below 1e-14 of the first, at most
-// kCylinderMaxTerms (48: with both ends within 1.6 radii of the axis the last term is still ~1e-10).
-// The Hankel functions are Bessel functions of the C++17 library (std::cyl_bessel_j, std::cyl_neumann: ~0.3 µs a
-// call) near the cylinder, and Hankel's asymptotic expansion (five terms, A&S 9.2.5–9.2.10: relative error below
-// 1e-6 for n ≤ 4) from kρ ≥ max(30, 2n_max²), where most posts of a warehouse are.
+// a 5–10 cm post at UHF (cylinder_terms; at most kCylinderMaxTerms = 48: with both ends within 1.6 radii of the
+// axis the last term is still ~1e-10). Near the cylinder the Hankel functions are J_n by Miller's recurrence and
+// Y_n by the upward one from the C++17 library's Y_0, Y_1 (std::cyl_neumann, ~0.3 µs a call); from
+// x ≥ max(30, 2n²) Hankel's asymptotic expansion (seven terms, A&S 9.2.5–9.2.10: below 1e-8 there), where most
+// posts of a warehouse are from most ends. ~1–3 µs for a post.
 // Pure functions: thread-safe. Throws std::invalid_argument for ka ≤ 0 or ka > kCylinderMaxKa (the series would need
 // more terms than it keeps; a post that thick is not thin).
 #include <array>
@@ -29,18 +29,26 @@ enum class CylinderPolarization { kSoft, kHard };
 inline constexpr int kCylinderMaxTerms = 48;
 inline constexpr double kCylinderMaxKa = 12.0;
 
-// c_n of both polarizations for one ka, n = 0 … terms − 1 (terms: all kCylinderMaxTerms, or until they underflow).
+// c_n of both polarizations for one ka, n = 0 … terms − 1 (terms ≤ kCylinderMaxTerms).
 struct CylinderCoefficients {
   double ka = 0.0;
   int terms = 0;
   std::array<std::complex<double>, kCylinderMaxTerms> soft{}, hard{};
 };
-CylinderCoefficients cylinder_coefficients(double ka);
+CylinderCoefficients cylinder_coefficients(double ka, int terms = kCylinderMaxTerms);
+
+// How many terms u_s needs for these arguments: beyond n = ka + 2 (where c_n starts to fall) until an estimate of the
+// n-th term (small-argument forms of J_n and H_n) is below 1e-16 of the first; at most kCylinderMaxTerms.
+int cylinder_terms(double ka, double k_rho_source, double k_rho_observer);
 
 // u_s above for k ρ' = `k_rho_source`, k ρ = `k_rho_observer` (each ≥ ka; a smaller value is taken as ka: an end
-// inside the cylinder is on its surface) and φ − φ' = `delta_phi_rad`.
+// inside the cylinder is on its surface) and φ − φ' = `delta_phi_rad`, with c.terms terms.
 std::complex<double> cylinder_scattered(const CylinderCoefficients& c, CylinderPolarization polarization,
                                         double k_rho_source, double k_rho_observer, double delta_phi_rad);
+
+// J_n(x) for n = 0 … count − 1, x > 0, by Miller's backward recurrence normalized by J_0 + 2 Σ J_2k = 1
+// (A&S 9.12; stable for every order, unlike the upward recurrence beyond n > x).
+void bessel_j_orders(double x, int count, double* out);
 
 // H_n^(2)(x) for n = 0 … count − 1 (count ≤ kCylinderMaxTerms + 1), x > 0: the Bessel functions or, from
 // x ≥ max(30, 2 count²), Hankel's expansion (above).

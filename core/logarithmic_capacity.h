@@ -9,8 +9,8 @@
 //
 // Computed by collocation: the boundary cut into panels graded towards the corners (where the charge is singular),
 // a constant charge on each, the potential of each panel in closed form, φ = 1 at every panel's midpoint solved by
-// LU (Eigen); cap = e^{−1/Q} after scaling the shape to unit size. Within 2e-4 of the closed forms above with the
-// default panel count (tests/core/test_logarithmic_capacity.cpp).
+// LU (Eigen); cap = e^{−1/Q} after scaling the shape to unit size. Within 4e-5 of the closed forms above with the
+// default 160 panels (2e-5 for the square; 1e-6 with 480; tests/core/test_logarithmic_capacity.cpp); ~3 ms.
 // Pure function: thread-safe. Throws InputError for fewer than 2 distinct vertices or non-finite ones.
 #include <span>
 
@@ -20,6 +20,6 @@ namespace rfidray {
 
 // `outline`: the vertices of a convex polygon in order (closed implicitly), or 2 vertices for a segment (a sheet's
 // cross-section), metres. `panels`: how many panels in all.
-double logarithmic_capacity_m(std::span<const Eigen::Vector2d> outline, int panels = 480);
+double logarithmic_capacity_m(std::span<const Eigen::Vector2d> outline, int panels = 160);
 
 }  // namespace rfidray

@@ -12,7 +12,8 @@ namespace rfidray {
 
 // kEdgeNearField: level full's near field of an edge at an end a few centimetres from it (core/edge_near_field.h),
 // listed beside the edge's diffracted ray with the same point and length.
-enum class PathKind { kLineOfSight, kBlocked, kReflection, kReflection2, kDiffraction, kEdgeNearField };
+// kPostScattering: the field scattered by a thin metal post (levels full-selective and full: raytrace/thin_posts.h).
+enum class PathKind { kLineOfSight, kBlocked, kReflection, kReflection2, kDiffraction, kEdgeNearField, kPostScattering };
 
 inline const char* to_string(PathKind k) {
   switch (k) {
@@ -22,6 +23,7 @@ inline const char* to_string(PathKind k) {
     case PathKind::kReflection2: return "reflection2";
     case PathKind::kDiffraction: return "diffraction";
     case PathKind::kEdgeNearField: return "edge-near-field";
+    case PathKind::kPostScattering: return "post";
   }
   return "?";
 }

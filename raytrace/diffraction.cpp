@@ -143,6 +143,7 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
   const double uncertain_m = std::max(32.0 * std::numeric_limits<float>::epsilon() * scale_m,
                                       4.0 * options_.surface_epsilon_m);
   for (uint32_t ei = 0; ei < edges_.size(); ++ei) {
+    if (posts_.post_of_edge[ei] != kNoPost) continue;  // a thin post's edges: its scattered field instead
     const Edge& e = edges_[ei];
     const Vec3& d = e.direction;
     // Feet of A and T on the edge's line and their distances from it.

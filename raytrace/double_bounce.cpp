@@ -99,6 +99,8 @@ void PathFinder::try_plane_pair(uint32_t g1, uint32_t g2, const Endpoint& ant, c
     f2 = scene_->facet_of(scene_->triangle_id(h2.geom, h2.prim));
     if (f2 == kNoFacet || plane_of_facet_[f2] != g2) return;
   }
+  // A thin post's faces are not mirrors at the levels that model it (raytrace/post_scattering.cpp).
+  if (is_post_facet(f1) || is_post_facet(f2)) return;
   // Redo the images in the facets' own planes (identical to the groups' within the grouping tolerance).
   const Facet& fa = facets[f1];
   const Facet& fb = facets[f2];

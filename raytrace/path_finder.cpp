@@ -123,7 +123,10 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     candidate_directions_.emplace_back(r * std::cos(golden * i), r * std::sin(golden * i), z);
   }
   if (n > 0) candidate_spacing_rad_ = std::sqrt(4.0 * kPi / n);
-  if (includes(options_.level, ChannelLevel::kFullSelective)) edges_ = extract_edges(*scene_);
+  if (includes(options_.level, ChannelLevel::kFullSelective)) {
+    edges_ = extract_edges(*scene_);
+    posts_ = find_thin_posts(*scene_, edges_, options_.thin_post_max_width_m);
+  }
 }
 
 size_t PathFinder::cell_bit(const PlaneGroup& g, const Vec3& p) const {
@@ -359,7 +362,13 @@ void PathFinder::trace_impl(const Endpoint& antenna, const Endpoint& tag, double
     });
   }
   if (includes(options_.level, ChannelLevel::kFullSelective)) {
-    const size_t first = out.size();
+    // Thin posts before the edges: their fields are part of the h that full-selective's bound is relative to.
+    size_t first = out.size();
+    post_scatterings(antenna, tag, frequency_hz, floor_so_far(), out);
+    std::sort(out.begin() + first, out.end(), [](const TracedPath& x, const TracedPath& y) {
+      return std::tie(x.length_m, x.post) < std::tie(y.length_m, y.post);
+    });
+    first = out.size();
     diffractions(antenna, tag, frequency_hz, floor_so_far(), out);
     std::sort(out.begin() + first, out.end(), [](const TracedPath& x, const TracedPath& y) {
       return std::tie(x.length_m, x.edge) < std::tie(y.length_m, y.edge);
@@ -401,8 +410,14 @@ void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f,
   p.point = a;
   // Walk the segment surface by surface.
   while (hit.hit) {
-    p.kind = PathKind::kBlocked;
     const uint32_t tri = scene_->triangle_id(hit.geom, hit.prim);
+    // A thin post is not an obstacle at the levels that model it: its scattered field (a path of its own,
+    // raytrace/post_scattering.cpp) holds its shadow.
+    if (is_post_facet(scene_->facet_of(tri))) {
+      hit = bvh.intersect(a, dir, hit.t + options_.surface_epsilon_m, length - eps);
+      continue;
+    }
+    p.kind = PathKind::kBlocked;
     const RadioMaterial& m = scene_->materials()[scene_->material_of(tri)];
     if (m.perfect_conductor || ++p.crossings > options_.max_crossings) return;  // opaque
     const Vec3 n = scene_->normal_of(tri);
@@ -896,6 +911,8 @@ void PathFinder::try_plane(uint32_t group, const Endpoint& ant, const Endpoint& 
 
 void PathFinder::add_reflection(uint32_t facet, const Vec3& image, const Vec3& p, const Endpoint& ant,
                                 const Endpoint& tag, double f, bool check_leg1, std::vector<TracedPath>& out) const {
+  // A thin post's faces are not mirrors at the levels that model it (raytrace/post_scattering.cpp).
+  if (is_post_facet(facet)) return;
   const Facet& fc = scene_->facets()[facet];
   const Vec3& a = ant.pose.position;
   const Vec3& t = tag.pose.position;

@@ -47,6 +47,7 @@
 #include "raytrace/covered_rects.h"
 #include "raytrace/edges.h"
 #include "raytrace/scene.h"
+#include "raytrace/thin_posts.h"
 #include "raytrace/trace_options.h"
 
 namespace rfidray {
@@ -75,6 +76,7 @@ struct TracedPath {
   uint32_t material2 = kNoMaterial;
   uint32_t facet2 = kNoFacet;
   uint32_t edge = kNoEdge;          // diffraction: index into PathFinder::edges()
+  uint32_t post = kNoPost;          // post: index into PathFinder::posts()
   int crossings = 0;
   std::complex<double> coefficient{1.0, 0.0};
   std::complex<double> contribution{0.0, 0.0};
@@ -108,6 +110,8 @@ class PathFinder {
   size_t plane_count() const { return planes_.size(); }
   // The diffracting edges (extracted at level full only, else empty).
   const std::vector<Edge>& edges() const { return edges_; }
+  // The thin posts (raytrace/thin_posts.h) modelled as cylinders at levels full-selective and full (else empty).
+  const std::vector<ThinPost>& posts() const { return posts_.posts; }
 
   // Per-pose candidate search (shoots options().candidate_rays rays when > 0 in exact mode).
   void prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const;
@@ -241,6 +245,12 @@ class PathFinder {
   bool any_occupied(const PlaneGroup& g, const double region[2][2]) const;
   void try_plane_pair(uint32_t g1, uint32_t g2, const Endpoint& a, const Endpoint& t, double f,
                       const PoseCandidates& c, double floor, std::vector<TracedPath>& out) const;
+  // Levels full-selective and full (post_scattering.cpp): the field scattered by each thin post.
+  void post_scatterings(const Endpoint& a, const Endpoint& t, double f, double floor, std::vector<TracedPath>& out) const;
+  // Whether a facet belongs to a thin post modelled as a cylinder (false for kNoFacet and below full-selective).
+  bool is_post_facet(uint32_t facet) const {
+    return facet != kNoFacet && !posts_.post_of_facet.empty() && posts_.post_of_facet[facet] != kNoPost;
+  }
   // Level full (diffraction.cpp): every edge.
   void diffractions(const Endpoint& a, const Endpoint& t, double f, double floor, std::vector<TracedPath>& out) const;
 
@@ -252,6 +262,7 @@ class PathFinder {
   std::vector<uint32_t> plane_of_facet_;
   std::vector<std::vector<uint32_t>> plane_members_;  // facets of each plane group
   std::vector<Edge> edges_;
+  ThinPosts posts_;
   std::vector<uint64_t> occupancy_;
   std::vector<ExactGroup> exact_groups_;
   std::vector<uint32_t> cell_start_;   // CSR over every exact group's cells into cell_facets_

@@ -45,6 +45,11 @@ struct TraceOptions {
   // at most 2·asin(ε/(1 − ε)) rad of round-trip phase and 40·log10(1/(1 − ε)) dB of RSSI (0.041 rad, 0.35 dB at
   // the default 0.02, inside `auto`'s default tolerance). 0 keeps every diffraction and near field (= full).
   double diffraction_skipped_fraction = 0.02;
+  // Levels full-selective and full: metal posts whose cross-section is at most this wide (and 4× longer than
+  // wide) scatter as circular cylinders (raytrace/thin_posts.h, post_scattering.cpp) instead of reflecting off
+  // their faces and diffracting at their edges. 0.15 m ≈ 0.43 λ at 866 MHz: a rack upright (5–10 cm), not a
+  // column. 0 = off (every post is faces and edges, as before).
+  double thin_post_max_width_m = 0.15;
   // Level los: trace a pose's visibility rays in Embree packets (rtcOccluded4/8/16) when timing them on the
   // first pose shows a packet width ≥ 1.25× faster than single rays (raytraced_channel.h). Off by default:
   // Embree's packet and single-ray kernels disagree on some near-degenerate rays (a ray in a triangle's

@@ -1,0 +1,124 @@
+// Levels full-selective and full: the field a thin metal post scatters (raytrace/thin_posts.h), one path per post,
+// in place of the reflections off its faces and the diffraction at its edges (which the path finder leaves out for
+// a post's facets and edges) and of its shadow on the direct path (which passes through it: the scattered field
+// cancels the incident one behind the post, as it does in the exact solution).
+//
+// The post is a perfectly conducting circular cylinder of the post's equivalent radius a (its cross-section's
+// logarithmic capacity). For an infinite cylinder the exact two-dimensional solution (core/cylinder_scattering.h)
+// maps onto a point source by stationary phase along the axis, as UTD maps a wedge's: the path is the unfolded
+// straight line from the antenna A to the tag T through the axis point Q that divides it in the ratio of their
+// distances ρ', ρ from the axis; with L = |AQ| + |QT| = √((ρ' + ρ)² + Δz²), sin β = (ρ' + ρ)/L and k_t = k sin β
+// (oblique incidence: the transverse problem at k_t, in which a perfect conductor keeps soft and hard apart),
+//   h_post = √(G_A G_T) · λ/(4πL) e^{−jkL} · p_T · [ −R_s (e_A·β̂')β̂ − R_h (e_A·φ̂')φ̂ ] · T,
+//   R = u_s(k_t a; k_t ρ', k_t ρ, φ − φ') / H0^(2)_far(k_t (ρ' + ρ)),
+// in UTD's edge-fixed bases (raytrace/path_finder.h), u_s the scattered field of core/cylinder_scattering.h for
+// each polarization, H0_far its far free-space field. Far from the post this is the cylinder's scattered ray with
+// its 3-D spreading (that of a UTD edge ray); straight behind the post R → −1 and h_post cancels the direct path.
+// The 2-D → 3-D mapping is exact only for ρ, ρ' ≫ λ, but it keeps the 2-D solution's near field: against FDTD, a
+// 5 cm post 1.5 m from the source, tags 5–30 cm behind it: within 0.02–0.09 of free space (docs/fullwave.md).
+//
+// A finite post: T, the physical-optics truncation of the integral along the axis at the nearer end (the post as
+// semi-infinite from there): T = ∫_{−∞}^{τ} e^{−jt²} dt / (√π e^{−jπ/4}), τ = √(k q) · (how far inside that end Q
+// lies), q = ½ (ρ'²/|AQ|³ + ρ²/|QT|³) the path length's curvature along the axis. T → 1 deep inside, ½ at the end,
+// → 0 beyond it, continuously as a tag moves over a post's top. The farther end is left out: its ripple (both ends
+// truncated: 0.84–1.19) is not in the FDTD field, which it put 0.10–0.12 off, against 0.03–0.09 with one end.
+//
+// Both legs must be clear of everything but thin posts (several posts in line each scatter once: no multiple
+// scattering between posts). Other paths' legs still see a post as an obstacle.
+#include <cmath>
+#include <complex>
+
+#include "core/cylinder_scattering.h"
+#include "core/units.h"
+#include "core/utd.h"
+#include "raytrace/path_finder.h"
+
+namespace rfidray {
+namespace {
+
+using C = std::complex<double>;
+
+// A segment clear of everything except thin posts' faces, which it passes through.
+template <typename IsPostFacet>
+bool clear_except_posts(const Scene& scene, const Vec3& origin, const Vec3& dir, double tnear, double tfar,
+                        double step_m, IsPostFacet&& is_post_facet) {
+  const EmbreeScene& bvh = scene.bvh();
+  for (int i = 0; i < 64 && tnear < tfar; ++i) {
+    const RayHit hit = bvh.intersect(origin, dir, tnear, tfar);
+    if (!hit.hit) return true;
+    if (!is_post_facet(scene.facet_of(scene.triangle_id(hit.geom, hit.prim)))) return false;
+    tnear = hit.t + step_m;
+  }
+  return tnear >= tfar;
+}
+
+}  // namespace
+
+void PathFinder::post_scatterings(const Endpoint& ant, const Endpoint& tag, double f, double floor,
+                                  std::vector<TracedPath>& out) const {
+  const auto& posts = posts_.posts;
+  if (posts.empty()) return;
+  const Vec3& a = ant.pose.position;
+  const Vec3& t = tag.pose.position;
+  const double k = wavenumber_rad_m(f);
+  const C full_integral = std::sqrt(kPi) * std::polar(1.0, -0.25 * kPi);
+  const auto is_post = [this](uint32_t facet) { return is_post_facet(facet); };
+  for (uint32_t pi = 0; pi < posts.size(); ++pi) {
+    const ThinPost& post = posts[pi];
+    const Vec3& d = post.direction;
+    const Vec3 ra = a - post.base, rt = t - post.base;
+    const double za = ra.dot(d), zt = rt.dot(d);
+    const Vec3 va = ra - za * d, vt = rt - zt * d;
+    const double rho_a = va.norm(), rho_t = vt.norm();
+    if (rho_a < 1e-6 || rho_t < 1e-6) continue;  // an end on the axis: inside the post
+    const double lt = rho_a + rho_t, dz = zt - za;
+    const double length = std::hypot(lt, dz);
+    if (length * length > max_length2_) continue;
+    const double zs = za + dz * rho_a / lt;
+    const double r1 = std::hypot(rho_a, zs - za), r2 = std::hypot(rho_t, zt - zs);
+    const double q = 0.5 * (rho_a * rho_a / (r1 * r1 * r1) + rho_t * rho_t / (r2 * r2 * r2));
+    const double tau = std::sqrt(k * q) * std::min(zs, post.length_m - zs);
+    const C truncation = fresnel_from_minus_infinity(tau) / full_integral;
+    const double k_t = k * lt / length;
+    const double ka = k_t * post.radius_m;
+    if (!(ka > 0.0) || ka > kCylinderMaxKa) continue;  // not thin at this frequency (≥ 40 GHz for a 0.15 m post)
+    const double xs = k_t * rho_a, xo = k_t * rho_t;
+    const double delta_phi = std::atan2(d.dot(va.cross(vt)), va.dot(vt));
+    const CylinderCoefficients c = cylinder_coefficients(ka, cylinder_terms(ka, xs, xo));
+    const C far = hankel2_zero_far(k_t * lt);
+    const C r_soft = cylinder_scattered(c, CylinderPolarization::kSoft, xs, xo, delta_phi) / far * truncation;
+    const C r_hard = cylinder_scattered(c, CylinderPolarization::kHard, xs, xo, delta_phi) / far * truncation;
+    const Vec3 qp = post.base + zs * d;
+    const Vec3 s_hat_in = (qp - a) / r1, s_hat_out = (t - qp) / r2;
+    // Edge-fixed bases (KP), as for a diffracted ray: φ̂' = −ê × ŝ' / |·|, β̂0' = φ̂' × ŝ', φ̂ = ê × ŝ / |·|, β̂0 = φ̂ × ŝ.
+    const Vec3 phi_in = -(d.cross(s_hat_in)).normalized();
+    const Vec3 beta_in = phi_in.cross(s_hat_in);
+    const Vec3 phi_out = d.cross(s_hat_out).normalized();
+    const Vec3 beta_out = phi_out.cross(s_hat_out);
+    const CVec3 e_in = ant.polarization.field(ant.pose.orientation, s_hat_in);
+    const C e_beta = beta_in.cast<C>().dot(e_in);
+    const C e_phi = phi_in.cast<C>().dot(e_in);
+    const CVec3 e_out = -(r_soft * e_beta) * beta_out.cast<C>() - (r_hard * e_phi) * phi_out.cast<C>();
+    const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, s_hat_in) *
+                                  tag.pattern.gain_linear_world(tag.pose.orientation, -s_hat_out));
+    const C coefficient = gain * polarization_match(e_out, tag.polarization, tag.pose.orientation, s_hat_out);
+    const C contribution = path_contribution(length, coefficient, f);
+    if (std::norm(contribution) < floor) continue;  // would be dropped: no ray for it
+    const double end_in = std::min(options_.endpoint_epsilon_m, 0.25 * r1);
+    const double end_out = std::min(options_.endpoint_epsilon_m, 0.25 * r2);
+    if (!clear_except_posts(*scene_, a, s_hat_in, end_in, r1, options_.surface_epsilon_m, is_post) ||
+        !clear_except_posts(*scene_, qp, s_hat_out, 0.0, r2 - end_out, options_.surface_epsilon_m, is_post))
+      continue;
+    TracedPath p;
+    p.kind = PathKind::kPostScattering;
+    p.length_m = length;
+    p.point = qp;
+    p.material = post.material;
+    p.post = pi;
+    p.coefficient = coefficient;
+    p.contribution = contribution;
+    out.push_back(p);
+  }
+}
+
+}  // namespace rfidray
