@@ -51,6 +51,10 @@ struct MeasuredError {
 constexpr MeasuredError kNarrowBlocking{0.44, 0.44};
 // upright.csv, "behind, 10 cm aside" (the direct line passes 5–7 cm from the post): full 0.25, single-bounce 0.51.
 constexpr MeasuredError kNarrowBeside{0.25, 0.51};
+// The same two regions at full-selective and full with the post modelled as a cylinder (raytrace/thin_posts.h):
+// behind 0.07, aside 0.06 (medians of 4 observers each; max 0.08 / 0.09).
+constexpr double kModelledPostBlocking = 0.07;
+constexpr double kModelledPostBeside = 0.06;
 // concrete_wall.csv, "behind (transmission)": full 0.15, los+blocked / single-bounce / double-bounce 0.11.
 constexpr MeasuredError kSlabTransmission{0.15, 0.11};
 // concrete_wall.csv and doorway.csv, the 24 observers beyond the wall's front plane (rfidray's sheet) within
@@ -192,7 +196,16 @@ LevelValidity level_validity(ChannelLevel level, const LinkSight& sight, double 
                   o.narrow->blocks ? "blocks the direct line"
                                    : ("passes " + centimetres(o.narrow->clearance_m) + " from the direct line, within its Fresnel zone (" +
                                       centimetres(o.narrow->fresnel_radius_m) + ")").c_str());
-    add(pick(o.narrow->blocks ? kNarrowBlocking : kNarrowBeside), b);
+    if (o.narrow->modelled_post && diffracts) {
+      std::snprintf(b, sizeof b, "a thin metal post (%s across, %s from %s) %s: modelled as a circular cylinder "
+                    "(FDTD behind and beside a 5 cm upright, docs/fullwave.md)",
+                    centimetres(o.narrow->width_m).c_str(), centimetres(o.narrow->distance_m).c_str(),
+                    o.narrow->at_end ? "an end" : "where it crosses the direct line",
+                    o.narrow->blocks ? "on the direct line" : "beside the direct line");
+      add(o.narrow->blocks ? kModelledPostBlocking : kModelledPostBeside, b);
+    } else {
+      add(pick(o.narrow->blocks ? kNarrowBlocking : kNarrowBeside), b);
+    }
   }
   if (o.slab) {
     char b[300];

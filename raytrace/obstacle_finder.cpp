@@ -6,6 +6,7 @@
 
 #include "core/units.h"
 #include "raytrace/scene.h"
+#include "raytrace/thin_posts.h"
 
 namespace rfidray {
 namespace {
@@ -66,7 +67,8 @@ bool inside_bounds(const Facet& f, const Vec3& p) {
 }  // namespace
 
 ObstacleSight find_obstacles(const Scene& scene, const EdgeProximity& edges, const Vec3& antenna, const Vec3& tag,
-                             double frequency_hz, double reach_m, double surface_epsilon_m) {
+                             double frequency_hz, double reach_m, double surface_epsilon_m,
+                             std::span<const uint32_t> post_of_edge) {
   ObstacleSight out;
   const Vec3 span = tag - antenna;
   const double length = span.norm();
@@ -118,7 +120,9 @@ ObstacleSight find_obstacles(const Scene& scene, const EdgeProximity& edges, con
     // This obstacle blocks the segment when the blocking point lies within λ/2 of its nearer edge.
     const bool blocks = blocked_by_metal && (closest_on_edge(e1, blocking_point) - blocking_point).norm() <= 0.5 * lambda;
     if (!blocks && clearance > radius) continue;
-    out.narrow = NarrowObstacle{width, two[0].distance_m, blocks ? 0.0 : clearance, radius, blocks, i < 2};
+    const bool post = !post_of_edge.empty() && post_of_edge[two[0].edge] != kNoPost &&
+                      post_of_edge[two[0].edge] == post_of_edge[two[1].edge];
+    out.narrow = NarrowObstacle{width, two[0].distance_m, blocks ? 0.0 : clearance, radius, blocks, i < 2, post};
   }
 
   // An end behind a penetrable slab's plane, near its edge (within the index's radius).

@@ -13,6 +13,9 @@
 //     (within 5°) λ/4 … 2λ apart, with the end between the planes.
 // Units: metres, hertz. Thread-safe (reads only). Nothing throws for finite input; non-finite positions give an
 // empty sight.
+#include <cstdint>
+#include <span>
+
 #include "core/geometry.h"
 #include "core/obstacle_sight.h"
 #include "raytrace/edge_proximity.h"
@@ -21,7 +24,10 @@ namespace rfidray {
 
 class Scene;
 
+// `post_of_edge`: for each edge of the index, the thin post it belongs to when the level models posts
+// (raytrace/thin_posts.h), or kNoPost; empty when it does not.
 ObstacleSight find_obstacles(const Scene& scene, const EdgeProximity& edges, const Vec3& antenna, const Vec3& tag,
-                             double frequency_hz, double reach_m, double surface_epsilon_m);
+                             double frequency_hz, double reach_m, double surface_epsilon_m,
+                             std::span<const uint32_t> post_of_edge = {});
 
 }  // namespace rfidray

@@ -112,6 +112,8 @@ class PathFinder {
   const std::vector<Edge>& edges() const { return edges_; }
   // The thin posts (raytrace/thin_posts.h) modelled as cylinders at levels full-selective and full (else empty).
   const std::vector<ThinPost>& posts() const { return posts_.posts; }
+  // Per edge of edges(), its post or kNoPost (empty below full-selective).
+  std::span<const uint32_t> post_of_edge() const { return posts_.post_of_edge; }
 
   // Per-pose candidate search (shoots options().candidate_rays rays when > 0 in exact mode).
   void prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const;

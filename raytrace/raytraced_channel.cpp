@@ -184,7 +184,8 @@ const EdgeProximity& RaytracedChannel::edge_index() const {
 
 ObstacleSight RaytracedChannel::obstacle_sight(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) const {
   return find_obstacles(scene(), edge_index(), antenna.pose.position, tag.pose.position, frequency_hz,
-                        level_validity_reach_m(frequency_hz), finder_.options().surface_epsilon_m);
+                        level_validity_reach_m(frequency_hz), finder_.options().surface_epsilon_m,
+                        finder_.post_of_edge());
 }
 
 std::optional<EdgeSight> RaytracedChannel::nearest_edge(const Endpoint& end_point, const Endpoint& other_point,
@@ -193,6 +194,8 @@ std::optional<EdgeSight> RaytracedChannel::nearest_edge(const Endpoint& end_poin
   const Vec3& other_end = other_point.pose.position;
   const EdgeProximity& index = edge_index();
   const auto hits = index.nearest_two(end);
+  const auto post_of_edge = finder_.post_of_edge();
+  const auto is_post_edge = [&](uint32_t e) { return !post_of_edge.empty() && post_of_edge[e] != kNoPost; };
   const auto& facets = scene().facets();
   const auto& materials = scene().materials();
   // The nearest edge that the two ends see from the same exterior region; the other hit, if any, is the second
@@ -200,6 +203,9 @@ std::optional<EdgeSight> RaytracedChannel::nearest_edge(const Endpoint& end_poin
   for (size_t i = 0; i < hits.size(); ++i) {
     const EdgeProximity::Hit& hit = hits[i];
     if (hit.edge == kNoEdge || hit.distance_m > max_distance_m) break;
+    // A thin post's edge, where the level models the post as a cylinder: not an edge to it (the post is judged as
+    // a narrow obstacle, raytrace/obstacle_finder.h).
+    if (is_post_edge(hit.edge)) continue;
     const Edge& e = index.edge(hit.edge);
     const Vec3 r_end = end - e.start, r_other = other_end - e.start;
     const Vec3 v_end = r_end - r_end.dot(e.direction) * e.direction;
@@ -230,7 +236,8 @@ std::optional<EdgeSight> RaytracedChannel::nearest_edge(const Endpoint& end_poin
     sight.metal_faces = materials[facets[w.face0].material].perfect_conductor &&
                         materials[facets[w.facen].material].perfect_conductor;
     const EdgeProximity::Hit& other = hits[1 - i];
-    if (other.edge != kNoEdge && other.distance_m <= max_distance_m) sight.second_edge_m = other.distance_m;
+    if (other.edge != kNoEdge && other.distance_m <= max_distance_m && !is_post_edge(other.edge))
+      sight.second_edge_m = other.distance_m;
     return sight;
   }
   return std::nullopt;
