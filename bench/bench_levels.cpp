@@ -4,10 +4,12 @@
 // (core/channel_error.h: p95 round-trip phase and RSSI errors over links readable in either, read flips).
 //
 //   bench_levels [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes paper,w10k,w1m] [--reference LEVEL]
-//                [--reference-candidates exhaustive|exact] [--skipped-fractions 0.02,0.1]
+//                [--reference-candidates exhaustive|exact] [--skipped-fractions 0.02,0.1] [--posts-as-faces]
 // (--reference double-bounce: what double reflections alone add, without diffraction. --reference-candidates
 // fast: the same paths, for scenes where the exhaustive search is too slow (w1m: ~1 s per link at full).
-// --skipped-fractions: full-selective once per ε, TraceOptions::diffraction_skipped_fraction.)
+// --skipped-fractions: full-selective once per ε, TraceOptions::diffraction_skipped_fraction. --posts-as-faces: also
+// full-selective and full with thin posts as faces and edges (TraceOptions::thin_post_max_width_m = 0), as before
+// they were cylinders: what the post model costs and how much it changes a link, in the same run.)
 // Writes DIR/levels.csv and DIR/levels_pareto.png (error against µs per link).
 #include <omp.h>
 
@@ -60,6 +62,8 @@ int main(int argc, char** argv) {
   app.add_option("--reference", reference_level, "reference level (exhaustive candidates)")->capture_default_str();
   app.add_option("--reference-candidates", reference_candidates, "candidate search of the reference: exhaustive | exact")
       ->capture_default_str();
+  bool posts_as_faces = false;
+  app.add_flag("--posts-as-faces", posts_as_faces, "also full-selective and full with thin posts as faces and edges");
   app.add_option("--skipped-fractions", fractions_list,
                  "full-selective: skipped fractions ε of |h| (TraceOptions::diffraction_skipped_fraction), comma-separated")
       ->capture_default_str();
@@ -102,15 +106,21 @@ int main(int argc, char** argv) {
       never.plane_pair_sharing = TraceOptions::Sharing::kNever;
       rows.emplace_back("double-bounce unshared", never);
     }
+    const auto with_faces = [&](const std::string& label, TraceOptions t) {
+      rows.emplace_back(label, t);
+      if (!posts_as_faces || !includes(level, ChannelLevel::kFullSelective)) return;
+      t.thin_post_max_width_m = 0.0;
+      rows.emplace_back(label + " posts as faces", t);
+    };
     if (level != ChannelLevel::kFullSelective) {
-      rows.emplace_back(to_string(level), o);
+      with_faces(to_string(level), o);
       continue;
     }
     for (double eps : fractions) {
       o.diffraction_skipped_fraction = eps;
       char label[64];
       std::snprintf(label, sizeof label, "full-selective e=%g", eps);
-      rows.emplace_back(label, o);
+      with_faces(label, o);
     }
   }
   std::ofstream csv(std::filesystem::path(out_dir) / "levels.csv");

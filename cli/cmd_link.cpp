@@ -213,6 +213,7 @@ struct LinkOptions {
   double tx_power_dbm = ReaderParams{}.tx_power_dbm;
   double thickness_m = -1.0;
   double drop_db = TraceOptions{}.drop_below_db;
+  double thin_post_max_width_m = TraceOptions{}.thin_post_max_width_m;
   std::string tag_antenna, tag_chip = "matched", tag_backing;  // core/tag_antenna.h; "" = the point tag
   bool json = false;
   io::WorldSourceOptions world;  // --world instead of --scene
@@ -308,6 +309,8 @@ int run_link(const LinkOptions& o) {
   trace.candidates = parse_candidate_mode(o.candidates, "--candidates");
   if (!(o.drop_db >= 0.0 && o.drop_db <= 1000.0)) throw InputError("option --drop-db: must be in [0, 1000] dB");
   trace.drop_below_db = o.drop_db;
+  limits::check_range(o.thin_post_max_width_m, 0.0, 1.0, "--thin-post-max-width", "m");
+  trace.thin_post_max_width_m = o.thin_post_max_width_m;
   limits::check_range(o.frequency_hz, limits::kMinFrequencyHz, limits::kMaxFrequencyHz, "--frequency", "Hz");
   limits::check_range(o.tx_power_dbm, -limits::kMaxPowerDbm, limits::kMaxPowerDbm, "--tx-power", "dBm");
   if (o.thickness_m >= 0.0) limits::check_range(o.thickness_m, 0.0, 100.0, "--thickness", "m");
@@ -447,6 +450,8 @@ std::function<int()> setup_link(CLI::App& app) {
   add_channel_option_with_level_alias(*cmd, o->level, "los | los+blocked | single-bounce | double-bounce | full-selective | full");
   cmd->add_option("--candidates", o->candidates, "exact | exhaustive (reflection candidate search; fast = exact)");
   cmd->add_option("--drop-db", o->drop_db, "drop paths this many dB below the strongest");
+  cmd->add_option("--thin-post-max-width", o->thin_post_max_width_m,
+                  "full-selective, full: metal posts at most this wide (m) scatter as cylinders; 0 = as faces and edges");
   cmd->add_option("--tag-antenna", o->tag_antenna,
                   "the tag as an antenna: dipole:LENGTH_M:RADIUS_M[:CONDUCTIVITY_S_M] | table:FILE.csv (docs/tag-antenna.md)");
   cmd->add_option("--tag-chip", o->tag_chip, "matched[:DESIGN_HZ] | series:R_OHM:C_F | parallel:R_OHM:C_F (with --tag-antenna)");

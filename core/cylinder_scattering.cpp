@@ -56,9 +56,10 @@ std::complex<double> hankel2_zero_far(double x) {
   return std::sqrt(2.0 / (kPi * x)) * std::polar(1.0, -(x - 0.25 * kPi));
 }
 
-void hankel2_orders(double x, int count, std::complex<double>* out) {
+void hankel2_orders(double x, int count, std::complex<double>* out, int significant) {
   if (count <= 0) return;
-  if (x >= std::max(30.0, 2.0 * count * count)) {
+  if (significant < 0) significant = count;
+  if (x >= std::max(30.0, 2.0 * significant * significant)) {
     for (int n = 0; n < count; ++n) out[n] = hankel2_expansion(n, x);
     return;
   }
@@ -101,30 +102,60 @@ CylinderCoefficients cylinder_coefficients(double ka, int terms) {
 int cylinder_terms(double ka, double k_rho_source, double k_rho_observer) {
   const double xs = std::max(k_rho_source, ka), xo = std::max(k_rho_observer, ka);
   // |c_n H_n(kρ') H_n(kρ)| from the small-argument forms |J_n(x)| ≈ (x/2)^n / n! and |H_n(x)| ≈ the larger of
-  // √(2/πx) and (n − 1)! (2/x)^n / π (logarithms): an estimate of the tail, where n > ka.
-  const auto log_h = [](int n, double x) {
-    const double far = 0.5 * std::log(2.0 / (kPi * x));
-    return n == 0 ? far : std::max(far, std::lgamma(static_cast<double>(n)) + n * std::log(2.0 / x) - std::log(kPi));
-  };
-  const auto log_term = [&](int n) {
-    return n * std::log(0.5 * ka) - std::lgamma(n + 1.0) - log_h(n, ka) + log_h(n, xs) + log_h(n, xo);
-  };
-  const double first = std::max(log_term(0), log_term(1));
-  int n = 2;
-  while (n < kCylinderMaxTerms && (n < ka + 2.0 || log_term(n) > first - 36.8)) ++n;  // e^−36.8 ≈ 1e-16
+  // √(2/πx) and (n − 1)! (2/x)^n / π (logarithms, accumulated over n): an estimate of the tail, where n > ka.
+  const double log_half_ka = std::log(0.5 * ka), log_pi = std::log(kPi);
+  const double log2_ka = std::log(2.0 / ka), log2_xs = std::log(2.0 / xs), log2_xo = std::log(2.0 / xo);
+  const auto far = [](double x) { return 0.5 * std::log(2.0 / (kPi * x)); };
+  const double far_ka = far(ka), far_xs = far(xs), far_xo = far(xo);
+  double log_factorial = 0.0, log_gamma = 0.0;  // ln n!, ln (n − 1)!
+  double first = -1e300;
+  int n = 0;
+  for (; n < kCylinderMaxTerms; ++n) {
+    if (n >= 1) {
+      log_factorial += std::log(static_cast<double>(n));
+      if (n >= 2) log_gamma += std::log(static_cast<double>(n - 1));
+    }
+    const auto log_h = [&](double far_x, double log2_x) {
+      return n == 0 ? far_x : std::max(far_x, log_gamma + n * log2_x - log_pi);
+    };
+    const double term = n * log_half_ka - log_factorial - log_h(far_ka, log2_ka) + log_h(far_xs, log2_xs) +
+                        log_h(far_xo, log2_xo);
+    if (n <= 1) {
+      first = std::max(first, term);
+      continue;
+    }
+    if (n >= ka + 2.0 && term < first - 36.8) break;  // e^−36.8 ≈ 1e-16
+  }
   return std::min(n + 1, kCylinderMaxTerms);
+}
+
+CylinderField cylinder_scattered(const CylinderCoefficients& c, double k_rho_source, double k_rho_observer,
+                                 double delta_phi_rad) {
+  const double xs = std::max(k_rho_source, c.ka), xo = std::max(k_rho_observer, c.ka);
+  // Orders whose c_n is above 1e-12 of the largest: far from the cylinder (H_n of about equal size for every n
+  // below √x) the others add less than that; for them Hankel's expansion may be inexact.
+  double largest = 0.0;
+  for (int n = 0; n < c.terms; ++n) largest = std::max({largest, std::abs(c.soft[n]), std::abs(c.hard[n])});
+  int significant = c.terms;
+  while (significant > 1 && std::max(std::abs(c.soft[significant - 1]), std::abs(c.hard[significant - 1])) <
+                                1e-12 * largest)
+    --significant;
+  std::array<C, kCylinderMaxTerms> hs, ho;
+  hankel2_orders(xs, c.terms, hs.data(), significant);
+  hankel2_orders(xo, c.terms, ho.data(), significant);
+  CylinderField out{c.soft[0] * hs[0] * ho[0], c.hard[0] * hs[0] * ho[0]};
+  for (int n = 1; n < c.terms; ++n) {
+    const C h = 2.0 * std::cos(n * delta_phi_rad) * hs[n] * ho[n];
+    out.soft += c.soft[n] * h;
+    out.hard += c.hard[n] * h;
+  }
+  return out;
 }
 
 std::complex<double> cylinder_scattered(const CylinderCoefficients& c, CylinderPolarization polarization,
                                         double k_rho_source, double k_rho_observer, double delta_phi_rad) {
-  const double xs = std::max(k_rho_source, c.ka), xo = std::max(k_rho_observer, c.ka);
-  const auto& cn = polarization == CylinderPolarization::kSoft ? c.soft : c.hard;
-  std::array<C, kCylinderMaxTerms> hs, ho;
-  hankel2_orders(xs, c.terms, hs.data());
-  hankel2_orders(xo, c.terms, ho.data());
-  C sum = cn[0] * hs[0] * ho[0];
-  for (int n = 1; n < c.terms; ++n) sum += 2.0 * std::cos(n * delta_phi_rad) * cn[n] * hs[n] * ho[n];
-  return sum;
+  const CylinderField f = cylinder_scattered(c, k_rho_source, k_rho_observer, delta_phi_rad);
+  return polarization == CylinderPolarization::kSoft ? f.soft : f.hard;
 }
 
 }  // namespace rfidray

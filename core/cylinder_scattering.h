@@ -45,14 +45,21 @@ int cylinder_terms(double ka, double k_rho_source, double k_rho_observer);
 // inside the cylinder is on its surface) and φ − φ' = `delta_phi_rad`, with c.terms terms.
 std::complex<double> cylinder_scattered(const CylinderCoefficients& c, CylinderPolarization polarization,
                                         double k_rho_source, double k_rho_observer, double delta_phi_rad);
+// Both polarizations at once (the Hankel functions are shared).
+struct CylinderField {
+  std::complex<double> soft, hard;
+};
+CylinderField cylinder_scattered(const CylinderCoefficients& c, double k_rho_source, double k_rho_observer,
+                                 double delta_phi_rad);
 
 // J_n(x) for n = 0 … count − 1, x > 0, by Miller's backward recurrence normalized by J_0 + 2 Σ J_2k = 1
 // (A&S 9.12; stable for every order, unlike the upward recurrence beyond n > x).
 void bessel_j_orders(double x, int count, double* out);
 
 // H_n^(2)(x) for n = 0 … count − 1 (count ≤ kCylinderMaxTerms + 1), x > 0: the Bessel functions or, from
-// x ≥ max(30, 2 count²), Hankel's expansion (above).
-void hankel2_orders(double x, int count, std::complex<double>* out);
+// x ≥ max(30, 2 s²), Hankel's expansion (above), s = `significant` (default: count). Orders from s on may then be
+// far off (the expansion diverges for n² ≫ x): only for terms that the caller's c_n make negligible.
+void hankel2_orders(double x, int count, std::complex<double>* out, int significant = -1);
 
 // The two-dimensional free-space field at distance x/k far from a line source, H0^(2)(x) ≈ √(2/πx) e^{−j(x − π/4)}:
 // what maps a two-dimensional solution onto a point source's (raytrace/post_scattering.cpp).

@@ -767,6 +767,12 @@ ChannelOptionsSpec parse_channel_options(const YamlFile& src, const YAML::Node& 
   if (m.has("candidate_spread")) c.candidate_spread = m.positive({"candidate_spread"}, 1.0);
   if (m.has("drop_below_db")) c.drop_below_db = m.non_negative({"drop_below_db"}, 40.0);
   if (m.has("max_path_length_m")) c.max_path_length_m = m.positive({"max_path_length_m"}, 1.0);
+  if (m.has("thin_post_max_width_m")) {
+    const double w = m.non_negative({"thin_post_max_width_m"}, 0.15);
+    if (w > 1.0) throw src.error(*m.get("thin_post_max_width_m"), m.field("thin_post_max_width_m"),
+                                 "must be at most 1 m (a thin post is a fraction of a wavelength across)");
+    c.thin_post_max_width_m = w;
+  }
   c.auto_phase_tolerance_rad = m.non_negative({"auto_phase_tolerance_rad"}, c.auto_phase_tolerance_rad);
   c.auto_rssi_tolerance_db = m.non_negative({"auto_rssi_tolerance_db"}, c.auto_rssi_tolerance_db);
   if (auto n = m.get("auto_sample_links")) {

@@ -42,6 +42,7 @@ TraceOptions trace_options(const ChannelOptionsSpec& spec) {
   if (spec.candidate_spread) o.candidate_spread = *spec.candidate_spread;
   if (spec.drop_below_db) o.drop_below_db = *spec.drop_below_db;
   if (spec.max_path_length_m) o.max_path_length_m = *spec.max_path_length_m;
+  if (spec.thin_post_max_width_m) o.thin_post_max_width_m = *spec.thin_post_max_width_m;
   return o;
 }
 

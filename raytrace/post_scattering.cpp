@@ -86,8 +86,8 @@ void PathFinder::post_scatterings(const Endpoint& ant, const Endpoint& tag, doub
     const double delta_phi = std::atan2(d.dot(va.cross(vt)), va.dot(vt));
     const CylinderCoefficients c = cylinder_coefficients(ka, cylinder_terms(ka, xs, xo));
     const C far = hankel2_zero_far(k_t * lt);
-    const C r_soft = cylinder_scattered(c, CylinderPolarization::kSoft, xs, xo, delta_phi) / far * truncation;
-    const C r_hard = cylinder_scattered(c, CylinderPolarization::kHard, xs, xo, delta_phi) / far * truncation;
+    const CylinderField u = cylinder_scattered(c, xs, xo, delta_phi);
+    const C r_soft = u.soft / far * truncation, r_hard = u.hard / far * truncation;
     const Vec3 qp = post.base + zs * d;
     const Vec3 s_hat_in = (qp - a) / r1, s_hat_out = (t - qp) / r2;
     // Edge-fixed bases (KP), as for a diffracted ray: φ̂' = −ê × ŝ' / |·|, β̂0' = φ̂' × ŝ', φ̂ = ê × ŝ / |·|, β̂0 = φ̂ × ŝ.
@@ -104,10 +104,17 @@ void PathFinder::post_scatterings(const Endpoint& ant, const Endpoint& tag, doub
     const C coefficient = gain * polarization_match(e_out, tag.polarization, tag.pose.orientation, s_hat_out);
     const C contribution = path_contribution(length, coefficient, f);
     if (std::norm(contribution) < floor) continue;  // would be dropped: no ray for it
+    // The legs up to the post's circumscribed cylinder (radius width/2): inside it there is only the post. The
+    // transverse distance falls linearly along a leg to 0 at Q, so a leg meets that cylinder R/ρ of its length
+    // before Q.
+    const double radius_out = 0.5 * post.width_m;
     const double end_in = std::min(options_.endpoint_epsilon_m, 0.25 * r1);
     const double end_out = std::min(options_.endpoint_epsilon_m, 0.25 * r2);
-    if (!clear_except_posts(*scene_, a, s_hat_in, end_in, r1, options_.surface_epsilon_m, is_post) ||
-        !clear_except_posts(*scene_, qp, s_hat_out, 0.0, r2 - end_out, options_.surface_epsilon_m, is_post))
+    const double leg_in_far = r1 * (1.0 - radius_out / rho_a), leg_out_near = r2 * radius_out / rho_t;
+    if ((leg_in_far > end_in &&
+         !clear_except_posts(*scene_, a, s_hat_in, end_in, leg_in_far, options_.surface_epsilon_m, is_post)) ||
+        (r2 - end_out > leg_out_near &&
+         !clear_except_posts(*scene_, qp, s_hat_out, leg_out_near, r2 - end_out, options_.surface_epsilon_m, is_post)))
       continue;
     TracedPath p;
     p.kind = PathKind::kPostScattering;
