@@ -186,9 +186,11 @@ def rack_bay() -> Case:
 
 
 # Case (d): a tag behind a rack upright: a PEC post 5 × 5 cm × 1 m (x ∈ [−0.025, 0.025], y ∈ [0, 0.05],
-# z ∈ [−0.5, 0.5]); z dipole 1.5 m in front; tags 5–30 cm behind it. Run at 40 and 80 px/m, where the post's
-# faces are on the grid (±1 and ±2 cells), so both resolutions model the same 5 cm post.
-def upright() -> Case:
+# z ∈ [−0.5, 0.5]); a dipole 1.5 m in front; tags 5–30 cm behind it. Run at 40, 80 and 120 px/m, where the post's
+# faces are on the grid (±1, ±2 and ±3 cells), so every resolution models the same 5 cm post. `axis` "z": the
+# dipole along the post (soft: E ∥ axis); "x": across it (hard: E ⊥ axis, horizontal, as a tag lying flat on a
+# shelf sees an upright).
+def upright(axis: str = "z") -> Case:
     post = Box((-0.025, 0.0, -0.5), (0.025, 0.05, 0.5), "metal")
     specs = []
     for d in (0.05, 0.10, 0.20, 0.30):
@@ -196,18 +198,20 @@ def upright() -> Case:
     for d in (0.05, 0.10, 0.20, 0.30):
         specs.append((f"behind_{d * 100:.0f}cm_x10", (0.10, 0.05 + d, 0.0), "behind, 10 cm aside"))
     specs.append(("behind_10cm_z40", (0.0, 0.15, 0.40), "behind, near the top"))
+    soft = axis == "z"
     return Case(
-        name="upright",
-        description="PEC post 5 × 5 cm × 1 m (x ∈ [−0.025, 0.025], y ∈ [0, 0.05], z ∈ [−0.5, 0.5]); z dipole at "
-                    "(0, −1.5, 0); tags 5–30 cm behind its back face, on the axis and 10 cm aside",
+        name="upright" if soft else "upright_hard",
+        description="PEC post 5 × 5 cm × 1 m (x ∈ [−0.025, 0.025], y ∈ [0, 0.05], z ∈ [−0.5, 0.5]); "
+                    f"{axis} dipole at (0, −1.5, 0); tags 5–30 cm behind its back face, on the axis and 10 cm aside",
         boxes=(post,),
         source=(0.0, -1.5, 0.0),
-        axis="z",
+        axis=axis,
         observers=_labelled(specs, (post,)),
         domain_lo=(-0.30, -1.60, -0.65),
         domain_hi=(0.30, 0.40, 0.65),
-        polarization_name="vertical (z)",
-        symmetries=(("x", 1), ("z", -1)),
+        polarization_name="vertical (z)" if soft else "horizontal (x), across the post",
+        # meep mirror planes through the dipole: E_z is even in x and odd in z; E_x odd in x and even in z.
+        symmetries=(("x", 1), ("z", -1)) if soft else (("x", -1), ("z", 1)),
     )
 
 
@@ -281,5 +285,6 @@ CASES = {
     "plate_front": plate_front,
     "rack_bay": rack_bay,
     "upright": upright,
+    "upright_hard": lambda: upright("x"),
     "doorway": doorway,
 }

@@ -122,6 +122,10 @@ TEST(ObstacleValidity, NarrowPostBehindAndBeside) {
   EXPECT_TRUE(m_beside.level_ok) << m_beside.reason;
   EXPECT_NEAR(m_beside.estimated_error, 0.06, 1e-12);
   EXPECT_NEAR(verdict(modelled, ChannelLevel::kSingleBounce, source, aside).estimated_error, 0.51, 1e-12);
+  // 5 cm behind it (kρ ≈ 1 from its back edges) E across the post was measured 0.155 off: flagged.
+  const LevelValidity m_near = verdict(modelled, ChannelLevel::kFull, source, Vec3(0.0, 0.10, 0.0));
+  EXPECT_FALSE(m_near.level_ok) << m_near.reason;
+  EXPECT_NEAR(m_near.estimated_error, 0.155, 1e-12);
 }
 
 // A link through the concrete wall near its edges (FDTD: full 0.15 median, 0.44 max behind it; concrete_wall.csv)
