@@ -215,6 +215,41 @@ def upright(axis: str = "z") -> Case:
     )
 
 
+# Case (d2): a rack post with its shelves: the rack bay of case (c) (plates 0.9 × 0.5 m at z = ±0.2, front edges at
+# y = 0) with a 5 × 5 cm × 1 m PEC post at the middle of its front, half proud of the plates (x, y ∈ [−0.025, 0.025],
+# z ∈ [−0.5, 0.5]; on the grid at 40, 80 and 120 px/m), the plates running through it; z dipole 1 m in front. The
+# post model (raytrace/thin_posts.h) treats the post as free-standing: this checks it where shelves touch it, as in
+# a warehouse. Tags on the shelves' front beside the post, in front of the post, and in the bay behind it.
+def rack_post() -> Case:
+    top = Box((-0.45, 0.0, 0.2), (0.45, 0.5, 0.2), "metal")
+    bottom = Box((-0.45, 0.0, -0.2), (0.45, 0.5, -0.2), "metal")
+    post = Box((-0.025, -0.025, -0.5), (0.025, 0.025, 0.5), "metal")
+    specs = [
+        ("front_x10", (0.10, -0.06, 0.0), "beside the post, in front of the shelves"),
+        ("front_x20", (0.20, -0.06, 0.0), "beside the post, in front of the shelves"),
+        ("front_x10_z15", (0.10, -0.06, 0.15), "beside the post, in front of the shelves"),
+        ("front_x30_z10", (0.30, -0.06, 0.10), "beside the post, in front of the shelves"),
+        ("before_y10", (0.0, -0.125, 0.0), "in front of the post"),
+        ("before_y20_z10", (0.0, -0.225, 0.10), "in front of the post"),
+        ("bay_y10", (0.0, 0.10, 0.0), "in the bay behind the post"),
+        ("bay_y20", (0.0, 0.20, 0.0), "in the bay behind the post"),
+        ("bay_x10_y10", (0.10, 0.10, 0.0), "in the bay behind the post"),
+    ]
+    return Case(
+        name="rack_post",
+        description="rack bay (plates 0.9 × 0.5 m at z = ±0.2, front edges at y = 0) with a 5 × 5 cm × 1 m PEC post at "
+                    "the middle of its front (x, y ∈ [−0.025, 0.025]), the plates through it; z dipole at (0, −1, 0)",
+        boxes=(top, bottom, post),
+        source=(0.0, -1.0, 0.0),
+        axis="z",
+        observers=_labelled(specs, (top, bottom, post)),
+        domain_lo=(-0.60, -1.10, -0.65),
+        domain_hi=(0.60, 0.65, 0.65),
+        polarization_name="vertical (z)",
+        symmetries=(("x", 1), ("z", -1)),
+    )
+
+
 # Case (f): a concrete wall with a doorway (issue #33): the wall of case (e), 2.1 × 1.6 × 0.2 m (x ∈ [−1.05, 1.05],
 # z ∈ [−0.8, 0.8], y ∈ [0, 0.2]), with an opening 0.9 m wide and 1.1 m high centred on the origin (|x| < 0.45,
 # |z| < 0.55; the meep mirror plane z = 0 needs the opening centred in z, so it has a lintel and a sill 25 cm deep);
@@ -286,5 +321,6 @@ CASES = {
     "rack_bay": rack_bay,
     "upright": upright,
     "upright_hard": lambda: upright("x"),
+    "rack_post": rack_post,
     "doorway": doorway,
 }
