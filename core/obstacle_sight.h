@@ -23,6 +23,9 @@ struct NarrowObstacle {
   // Both edges are a thin post's that the level models as a circular cylinder (raytrace/thin_posts.h: levels
   // full-selective and full): measured within 0.03–0.09 of FDTD behind and beside a 5 cm upright.
   bool modelled_post = false;
+  // A modelled post within kρ = 4 of an end but off the direct line's Fresnel zone (beside or behind the tag): the
+  // end is in the post's near field (rack_post.csv: 0.05–0.135 off beside a post whose shelves run through it).
+  bool off_line = false;
 };
 
 // The direct segment's first obstacle is a penetrable (non-metal) surface: the link is a slab transmission

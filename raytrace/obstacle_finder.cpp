@@ -119,10 +119,13 @@ ObstacleSight find_obstacles(const Scene& scene, const EdgeProximity& edges, con
     const double radius = std::sqrt(lambda * s * (length - s) / length);
     // This obstacle blocks the segment when the blocking point lies within λ/2 of its nearer edge.
     const bool blocks = blocked_by_metal && (closest_on_edge(e1, blocking_point) - blocking_point).norm() <= 0.5 * lambda;
-    if (!blocks && clearance > radius) continue;
     const bool post = !post_of_edge.empty() && post_of_edge[two[0].edge] != kNoPost &&
                       post_of_edge[two[0].edge] == post_of_edge[two[1].edge];
-    out.narrow = NarrowObstacle{width, two[0].distance_m, blocks ? 0.0 : clearance, radius, blocks, i < 2, post};
+    // Off the line: only a modelled post near an end counts (its near field reaches the end).
+    const bool off_line = !blocks && clearance > radius;
+    if (off_line && !(post && i < 2 && two[0].distance_m * 2.0 * kPi / lambda <= kModelledPostNearEndKrho)) continue;
+    out.narrow = NarrowObstacle{width,     two[0].distance_m, blocks ? 0.0 : clearance, radius, blocks, i < 2, post,
+                                off_line};
   }
 
   // An end behind a penetrable slab's plane, near its edge (within the index's radius).

@@ -26,6 +26,10 @@ class Scene;
 
 // `post_of_edge`: for each edge of the index, the thin post it belongs to when the level models posts
 // (raytrace/thin_posts.h), or kNoPost; empty when it does not.
+// An end this close (kρ to its nearest edge) to a thin post that the level models is in the post's near field,
+// whether or not the post is near the direct line (core/obstacle_sight.h, NarrowObstacle::off_line).
+inline constexpr double kModelledPostNearEndKrho = 4.0;
+
 ObstacleSight find_obstacles(const Scene& scene, const EdgeProximity& edges, const Vec3& antenna, const Vec3& tag,
                              double frequency_hz, double reach_m, double surface_epsilon_m,
                              std::span<const uint32_t> post_of_edge = {});
