@@ -25,6 +25,7 @@
 #include "core/fresnel.h"
 #include "core/units.h"
 #include "core/utd.h"
+#include "raytrace/line_feet.h"
 #include "raytrace/path_finder.h"
 
 namespace rfidray {
@@ -147,10 +148,11 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
     const Edge& e = edges_[ei];
     const Vec3& d = e.direction;
     // Feet of A and T on the edge's line and their distances from it.
-    const Vec3 ra = a - e.start, rt = t - e.start;
-    const double za = ra.dot(d), zt = rt.dot(d);
-    const Vec3 va = ra - za * d, vt = rt - zt * d;
-    const double rho_a = va.norm(), rho_t = vt.norm();
+    const LineFeet feet = line_feet(e.start, d, a, t);
+    const double za = feet.z_a, zt = feet.z_t;
+    const Vec3& va = feet.v_a;
+    const Vec3& vt = feet.v_t;
+    const double rho_a = feet.rho_a, rho_t = feet.rho_t;
     if (rho_a < kOnEdge || rho_t < kOnEdge) continue;
     // Fermat: the unfolded path is straight, so Q divides [za, zt] in the ratio rho_a : rho_t.
     const double zq = za + (zt - za) * rho_a / (rho_a + rho_t);

@@ -32,11 +32,16 @@
 // · √((s + s')/(s s')), which with the λ/(4π(s + s')) e^{−jk(s+s')} of path_contribution is KP's spherical-wave
 // diffracted field. Faces of metal give KP's coefficients, other faces Luebbers' heuristic.
 //
+// Thin posts (levels full-selective and full, raytrace/post_scattering.cpp): a metal post at most
+// TraceOptions::thin_post_max_width_m across (raytrace/thin_posts.h) is a conducting circular cylinder: one path of
+// kind `post` per post, the exact 2-D series mapped to 3-D by stationary phase along its axis; its faces reflect
+// nothing, its edges diffract nothing, and the direct path (and other posts' legs) pass through it.
+//
 // Contribution of each path: path_contribution(L, coefficient, f) = coefficient·λ/(4πL)·e^{−jkL}.
 // Paths more than drop_below_db below the strongest are dropped (a double reflection or a diffraction whose
 // contribution, or an upper bound of it, is already below that floor is not traced further: it would be
 // dropped). Order: direct path, reflections by length then facet, double reflections by length then facets,
-// diffractions by length then edge.
+// posts by length then post, diffractions by length then edge.
 #include <complex>
 #include <memory>
 #include <span>

@@ -31,6 +31,7 @@
 #include "core/cylinder_scattering.h"
 #include "core/units.h"
 #include "core/utd.h"
+#include "raytrace/line_feet.h"
 #include "raytrace/path_finder.h"
 
 namespace rfidray {
@@ -66,10 +67,11 @@ void PathFinder::post_scatterings(const Endpoint& ant, const Endpoint& tag, doub
   for (uint32_t pi = 0; pi < posts.size(); ++pi) {
     const ThinPost& post = posts[pi];
     const Vec3& d = post.direction;
-    const Vec3 ra = a - post.base, rt = t - post.base;
-    const double za = ra.dot(d), zt = rt.dot(d);
-    const Vec3 va = ra - za * d, vt = rt - zt * d;
-    const double rho_a = va.norm(), rho_t = vt.norm();
+    const LineFeet feet = line_feet(post.base, d, a, t);
+    const double za = feet.z_a, zt = feet.z_t;
+    const Vec3& va = feet.v_a;
+    const Vec3& vt = feet.v_t;
+    const double rho_a = feet.rho_a, rho_t = feet.rho_t;
     if (rho_a < 1e-6 || rho_t < 1e-6) continue;  // an end on the axis: inside the post
     const double lt = rho_a + rho_t, dz = zt - za;
     const double length = std::hypot(lt, dz);
