@@ -418,6 +418,15 @@ TEST(ScenarioYaml, ChannelOptionsAndAuto) {
     EXPECT_EQ(*parse_scenario(base + "channel_options:\n  candidates: " + name + "\n", "s.yaml").channel_options.candidates,
               name);
   EXPECT_NE(error_of(base + "channel_options:\n  max_path_length_m: 0\n").find("> 0"), std::string::npos);
+  // Thin posts: 0 (off) … 1 m; a wider "post" or a negative width names the field and its line.
+  EXPECT_EQ(*parse_scenario(base + "channel_options:\n  thin_post_max_width_m: 0\n", "s.yaml")
+                 .channel_options.thin_post_max_width_m,
+            0.0);
+  const std::string wide = error_of(base + "channel_options:\n  thin_post_max_width_m: 2\n");
+  EXPECT_NE(wide.find("channel_options.thin_post_max_width_m"), std::string::npos) << wide;
+  EXPECT_NE(wide.find("at most 1 m"), std::string::npos) << wide;
+  EXPECT_NE(error_of(base + "channel_options:\n  thin_post_max_width_m: -1\n").find("thin_post_max_width_m"),
+            std::string::npos);
 }
 
 }  // namespace
