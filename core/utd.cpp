@@ -168,7 +168,8 @@ UtdCoefficients wedge_diffraction(double n, double phi, double phi_prime, double
   const C t0 = cot_f((kPi - bp) / two_n, n, kl, a_minus(bp, n), sides.reflected_face0, band);  // φ + φ' = π
   const C tn = cot_f((kPi + bp) / two_n, n, kl, a_plus(bp, n), sides.reflected_facen, band);   // (2n − 1)π
   const C front = -kEmjPi4 / (two_n * std::sqrt(kTwoPi * k) * std::sin(beta0));
-  return {front * (t1 + t2 + face0.te * t0 + facen.te * tn), front * (t1 + t2 + face0.tm * t0 + facen.tm * tn)};
+  return {front * (t1 + t2 + face0.te * t0 + facen.te * tn), front * (t1 + t2 + face0.tm * t0 + facen.tm * tn),
+          front * (t1 + t2)};
 }
 
 double utd_min_transition_argument(double n, double phi, double phi_prime, double kl) {

@@ -1,6 +1,7 @@
 // Level full: first-order UTD edge diffraction at every edge of raytrace/edges.h (raytrace/path_finder.h has
 // the physics, core/utd.h the coefficients), with the edge's near field (core/edge_near_field.h) at an end close
-// to the edge.
+// to the edge. At a penetrable wall's edge the incident shadow boundary's terms carry the jump incident −
+// transmitted (the direct field goes on through the wall as a `blocked` path), so that the field is continuous there.
 //
 // Level full-selective: the same, without the weakest diffracted paths, and with a bound on all it leaves out
 // together. Every edge's contribution c_i is computed as in full (KP coefficient, gains, polarization), before
@@ -123,6 +124,8 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
   const auto& materials = scene_->materials();
   const EmbreeScene& bvh = scene_->bvh();
   constexpr double kOnEdge = 1e-6;  // metres: an end this close to the edge's line is on it (no wedge angle)
+  // The levels that trace the direct path through walls (`blocked`): their diffraction scales the incident terms.
+  const bool through_walls = includes(options_.level, ChannelLevel::kLosBlocked);
   // full-selective: candidates first, rays for the strongest (see the top of this file).
   const bool selective = !includes(options_.level, ChannelLevel::kFull);
   thread_local std::vector<DiffractionCandidate> tl_pending;  // per-thread scratch: no allocation once warm
@@ -196,8 +199,26 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
     const CVec3 e_in = ant.polarization.field(ant.pose.orientation, s_hat_in);
     const std::complex<double> e_beta = beta_in.cast<std::complex<double>>().dot(e_in);
     const std::complex<double> e_phi = phi_in.cast<std::complex<double>>().dot(e_in);
-    const CVec3 e_out = -(dc.soft * e_beta) * beta_out.cast<std::complex<double>>() -
-                        (dc.hard * e_phi) * phi_out.cast<std::complex<double>>();
+    // The incident shadow boundary's terms compensate the direct field's jump across it. Past a penetrable
+    // wedge the direct field goes on through it (a `blocked` path), so the jump is e_in − e_T, e_T the field
+    // transmitted along the boundary ray as the direct path computes it (each face's material_transmission at
+    // its incidence; a sheet is one face): geometrical optics plus diffraction then stays continuous there (the
+    // penetrable half-plane's heuristic of Burnside & Burgener, IEEE Trans. AP 31(1), 1983). Metal: e_T = 0.
+    std::complex<double> jump_beta = e_beta, jump_phi = e_phi;
+    const int crossings = n < 2.0 - 1e-9 ? 2 : 1;
+    if (through_walls && crossings <= options_.max_crossings && !m0.perfect_conductor &&
+        !(crossings == 2 && mn.perfect_conductor)) {
+      const Facet& f0 = facets[face0];
+      const Facet& fn = facets[facen];
+      CVec3 e_t = transmit_field(e_in, s_hat_in, f0.normal,
+                                 material_transmission(m0, f, std::abs(s_hat_in.dot(f0.normal))));
+      if (n < 2.0 - 1e-9)  // a solid wedge: in through face 0, out through face n
+        e_t = transmit_field(e_t, s_hat_in, fn.normal, material_transmission(mn, f, std::abs(s_hat_in.dot(fn.normal))));
+      jump_beta -= beta_in.cast<std::complex<double>>().dot(e_t);
+      jump_phi -= phi_in.cast<std::complex<double>>().dot(e_t);
+    }
+    const CVec3 e_out = -((dc.soft - dc.incident) * e_beta + dc.incident * jump_beta) * beta_out.cast<std::complex<double>>() -
+                        ((dc.hard - dc.incident) * e_phi + dc.incident * jump_phi) * phi_out.cast<std::complex<double>>();
     const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, s_hat_in) *
                                   tag.pattern.gain_linear_world(tag.pose.orientation, -s_hat_out));
     const std::complex<double> coefficient = gain * std::sqrt(length / (s_in * s_out)) *
