@@ -347,12 +347,6 @@ struct BoundaryCase {
   double face0_angle_rad;   // direction of face 0 from the edge, about +z
   double phi_prime_rad;     // the source's angle from face 0
   double exterior_rad;      // nπ
-  // A penetrable solid wedge: the direct path's walk (surface_epsilon_m = 0.1 mm past each crossing) counts one
-  // crossing where the ray clips the corner within 0.1 mm of the edge and two beyond, so the transmitted field
-  // itself steps in a sliver beside the boundary (~1e-3 rad wide here; measured: 0.53 of h0 on both sides, 0.76–0.82
-  // inside the sliver). Probed outside it: each side's field extrapolated linearly to the boundary from δ and 2δ
-  // (δ = 5e-3 rad; the extrapolation's own error ~δ²h'' ≈ 1e-4 of h0); a step at the boundary shows whole.
-  bool corner_clip = false;
 };
 
 std::shared_ptr<const Scene> sheet_scene(const std::string& material = "metal", double thickness_m = -1.0) {
@@ -367,10 +361,10 @@ std::shared_ptr<const Scene> sheet_scene(const std::string& material = "metal", 
 
 // A metal block (0.5 × 0.5 × 0.8 m, x ≤ 0.3, y ≤ 0.2): a right-angled wedge (exterior angle 3π/2) along z at
 // (0.3, 0.2).
-std::shared_ptr<const Scene> wedge_scene(const std::string& material = "metal") {
+std::shared_ptr<const Scene> wedge_scene() {
   TriangleMesh block;
   block.name = "block";
-  block.material_names = {material};
+  block.material_names = {"metal"};
   add_box(block, Vec3(-0.2, -0.3, -0.4), Vec3(0.3, 0.2, 0.4), 0, 1, true);
   return std::make_shared<const Scene>(std::vector<TriangleMesh>{block}, MaterialAssignment{});
 }
@@ -384,11 +378,9 @@ TEST(DiffractionContinuity, FullIsContinuousAcrossShadowAndReflectionBoundaries)
       // The block's edge at (0.3, 0.2): face 0 is the face x = 0.3 (running −y from the edge), the exterior runs
       // counter-clockwise through +x and +y to face n, the face y = 0.2 (running −x).
       {"wedge", wedge_scene(), Vec3(0.3, 0.2, 0), -kPi / 2.0, 50.0 * kPi / 180.0, 1.5 * kPi},
-      // Penetrable: past the edge the direct field goes on through the wall (a `blocked` path), and the incident
-      // terms compensate only the jump, incident − transmitted: a 20 cm concrete slab (the FDTD wall) and a
-      // concrete block (in through one face, out through the other).
-      {"concrete slab", sheet_scene("concrete", 0.2), Vec3(0, 0, 0), 0.0, 60.0 * kPi / 180.0, kTwoPi},
-      {"concrete block", wedge_scene("concrete"), Vec3(0.3, 0.2, 0), -kPi / 2.0, 50.0 * kPi / 180.0, 1.5 * kPi, true},
+      // A thin penetrable sheet (12.5 mm plasterboard): past the edge the direct field goes on through it (a
+      // `blocked` path), and the incident terms compensate only the jump, incident − transmitted.
+      {"plasterboard", sheet_scene("plasterboard", 0.0125), Vec3(0, 0, 0), 0.0, 60.0 * kPi / 180.0, kTwoPi},
   };
   for (const BoundaryCase& c : cases) {
     const RaytracedChannel full(c.scene, o);
@@ -409,14 +401,6 @@ TEST(DiffractionContinuity, FullIsContinuousAcrossShadowAndReflectionBoundaries)
           const Vec3 on = at(rho, b);
           const C h0 = path_contribution((on - source.pose.position).norm(), 1.0, kF);
           const C h_on = sum_paths(full.paths(source, linear(on, axis), kF));
-          if (c.corner_clip) {
-            const auto h_at = [&](double delta) { return sum_paths(full.paths(source, linear(at(rho, b + delta), axis), kF)); };
-            const C left = 2.0 * h_at(-5e-3) - h_at(-1e-2), right = 2.0 * h_at(5e-3) - h_at(1e-2);
-            EXPECT_LE(std::abs(left - right), 1e-3 * std::abs(h0))
-                << c.name << ", axis " << axis.transpose() << ": boundary " << b * 180.0 / kPi << "°, ρ " << rho
-                << " m: extrapolated h/h0 " << left / h0 << " from one side, " << right / h0 << " from the other";
-            continue;
-          }
           for (double side : {-1e-6, 1e-6}) {
             const C h = sum_paths(full.paths(source, linear(at(rho, b + side), axis), kF));
             EXPECT_LE(std::abs(h - h_on), 1e-3 * std::abs(h0))
