@@ -41,8 +41,9 @@ struct UtdCoefficients {
   std::complex<double> soft;  // D_s, m^½: E component along β̂ (E ∥ edge at β0 = 90°)
   std::complex<double> hard;  // D_h, m^½: E component along φ̂
   // The incident shadow boundary's two terms alone, part of both soft and hard (the same for either): what
-  // compensates the direct field's jump there. Past a penetrable wedge's edge the direct field does not vanish
-  // but goes on transmitted, so a caller scales this part by the jump, incident − transmitted (raytrace/diffraction.cpp).
+  // compensates the direct field's jump there. Past a thin penetrable sheet's edge the direct field does not
+  // vanish but goes on transmitted, so a caller scales this part by the jump, incident − transmitted
+  // (raytrace/diffraction.cpp).
   std::complex<double> incident;
 };
 
