@@ -213,17 +213,17 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
     // boundary an opaque edge's (0.50 of the free-space field beside a 20 cm concrete wall, which this heuristic
     // missed by 0.27, where the opaque edge is 0.11 off).
     // Metal, a half-space material (thickness 0) and solid wedges keep the opaque edge's jump, e_in.
-    std::complex<double> jump_beta = e_beta, jump_phi = e_phi;
+    CVec3 e_out = -(dc.soft * e_beta) * beta_out.cast<std::complex<double>>() -
+                  (dc.hard * e_phi) * phi_out.cast<std::complex<double>>();
     if (through_walls && n > 2.0 - 1e-9 && !m0.perfect_conductor && m0.thickness_m > 0.0 &&
         m0.thickness_m <= kThinSheetWavelengths * wavelength_m(f) && options_.max_crossings >= 1) {
+      // The incident terms' share of e_T given back: −D_inc·(e_in − e_T) = −D_inc·e_in + D_inc·e_T.
       const Facet& f0 = facets[face0];
       const CVec3 e_t = transmit_field(e_in, s_hat_in, f0.normal,
                                        material_transmission(m0, f, std::abs(s_hat_in.dot(f0.normal))));
-      jump_beta -= beta_in.cast<std::complex<double>>().dot(e_t);
-      jump_phi -= phi_in.cast<std::complex<double>>().dot(e_t);
+      e_out += dc.incident * (beta_in.cast<std::complex<double>>().dot(e_t) * beta_out.cast<std::complex<double>>() +
+                              phi_in.cast<std::complex<double>>().dot(e_t) * phi_out.cast<std::complex<double>>());
     }
-    const CVec3 e_out = -((dc.soft - dc.incident) * e_beta + dc.incident * jump_beta) * beta_out.cast<std::complex<double>>() -
-                        ((dc.hard - dc.incident) * e_phi + dc.incident * jump_phi) * phi_out.cast<std::complex<double>>();
     const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, s_hat_in) *
                                   tag.pattern.gain_linear_world(tag.pose.orientation, -s_hat_out));
     const std::complex<double> coefficient = gain * std::sqrt(length / (s_in * s_out)) *

@@ -36,8 +36,8 @@ def weighted_paths(binary, scene, case, position, reference=None):
     ref = position if reference is None else reference
     h0 = complex(j["ideal"]["h"]["re"], j["ideal"]["h"]["im"])
     if reference is not None:
-        h0 = complex(rl.link_json(binary, scene, case, ref, "los")["ideal"]["h"]["re"],
-                     rl.link_json(binary, scene, case, ref, "los")["ideal"]["h"]["im"])
+        ideal = rl.link_json(binary, scene, case, ref, "los")["ideal"]["h"]
+        h0 = complex(ideal["re"], ideal["im"])
     los = np.array(ref, float) - src
     w_los = rl._hertz_weight(axis, los) * rl._hertz_weight(axis, -los)
     out = []
