@@ -7,6 +7,7 @@
 
 #include "adapters/gazebo/bridge.h"
 #include "adapters/gazebo/ros_bridge.h"
+#include "cli/adapters_plugin.h"
 #include "cli/commands.h"
 #include "core/error.h"
 
@@ -83,7 +84,7 @@ void add_options(CLI::App& cmd, GazeboOptions& o) {
 
 int run_ros_input(CLI::App& cmd, GazeboOptions& o, void (*add_options)(CLI::App&, GazeboOptions&)) {
   const std::string node = o.ros_node.value_or("rfidray");
-  gazebo::RosParams params = gazebo::ros_private_params(node, o.ros_args);
+  gazebo::RosParams params = adapters_plugin().ros_private_params(node, o.ros_args);
   // Parameters become arguments of a second parse into the same options, for the options not given here.
   std::vector<std::string> args;
   for (const auto& [key, value] : params.values) {
@@ -148,7 +149,7 @@ int run_ros_input(CLI::App& cmd, GazeboOptions& o, void (*add_options)(CLI::App&
   b.tf_timeout_s = o.tf_timeout_s;
   b.connect_timeout_s = o.connect_timeout_s;
   b.quiet = o.quiet;
-  const int rc = gazebo::run_ros_bridge(b);
+  const int rc = adapters_plugin().run_ros_bridge(b);
   params.session.reset();
   return rc;
 }
@@ -176,7 +177,7 @@ int run_gazebo(const GazeboOptions& o) {
   b.scene_timeout_s = o.scene_timeout_s;
   b.connect_timeout_s = o.connect_timeout_s;
   b.quiet = o.quiet;
-  return gazebo::run_bridge(b);
+  return adapters_plugin().run_bridge(b);
 }
 
 }  // namespace

@@ -5,7 +5,7 @@
 #include "core/error.h"
 
 #ifdef RFIDRAY_HAVE_SDFORMAT
-#include "adapters/gazebo/gazebo_world.h"
+#include "cli/adapters_plugin.h"
 #endif
 
 namespace rfidray::cli {
@@ -53,7 +53,10 @@ std::function<int()> setup_gazebo(CLI::App& app) {
 
 void register_commands(CLI::App& app) {
 #ifdef RFIDRAY_HAVE_SDFORMAT
-  io::register_world_loader(&gazebo::load_world_source);
+  // SDF worlds load through the adapters plugin, loaded here on first use (cli/adapters_plugin.h).
+  io::register_world_loader([](const io::WorldSourceOptions& options, const std::string& default_material) {
+    return adapters_plugin().load_world_source(options, default_material);
+  });
 #endif
   add(app, setup_simulate);
   add(app, setup_link);
