@@ -88,5 +88,37 @@ TEST(WorldCli, BadUsesExitTwoWithAMessage) {
   EXPECT_NE(r.output.find("--topic-prefix"), std::string::npos) << r.output;
 }
 
+// The adapters are a plugin beside the binary (adapters/gazebo/plugin.h): a run that reads no world does not load
+// Gazebo's libraries, one that does loads them from the plugin, and without the plugin it exits 2 saying so.
+TEST(AdaptersPlugin, LoadedOnlyByRunsThatReadAWorld) {
+  const std::string obj_scene = " --scene " + std::string(RFIDRAY_SOURCE_DIR) + "/scenes/paper_warehouse.obj";
+  const std::string traced = std::string("LD_DEBUG=libs ") + RFIDRAY_BINARY + " link ";
+  const testing::CommandResult plain = testing::run_command(traced + obj_scene + " --antenna 0,0,1 --tag 2,0,1");
+  ASSERT_EQ(plain.status, 0) << plain.output;
+  EXPECT_EQ(plain.output.find("libsdformat12"), std::string::npos);
+  EXPECT_EQ(plain.output.find("librfidray_adapters"), std::string::npos);
+
+  const testing::CommandResult world = testing::run_command(traced + kWorld + " --antenna reader --tag tag_1::link");
+  ASSERT_EQ(world.status, 0) << world.output;
+  EXPECT_NE(world.output.find("librfidray_adapters.so"), std::string::npos);
+  EXPECT_NE(world.output.find("libsdformat12"), std::string::npos);
+}
+
+TEST(AdaptersPlugin, MissingPluginIsAnErrorNamingIt) {
+  const testing::ScratchDir scratch("adapters_plugin");
+  const fs::path copy = scratch.path() / "rfidray";  // the binary alone, without librfidray_adapters.so
+  fs::copy_file(RFIDRAY_BINARY, copy);
+  const std::string out = (scratch.path() / "out").string();
+  const testing::CommandResult r = testing::run_command(copy.string() + " simulate " + kWorld + " --duration 1 -q -o " + out);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("librfidray_adapters.so"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out + "/reader.csv"));
+  // Everything that needs no world still runs.
+  const testing::CommandResult plain = testing::run_command(
+      copy.string() + " link --scene " + std::string(RFIDRAY_SOURCE_DIR) + "/scenes/paper_warehouse.obj" +
+      " --antenna 0,0,1 --tag 2,0,1");
+  EXPECT_EQ(plain.status, 0) << plain.output;
+}
+
 }  // namespace
 }  // namespace rfidray::gazebo
