@@ -212,6 +212,7 @@ struct LinkOptions {
   double frequency_hz = ReaderParams{}.frequencies_hz.front();
   double tx_power_dbm = ReaderParams{}.tx_power_dbm;
   double thickness_m = -1.0;
+  bool solid = false;  // --solid: every material's faces bound closed solids
   double drop_db = TraceOptions{}.drop_below_db;
   double thin_post_max_width_m = TraceOptions{}.thin_post_max_width_m;
   std::string tag_antenna, tag_chip = "matched", tag_backing;  // core/tag_antenna.h; "" = the point tag
@@ -279,6 +280,7 @@ int run_link(const LinkOptions& o) {
   assignment.override_all = o.material;
   assignment.default_material = o.default_material;
   assignment.thickness_m = o.thickness_m;
+  assignment.solid = o.solid;
   if (!o.material.empty()) find_radio_material(o.material, {}, "option --material");
   if (!o.default_material.empty()) find_radio_material(o.default_material, {}, "option --default-material");
   std::vector<std::filesystem::path> files(o.scene.begin(), o.scene.end());
@@ -287,8 +289,9 @@ int run_link(const LinkOptions& o) {
   std::shared_ptr<const Scene> scene;
   if (!o.world.file.empty()) {
     if (!o.scene.empty()) throw InputError("give --scene FILE.obj or --world FILE, not both");
-    if (!o.material.empty() || o.thickness_m >= 0.0)
-      throw InputError("--world: materials come from --materials FILE (and --default-material), not --material/--thickness");
+    if (!o.material.empty() || o.thickness_m >= 0.0 || o.solid)
+      throw InputError("--world: materials come from --materials FILE (and --default-material), not "
+                       "--material/--thickness/--solid");
     world = io::load_world_source(o.world, o.default_material);
     if (!o.json) std::fprintf(stderr, "rfidray: %s\n", world->summary.c_str());
     warnings = world->warnings;
@@ -437,6 +440,9 @@ std::function<int()> setup_link(CLI::App& app) {
   cmd->add_option("--material", o->material, "radio material for every surface (overrides usemtl)");
   cmd->add_option("--default-material", o->default_material, "radio material for usemtl names that are not materials");
   cmd->add_option("--thickness", o->thickness_m, "slab thickness (m) for every material (blocked paths, slab reflection)");
+  cmd->add_flag("--solid", o->solid,
+                "the scene's surfaces bound closed solids (walls as boxes): a direct path's entry and exit are one "
+                "slab of the thickness they cut; reflection uses --thickness (docs/physics.md)");
   cmd->add_option("--antenna", o->antenna, "antenna position X,Y,Z (m), or with --world an antenna's name")->required();
   cmd->add_option("--tag", o->tag, "tag position X,Y,Z (m), or with --world a tag's name")->required();
   cmd->add_option("--frequency", o->frequency_hz, "carrier frequency (Hz)");

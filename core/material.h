@@ -17,6 +17,12 @@ struct RadioMaterial {
   double a = 1.0, b = 0.0, c = 0.0, d = 0.0;  // P.2040 coefficients
   double thickness_m = 0.0;   // > 0: slab model (reflection and transmission through a layer of this thickness)
   bool perfect_conductor = false;  // metal: Γ = −1 (TE), opaque
+  // The material's faces bound closed solids (a wall modelled as a box, with its end faces and back edges): a
+  // direct path's entry into a solid and its exit from it are one slab of the thickness they cut, measured along
+  // the entry face's normal (chord · cos θ; exact for parallel faces), so the ITU-R P.2040 slab transmission
+  // applies once per pair and the exit face adds nothing. Reflection off a solid's face uses thickness_m (0:
+  // half-space). Crossings of one solid material alternate entry, exit along a path that starts outside.
+  bool solid = false;
   double min_valid_ghz = 0.0;      // below this the P.2040 fit is extrapolated
   double max_valid_ghz = 1e300;    // above this too
 

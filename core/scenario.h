@@ -32,6 +32,7 @@ struct MaterialSpec {
   double relative_permittivity = 1.0;
   double conductivity_s_m = 0.0;
   double thickness_m = 0.0;
+  bool solid = false;  // faces bound closed solids (core/material.h RadioMaterial::solid)
   int source_line = 0;
 };
 

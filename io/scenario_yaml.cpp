@@ -731,6 +731,7 @@ SceneSpec parse_scene(const YamlFile& src, const YAML::Node& n, const std::files
       mat.relative_permittivity = mm.positive({"relative_permittivity"}, 1.0);
       mat.conductivity_s_m = mm.non_negative({"conductivity_s_m"}, 0.0);
       mat.thickness_m = mm.non_negative({"thickness_m"}, 0.0);
+      if (auto v = mm.get("solid")) mat.solid = src.boolean(*v, mm.field("solid"));
       mm.finish();
       s.materials.push_back(mat);
     }

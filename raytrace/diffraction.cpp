@@ -216,7 +216,7 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
     CVec3 e_out = -(dc.soft * e_beta) * beta_out.cast<std::complex<double>>() -
                   (dc.hard * e_phi) * phi_out.cast<std::complex<double>>();
     if (through_walls && n > 2.0 - 1e-9 && !m0.perfect_conductor && m0.thickness_m > 0.0 &&
-        m0.thickness_m <= kThinSheetWavelengths * wavelength_m(f) && options_.max_crossings >= 1) {
+        m0.thickness_m <= kThinSheetWavelengths * wavelength_m(f) && !m0.solid && options_.max_crossings >= 1) {
       // The incident terms' share of e_T given back: −D_inc·(e_in − e_T) = −D_inc·e_in + D_inc·e_T.
       const Facet& f0 = facets[face0];
       const CVec3 e_t = transmit_field(e_in, s_hat_in, f0.normal,

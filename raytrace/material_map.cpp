@@ -39,6 +39,7 @@ ResolvedMaterials resolve_materials(const std::vector<TriangleMesh>& meshes, con
   ResolvedMaterials out;
   auto index_of = [&](RadioMaterial m) {
     if (a.thickness_m >= 0.0) m.thickness_m = a.thickness_m;
+    if (a.solid && !m.perfect_conductor) m.solid = true;
     for (size_t i = 0; i < out.materials.size(); ++i)
       if (out.materials[i].name == m.name) return static_cast<uint32_t>(i);
     out.materials.push_back(std::move(m));

@@ -22,6 +22,7 @@ struct MaterialAssignment {
   std::string default_material;                    // "" → an unknown name is an error
   std::string override_all;                        // non-empty: every surface gets this material
   double thickness_m = -1.0;                       // ≥ 0: replaces every resolved material's thickness
+  bool solid = false;                              // true: every resolved material bounds solids (RadioMaterial::solid)
 };
 
 struct ResolvedMaterials {

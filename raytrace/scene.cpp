@@ -160,8 +160,10 @@ namespace rfidray {
 std::shared_ptr<const Scene> load_scene(const SceneSpec& spec, const std::string& scenario_source,
                                         const SceneOptions& options, std::vector<std::string>* warnings) {
   MaterialAssignment assignment;
-  for (const MaterialSpec& m : spec.materials)
+  for (const MaterialSpec& m : spec.materials) {
     assignment.user_materials.push_back(user_material(m.name, m.relative_permittivity, m.conductivity_s_m, m.thickness_m));
+    assignment.user_materials.back().solid = m.solid;
+  }
   for (const MaterialMapEntry& e : spec.material_map) assignment.by_material[e.from] = e.to;
   assignment.default_material = spec.default_material;
   std::vector<TriangleMesh> meshes;

@@ -75,7 +75,8 @@ def _hertz_weight(axis, d):
     return np.linalg.norm(np.cross(axis, d / n)) if n > 0 else 0.0
 
 
-def link_json(binary: str, scene: str, case: Case, position, level: str, thickness_m: float | None = None) -> dict:
+def link_json(binary: str, scene: str, case: Case, position, level: str, thickness_m: float | None = None,
+              extra_args=()) -> dict:
     """`rfidray link --json` for the case's source and a tag at `position` (same polarization), parsed."""
     a = axis_vector(case.axis)
     pol = "linear:{},{},{}".format(*a)
@@ -85,14 +86,16 @@ def link_json(binary: str, scene: str, case: Case, position, level: str, thickne
            "--candidates", "exhaustive", "--drop-db", "400"]
     if thickness_m is not None:
         cmd += ["--thickness", str(thickness_m)]
+    cmd += list(extra_args)
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed ({r.returncode}): {r.stderr.strip()}")
     return json.loads(r.stdout)
 
 
-def link(binary: str, scene: str, case: Case, position, level: str, thickness_m: float | None = None) -> dict:
-    j = link_json(binary, scene, case, position, level, thickness_m)
+def link(binary: str, scene: str, case: Case, position, level: str, thickness_m: float | None = None,
+         extra_args=()) -> dict:
+    j = link_json(binary, scene, case, position, level, thickness_m, extra_args)
     src, tag = np.array(case.source), np.array(position, dtype=float)
     axis = np.array(axis_vector(case.axis))
     los = tag - src
@@ -122,14 +125,15 @@ def case_thickness(case: Case, thickness_m: float | None = None) -> float | None
     return thickness_m
 
 
-def all_levels(binary: str, case: Case, scratch: str, levels=LEVELS, thickness_m=None, jobs: int = 2) -> dict:
+def all_levels(binary: str, case: Case, scratch: str, levels=LEVELS, thickness_m=None, jobs: int = 2,
+               extra_args=()) -> dict:
     """{level: complex array of h/h_ideal per observer (short-dipole weighted)}, plus '<level>:isotropic'.
     A case with walls (Box.slab_m > 0) passes their thickness as `--thickness` (one per case)."""
     thickness_m = case_thickness(case, thickness_m)
     scene = write_obj(case, os.path.join(scratch, case.name + ".obj"))
     tasks = [(lv, i, o.position) for lv in levels for i, o in enumerate(case.observers)]
     with ThreadPoolExecutor(max_workers=jobs) as ex:
-        res = list(ex.map(lambda t: link(binary, scene, case, t[2], t[0], thickness_m), tasks))
+        res = list(ex.map(lambda t: link(binary, scene, case, t[2], t[0], thickness_m, extra_args), tasks))
     out = {lv: np.zeros(len(case.observers), complex) for lv in levels}
     raw = {lv: np.zeros(len(case.observers), complex) for lv in levels}
     for (lv, i, _), r in zip(tasks, res):

@@ -376,6 +376,20 @@ TEST(ScenarioYaml, ErrorsNameFileLineAndField) {
   }
 }
 
+// scene.materials[].solid: a wall as a closed box (RadioMaterial::solid); a boolean, or an error naming it.
+TEST(ScenarioYaml, SolidMaterials) {
+  const std::string head = "duration_s: 1\nantennas:\n  - {name: a, position: [0, 0, 1]}\nscene:\n  materials:\n";
+  const Scenario s = parse_scenario(head + "    - {name: block, relative_permittivity: 5.3, conductivity_s_m: 0.03, "
+                                           "thickness_m: 0.2, solid: true}\n"
+                                           "    - {name: sheet, relative_permittivity: 2.7}\n", "s.yaml");
+  ASSERT_EQ(s.scene.materials.size(), 2u);
+  EXPECT_TRUE(s.scene.materials[0].solid);
+  EXPECT_DOUBLE_EQ(s.scene.materials[0].thickness_m, 0.2);
+  EXPECT_FALSE(s.scene.materials[1].solid);
+  const std::string e = error_of(head + "    - {name: block, relative_permittivity: 5.3, solid: maybe}\n");
+  EXPECT_NE(e.find("s.yaml:6: field 'scene.materials[0].solid'"), std::string::npos) << e;
+}
+
 TEST(ScenarioYaml, DurationRequiredWhenNothingEnds) {
   const Scenario s = parse_scenario("antennas:\n  - {name: a, position: [0, 0, 1]}\n", "s.yaml");
   EXPECT_FALSE(s.duration_s.has_value());

@@ -169,6 +169,59 @@ TEST(RaytracedChannel, WallGivesBlockedPathWithSlabLoss) {
   EXPECT_LT(rel_err(sum_paths(paths), tau * tau * friis(d)), 1e-12);
 }
 
+// A wall as a closed box of a solid material: the entry and exit crossings are one P.2040 slab of the wall's
+// thickness (chord · cos θ along the entry face's normal), the same as the one-sheet wall of that thickness; a
+// tag inside the wall gets the slab up to it; two walls multiply. Without `solid` the two faces would each be a
+// slab (the test's first check fails then).
+TEST(RaytracedChannel, SolidWallIsOneSlabOfItsThickness) {
+  const double t = 0.2;
+  TriangleMesh box;
+  box.name = "wall";
+  box.material_names = {"concrete"};
+  add_box(box, Vec3(2.0, -5.0, -5.0), Vec3(2.0 + t, 5.0, 5.0), 0);  // faces at x = 2 and 2.2
+  MaterialAssignment solid;
+  solid.thickness_m = t;  // its faces' reflection: the slab of the wall's thickness
+  solid.solid = true;
+  const auto scene = scene_of({box}, solid);
+  ASSERT_TRUE(scene->materials()[0].solid);
+  const RadioMaterial concrete = scene->materials()[0];
+  const RaytracedChannel blocked(scene, options(CandidateMode::kExact, ChannelLevel::kLosBlocked));
+  const Endpoint ant = endpoint(Vec3(0, 0, 1), Vec3::UnitZ());
+  for (const Vec3& tag_pos : {Vec3(4.0, 0.0, 1.0), Vec3(4.0, 1.5, 1.0), Vec3(4.0, 3.0, 1.0)}) {
+    const double d = (tag_pos - ant.pose.position).norm();
+    const double cos_theta = 4.0 / d;  // TE: z-polarization ⊥ the plane of incidence (xy)
+    const C tau = material_transmission(concrete, kF, cos_theta).te;
+    const auto paths = blocked.paths(ant, endpoint(tag_pos, Vec3::UnitZ()), kF);
+    ASSERT_EQ(paths.size(), 1u);
+    EXPECT_EQ(paths[0].crossings, 1);  // entry and exit: one slab
+    // The scene keeps its vertices in float: the back face at 2.2 is 4.8e-8 m off, and the slab's phase turns
+    // ~42 rad per metre of concrete (k·√ε'): ~2e-6 of the field.
+    EXPECT_LT(rel_err(sum_paths(paths), tau * friis(d)), 1e-5) << tag_pos.transpose();
+  }
+  // A tag inside the wall, 5 cm in: the slab of 5 cm.
+  {
+    RadioMaterial slab5 = concrete;
+    slab5.thickness_m = 0.05;
+    const Vec3 tag_pos(2.05, 0.0, 1.0);
+    const auto paths = blocked.paths(ant, endpoint(tag_pos, Vec3::UnitZ()), kF);
+    ASSERT_EQ(paths.size(), 1u);
+    EXPECT_LT(rel_err(sum_paths(paths), material_transmission(slab5, kF, 1.0).te * friis(2.05)), 1e-12);
+  }
+  // In by the front face, out by the end face y = 5 (a corner cut): no slab, no path.
+  EXPECT_TRUE(blocked.paths(endpoint(Vec3(0, 3.95, 1), Vec3::UnitZ()), endpoint(Vec3(2.3, 5.1, 1), Vec3::UnitZ()), kF)
+                  .empty());
+  // Two solid walls: two slabs.
+  TriangleMesh box2 = box;
+  box2.name = "wall2";
+  for (Vec3& v : box2.vertices) v.x() += 1.0;
+  const RaytracedChannel two(scene_of({box, box2}, solid), options(CandidateMode::kExact, ChannelLevel::kLosBlocked));
+  const C tau0 = material_transmission(concrete, kF, 1.0).te;
+  const auto paths = two.paths(ant, endpoint(Vec3(4, 0, 1), Vec3::UnitZ()), kF);
+  ASSERT_EQ(paths.size(), 1u);
+  EXPECT_EQ(paths[0].crossings, 2);
+  EXPECT_LT(rel_err(sum_paths(paths), tau0 * tau0 * friis(4.0)), 1e-5);  // float vertices, as above
+}
+
 TEST(RaytracedChannel, MetalPlateBehindTheTagReflectsAtTheImagePoint) {
   // Plate x = 3, y −1…1, z 0…2; tag at x = 2.5 in front of it; antenna at the origin side.
   const auto plate = plane_mesh("plate", "metal", Vec3(3, -1, 0), Vec3(0, 2, 0), Vec3(0, 0, 2));
