@@ -43,8 +43,13 @@ MaterialRules load_material_rules(const std::string& path) {
       if (!(eps > 0.0)) throw f.error(eps_node, m.field("relative_permittivity"), "must be > 0 (got " + num(eps) + ")");
       const double sigma = m.non_negative({"conductivity_s_m"}, 0.0);
       const double thickness = m.non_negative({"thickness_m"}, 0.0);
+      // Gazebo's <box>, <cylinder> and mesh collisions are closed solids: `solid: true` makes a wall's box one slab
+      // (RadioMaterial::solid) instead of two.
+      bool solid = false;
+      if (auto s = m.get("solid")) solid = f.boolean(*s, m.field("solid"));
       m.finish();
       r.user_materials.push_back(user_material(name, eps, sigma, thickness));
+      r.user_materials.back().solid = solid;
     }
   }
   if (auto v = top.get("models")) r.models = names(f, *v, "models");

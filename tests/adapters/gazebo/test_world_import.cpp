@@ -172,6 +172,31 @@ TEST(WorldImport, MaterialMapByModelLinkCollisionAndMeshMaterial) {
   EXPECT_EQ(got["ground::link::floor"], "concrete");         // default_material
 }
 
+// `solid: true` in the material map: the material's collisions are closed solids (RadioMaterial::solid).
+TEST(WorldImport, MaterialMapSolidFlag) {
+  const testing::ScratchDir dir("world_solid");
+  const std::string base = "default_material: concrete\nmodels: {crate: crate_wood}\nmaterials:\n";
+  const auto write_map = [&](const std::string& entry) {
+    const std::string path = (dir.path() / "materials.yaml").string();
+    std::ofstream(path) << base << entry;
+    return path;
+  };
+  const auto scene = build_scene(load_world(test_world(write_map(
+      "  - {name: crate_wood, relative_permittivity: 2.0, conductivity_s_m: 0.01, thickness_m: 0.3, solid: true}\n"))));
+  bool found = false;
+  for (const RadioMaterial& m : scene->materials()) {
+    if (m.name != "crate_wood") continue;
+    found = true;
+    EXPECT_TRUE(m.solid);
+    EXPECT_DOUBLE_EQ(m.thickness_m, 0.3);
+  }
+  EXPECT_TRUE(found);
+  const std::string e = testing::input_error_of([&] {
+    load_world(test_world(write_map("  - {name: crate_wood, relative_permittivity: 2.0, solid: 3}\n")));
+  });
+  EXPECT_NE(e.find("materials[0].solid"), std::string::npos) << e;
+}
+
 TEST(MeshFile, ColladaYUpIsStoodUpAndScaled) {
   // The beam of beam.dae, but Y up in millimetres: its Y becomes Z, its Z becomes −Y.
   std::string text = testing::slurp(kDir + "/models/rack_part/meshes/beam.dae");
