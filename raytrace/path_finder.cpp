@@ -450,7 +450,9 @@ void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f,
       leave_solid(plane_t(tri, n, hit.t), &n);
       if (corner_cut) return;
     } else {
-      if (inside_solid != kOutside) leave_solid(hit.t, nullptr);  // another material's face inside a solid closes it
+      // Another solid's face while inside one (solids of two materials touching): the first ends there. A sheet
+      // inside a solid is crossed as a sheet and leaves the solid open.
+      if (m.solid && inside_solid != kOutside) leave_solid(plane_t(tri, scene_->normal_of(tri), hit.t), nullptr);
       if (m.perfect_conductor || ++p.crossings > options_.max_crossings) return;  // opaque
       const Vec3 n = scene_->normal_of(tri);
       const double cos_theta = std::abs(dir.dot(n));

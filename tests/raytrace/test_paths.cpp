@@ -210,6 +210,23 @@ TEST(RaytracedChannel, SolidWallIsOneSlabOfItsThickness) {
   // In by the front face, out by the end face y = 5 (a corner cut): no slab, no path.
   EXPECT_TRUE(blocked.paths(endpoint(Vec3(0, 3.95, 1), Vec3::UnitZ()), endpoint(Vec3(2.3, 5.1, 1), Vec3::UnitZ()), kF)
                   .empty());
+  // A plasterboard sheet inside the wall (x = 2.1) is crossed as a sheet; the wall stays one slab around it.
+  {
+    TriangleMesh inner;
+    inner.name = "inner";
+    inner.material_names = {"plasterboard"};
+    add_quad(inner, Vec3(2.1, -5, -5), Vec3(0, 10, 0), Vec3(0, 0, 10), 0, 1, 1);
+    MaterialAssignment mixed;
+    mixed.user_materials = {concrete};  // solid, 0.2 m
+    RadioMaterial board = *builtin_material("plasterboard");
+    board.thickness_m = 0.0125;
+    mixed.user_materials.push_back(board);
+    const RaytracedChannel ch(scene_of({box, inner}, mixed), options(CandidateMode::kExact, ChannelLevel::kLosBlocked));
+    const auto paths = ch.paths(ant, endpoint(Vec3(4, 0, 1), Vec3::UnitZ()), kF);
+    ASSERT_EQ(paths.size(), 1u);
+    const C expected = material_transmission(concrete, kF, 1.0).te * material_transmission(board, kF, 1.0).te;
+    EXPECT_LT(rel_err(sum_paths(paths), expected * friis(4.0)), 1e-5);  // float vertices, as above
+  }
   // Two solid walls: two slabs.
   TriangleMesh box2 = box;
   box2.name = "wall2";
