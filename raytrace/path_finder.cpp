@@ -429,9 +429,10 @@ void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f,
   bool corner_cut = false;
   auto leave_solid = [&](double exit_t, const Vec3* exit_normal) {
     if (exit_normal && std::abs(exit_normal->dot(entry_normal)) < kCos45) corner_cut = true;
-    RadioMaterial slab = scene_->materials()[inside_solid];
-    slab.thickness_m = std::max(0.0, (exit_t - entry_t) * entry_cos);
-    field = transmit_field(field, dir, entry_normal, material_transmission(slab, f, entry_cos));
+    const RadioMaterial& m = scene_->materials()[inside_solid];
+    const double thickness_m = std::max(0.0, (exit_t - entry_t) * entry_cos);
+    field = transmit_field(field, dir, entry_normal,
+                           slab_transmission(m.complex_permittivity(f), entry_cos, thickness_m, f));
     inside_solid = kOutside;
   };
   while (hit.hit) {
