@@ -20,8 +20,9 @@ struct RadioMaterial {
   // The material's faces bound closed solids (a wall modelled as a box, with its end faces and back edges): a
   // direct path's entry into a solid and its exit from it are one slab of the thickness they cut, measured along
   // the entry face's normal (chord · cos θ; exact for parallel faces), so the ITU-R P.2040 slab transmission
-  // applies once per pair and the exit face adds nothing. Reflection off a solid's face uses thickness_m (0:
-  // half-space). Crossings of one solid material alternate entry, exit along a path that starts outside.
+  // applies once per pair and the exit face adds nothing; a path leaving by a face more than 45° from its entry
+  // face (cutting a corner) is dropped. Reflection off a solid's face uses thickness_m (0: half-space). Crossings
+  // of one solid material alternate entry, exit along a path that starts outside.
   bool solid = false;
   double min_valid_ghz = 0.0;      // below this the P.2040 fit is extrapolated
   double max_valid_ghz = 1e300;    // above this too

@@ -446,16 +446,15 @@ void PathFinder::direct_path(const Endpoint& ant, const Endpoint& tag, double f,
     p.kind = PathKind::kBlocked;
     const uint32_t material = scene_->material_of(tri);
     const RadioMaterial& m = scene_->materials()[material];
+    const Vec3 n = scene_->normal_of(tri);
     if (m.solid && inside_solid == material) {
-      const Vec3 n = scene_->normal_of(tri);
       leave_solid(plane_t(tri, n, hit.t), &n);
       if (corner_cut) return;
     } else {
       // Another solid's face while inside one (solids of two materials touching): the first ends there. A sheet
       // inside a solid is crossed as a sheet and leaves the solid open.
-      if (m.solid && inside_solid != kOutside) leave_solid(plane_t(tri, scene_->normal_of(tri), hit.t), nullptr);
+      if (m.solid && inside_solid != kOutside) leave_solid(plane_t(tri, n, hit.t), nullptr);
       if (m.perfect_conductor || ++p.crossings > options_.max_crossings) return;  // opaque
-      const Vec3 n = scene_->normal_of(tri);
       const double cos_theta = std::abs(dir.dot(n));
       if (m.solid) {
         inside_solid = material;

@@ -34,7 +34,7 @@ MaterialRules load_material_rules(const std::string& path) {
   io::YamlMap top(f, root, "");
   if (auto v = top.get("default_material")) r.default_material = f.scalar(*v, "default_material");
   if (auto v = top.get("materials")) {
-    if (!v->IsSequence()) throw f.error(*v, "materials", "must be a list of {name, relative_permittivity, conductivity_s_m, thickness_m}");
+    if (!v->IsSequence()) throw f.error(*v, "materials", "must be a list of {name, relative_permittivity, conductivity_s_m, thickness_m, solid}");
     for (size_t i = 0; i < v->size(); ++i) {
       io::YamlMap m(f, (*v)[i], "materials[" + std::to_string(i) + "]");
       const std::string name = f.scalar(m.required("name"), m.field("name"));
@@ -43,7 +43,7 @@ MaterialRules load_material_rules(const std::string& path) {
       if (!(eps > 0.0)) throw f.error(eps_node, m.field("relative_permittivity"), "must be > 0 (got " + num(eps) + ")");
       const double sigma = m.non_negative({"conductivity_s_m"}, 0.0);
       const double thickness = m.non_negative({"thickness_m"}, 0.0);
-      // Gazebo's <box>, <cylinder> and mesh collisions are closed solids: `solid: true` makes a wall's box one slab
+      // Gazebo's <box> and <cylinder> collisions are closed solids: `solid: true` makes a wall's box one slab
       // (RadioMaterial::solid) instead of two.
       bool solid = false;
       if (auto s = m.get("solid")) solid = f.boolean(*s, m.field("solid"));
