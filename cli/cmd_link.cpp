@@ -115,7 +115,7 @@ nlohmann::json channel_json(const Channel& channel, const Endpoint& antenna, con
     // Every interaction point in order (reflection points, the diffraction point on the edge).
     nlohmann::json points = nlohmann::json::array();
     if (p.kind != PathKind::kLineOfSight) points.push_back({p.point.x(), p.point.y(), p.point.z()});
-    if (p.kind == PathKind::kReflection2) {
+    if (p.kind == PathKind::kReflection2 || p.kind == PathKind::kDiffraction2) {
       points.push_back({p.point2.x(), p.point2.y(), p.point2.z()});
       one["material2"] = p.material2;
     }
@@ -215,6 +215,7 @@ struct LinkOptions {
   bool solid = false;  // --solid: every material's faces bound closed solids
   double drop_db = TraceOptions{}.drop_below_db;
   double thin_post_max_width_m = TraceOptions{}.thin_post_max_width_m;
+  double double_diffraction_max_m = TraceOptions{}.double_diffraction_max_m;
   std::string tag_antenna, tag_chip = "matched", tag_backing;  // core/tag_antenna.h; "" = the point tag
   bool json = false;
   io::WorldSourceOptions world;  // --world instead of --scene
@@ -314,6 +315,8 @@ int run_link(const LinkOptions& o) {
   trace.drop_below_db = o.drop_db;
   limits::check_range(o.thin_post_max_width_m, 0.0, 1.0, "--thin-post-max-width", "m");
   trace.thin_post_max_width_m = o.thin_post_max_width_m;
+  limits::check_range(o.double_diffraction_max_m, 0.0, 100.0, "--double-diffraction-max", "m");
+  trace.double_diffraction_max_m = o.double_diffraction_max_m;
   limits::check_range(o.frequency_hz, limits::kMinFrequencyHz, limits::kMaxFrequencyHz, "--frequency", "Hz");
   limits::check_range(o.tx_power_dbm, -limits::kMaxPowerDbm, limits::kMaxPowerDbm, "--tx-power", "dBm");
   if (o.thickness_m >= 0.0) limits::check_range(o.thickness_m, 0.0, 100.0, "--thickness", "m");
@@ -458,6 +461,8 @@ std::function<int()> setup_link(CLI::App& app) {
   cmd->add_option("--drop-db", o->drop_db, "drop paths this many dB below the strongest");
   cmd->add_option("--thin-post-max-width", o->thin_post_max_width_m,
                   "full-selective, full: metal posts at most this wide (m) scatter as cylinders; 0 = as faces and edges");
+  cmd->add_option("--double-diffraction-max", o->double_diffraction_max_m,
+                  "full-selective, full: diffract twice between parallel edges at most this far apart (m); 0 = off");
   cmd->add_option("--tag-antenna", o->tag_antenna,
                   "the tag as an antenna: dipole:LENGTH_M:RADIUS_M[:CONDUCTIVITY_S_M] | table:FILE.csv (docs/tag-antenna.md)");
   cmd->add_option("--tag-chip", o->tag_chip, "matched[:DESIGN_HZ] | series:R_OHM:C_F | parallel:R_OHM:C_F (with --tag-antenna)");

@@ -13,7 +13,11 @@ namespace rfidray {
 // kEdgeNearField: level full's near field of an edge at an end a few centimetres from it (core/edge_near_field.h),
 // listed beside the edge's diffracted ray with the same point and length.
 // kPostScattering: the field scattered by a thin metal post (levels full-selective and full: raytrace/thin_posts.h).
-enum class PathKind { kLineOfSight, kBlocked, kReflection, kReflection2, kDiffraction, kEdgeNearField, kPostScattering };
+// kDiffraction2: diffracted at two parallel edges in turn (levels full-selective and full:
+// raytrace/double_diffraction.cpp), e.g. along a shelf plate from its front edge to its back edge.
+enum class PathKind {
+  kLineOfSight, kBlocked, kReflection, kReflection2, kDiffraction, kEdgeNearField, kPostScattering, kDiffraction2
+};
 
 inline const char* to_string(PathKind k) {
   switch (k) {
@@ -24,6 +28,7 @@ inline const char* to_string(PathKind k) {
     case PathKind::kDiffraction: return "diffraction";
     case PathKind::kEdgeNearField: return "edge-near-field";
     case PathKind::kPostScattering: return "post";
+    case PathKind::kDiffraction2: return "diffraction2";
   }
   return "?";
 }
@@ -32,10 +37,11 @@ struct Path {
   PathKind kind = PathKind::kLineOfSight;
   double length_m = 0.0;
   // Interaction point: the reflection point for reflections (the first one for reflection2), the diffraction
-  // point on the edge for diffraction; for blocked paths the first crossing.
+  // point on the edge for diffraction (on the first edge for diffraction2); for blocked paths the first crossing.
   Vec3 point = Vec3::Zero();
   std::string material;  // material of the reflecting / crossed surface, or of the wedge's face 0 ("" for LoS)
-  // reflection2: the second reflection point and its surface's material.
+  // reflection2: the second reflection point and its surface's material; diffraction2: the second edge's
+  // diffraction point and its face 0's material.
   Vec3 point2 = Vec3::Zero();
   std::string material2;
   int crossings = 0;     // surfaces crossed (blocked paths)

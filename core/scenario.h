@@ -95,6 +95,7 @@ struct ChannelOptionsSpec {
   std::optional<double> drop_below_db;
   std::optional<double> max_path_length_m;
   std::optional<double> thin_post_max_width_m;  // full-selective, full: posts this thin scatter as cylinders (0 = off)
+  std::optional<double> double_diffraction_max_m;  // full-selective, full: parallel edges this close diffract twice (0 = off)
   double auto_phase_tolerance_rad = 0.05;     // channel: auto
   double auto_rssi_tolerance_db = 0.5;
   size_t auto_sample_links = 2000;

@@ -774,6 +774,12 @@ ChannelOptionsSpec parse_channel_options(const YamlFile& src, const YAML::Node& 
                                  "must be at most 1 m (a thin post is a fraction of a wavelength across)");
     c.thin_post_max_width_m = w;
   }
+  if (m.has("double_diffraction_max_m")) {
+    const double d = m.non_negative({"double_diffraction_max_m"}, 1.0);
+    if (d > 100.0) throw src.error(*m.get("double_diffraction_max_m"), m.field("double_diffraction_max_m"),
+                                   "must be at most 100 m");
+    c.double_diffraction_max_m = d;
+  }
   c.auto_phase_tolerance_rad = m.non_negative({"auto_phase_tolerance_rad"}, c.auto_phase_tolerance_rad);
   c.auto_rssi_tolerance_db = m.non_negative({"auto_rssi_tolerance_db"}, c.auto_rssi_tolerance_db);
   if (auto n = m.get("auto_sample_links")) {

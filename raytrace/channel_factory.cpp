@@ -43,6 +43,7 @@ TraceOptions trace_options(const ChannelOptionsSpec& spec) {
   if (spec.drop_below_db) o.drop_below_db = *spec.drop_below_db;
   if (spec.max_path_length_m) o.max_path_length_m = *spec.max_path_length_m;
   if (spec.thin_post_max_width_m) o.thin_post_max_width_m = *spec.thin_post_max_width_m;
+  if (spec.double_diffraction_max_m) o.double_diffraction_max_m = *spec.double_diffraction_max_m;
   return o;
 }
 

@@ -126,6 +126,9 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
   if (includes(options_.level, ChannelLevel::kFullSelective)) {
     edges_ = extract_edges(*scene_);
     posts_ = find_thin_posts(*scene_, edges_, options_.thin_post_max_width_m);
+    std::vector<uint8_t> post_edge(edges_.size(), 0);
+    for (size_t i = 0; i < edges_.size(); ++i) post_edge[i] = posts_.post_of_edge[i] != kNoPost;
+    edge_pairs_ = find_edge_pairs(edges_, post_edge, options_.double_diffraction_max_m);
   }
 }
 
@@ -372,6 +375,11 @@ void PathFinder::trace_impl(const Endpoint& antenna, const Endpoint& tag, double
     diffractions(antenna, tag, frequency_hz, floor_so_far(), out);
     std::sort(out.begin() + first, out.end(), [](const TracedPath& x, const TracedPath& y) {
       return std::tie(x.length_m, x.edge) < std::tie(y.length_m, y.edge);
+    });
+    first = out.size();
+    double_diffractions(antenna, tag, frequency_hz, floor_so_far(), out);
+    std::stable_sort(out.begin() + first, out.end(), [](const TracedPath& x, const TracedPath& y) {
+      return std::tie(x.length_m, x.edge, x.edge2) < std::tie(y.length_m, y.edge, y.edge2);
     });
   }
   // Drop paths far below the strongest (power ratio); a lone path is the strongest.
@@ -1019,7 +1027,7 @@ Path PathFinder::to_path(const TracedPath& p) const {
   out.length_m = p.length_m;
   out.point = p.point;
   if (p.material != kNoMaterial) out.material = scene_->materials()[p.material].name;
-  if (p.kind == PathKind::kReflection2) {
+  if (p.kind == PathKind::kReflection2 || p.kind == PathKind::kDiffraction2) {
     out.point2 = p.point2;
     if (p.material2 != kNoMaterial) out.material2 = scene_->materials()[p.material2].name;
   }

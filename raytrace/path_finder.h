@@ -50,6 +50,7 @@
 #include "core/channel.h"
 #include "core/path.h"
 #include "raytrace/covered_rects.h"
+#include "raytrace/edge_pairs.h"
 #include "raytrace/edges.h"
 #include "raytrace/scene.h"
 #include "raytrace/thin_posts.h"
@@ -77,10 +78,11 @@ struct TracedPath {
   Vec3 point = Vec3::Zero();
   uint32_t material = kNoMaterial;  // reflecting or first crossed surface (diffraction: face 0's)
   uint32_t facet = kNoFacet;        // reflecting facet (reflection2: the first)
-  Vec3 point2 = Vec3::Zero();       // reflection2: the second reflection point
+  Vec3 point2 = Vec3::Zero();       // reflection2: the second reflection point; diffraction2: the second edge's
   uint32_t material2 = kNoMaterial;
   uint32_t facet2 = kNoFacet;
-  uint32_t edge = kNoEdge;          // diffraction: index into PathFinder::edges()
+  uint32_t edge = kNoEdge;          // diffraction: index into PathFinder::edges() (diffraction2: the first edge)
+  uint32_t edge2 = kNoEdge;         // diffraction2: the second edge
   uint32_t post = kNoPost;          // post: index into PathFinder::posts()
   int crossings = 0;
   std::complex<double> coefficient{1.0, 0.0};
@@ -260,6 +262,9 @@ class PathFinder {
   }
   // Level full (diffraction.cpp): every edge.
   void diffractions(const Endpoint& a, const Endpoint& t, double f, double floor, std::vector<TracedPath>& out) const;
+  // Levels full-selective and full (double_diffraction.cpp): every pair of edge_pairs_, in both orders.
+  void double_diffractions(const Endpoint& a, const Endpoint& t, double f, double floor,
+                           std::vector<TracedPath>& out) const;
 
   std::shared_ptr<const Scene> scene_;
   TraceOptions options_;
@@ -269,6 +274,7 @@ class PathFinder {
   std::vector<uint32_t> plane_of_facet_;
   std::vector<std::vector<uint32_t>> plane_members_;  // facets of each plane group
   std::vector<Edge> edges_;
+  std::vector<EdgePair> edge_pairs_;  // parallel edges within TraceOptions::double_diffraction_max_m
   ThinPosts posts_;
   std::vector<uint64_t> occupancy_;
   std::vector<ExactGroup> exact_groups_;

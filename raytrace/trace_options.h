@@ -50,6 +50,12 @@ struct TraceOptions {
   // their faces and diffracting at their edges. 0.15 m ≈ 0.43 λ at 866 MHz: a rack upright (5–10 cm), not a
   // column. 0 = off (every post is faces and edges, as before).
   double thin_post_max_width_m = 0.15;
+  // Levels full-selective and full: second-order diffraction (raytrace/double_diffraction.cpp) between two edges
+  // (parallel ones, or two of one facet) where the leg between them is at most this long (metres): a shelf plate's
+  // front and back edges (0.3–0.6 m deep), its side and back edges, the two plates of a bay. Relative to a single
+  // diffraction the second one scales as 1/√(k·s12): beyond a few wavelengths it is small. 0 = off (first-order
+  // diffraction only, as before).
+  double double_diffraction_max_m = 1.0;
   // Level los: trace a pose's visibility rays in Embree packets (rtcOccluded4/8/16) when timing them on the
   // first pose shows a packet width ≥ 1.25× faster than single rays (raytraced_channel.h). Off by default:
   // Embree's packet and single-ray kernels disagree on some near-degenerate rays (a ray in a triangle's

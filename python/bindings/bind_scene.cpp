@@ -247,7 +247,7 @@ as in a scenario file ('isotropic' | 'dipole' | {kind: patch, gain_dbi: 8, beamw
            pyb::arg("scene"), pyb::arg("level") = "single-bounce",
            R"(level: ideal | los | los+blocked | single-bounce (auto needs a run: use simulate()). Keyword options
 are a scenario's channel_options: candidates, candidate_rays, candidate_spread, drop_below_db,
-max_path_length_m, thin_post_max_width_m. scene may be None for the ideal channel.)")
+max_path_length_m, thin_post_max_width_m, double_diffraction_max_m. scene may be None for the ideal channel.)")
       .def_property_readonly("name", [](const PyChannel& c) { return c.channel->name(); })
       .def(
           "paths",

@@ -441,6 +441,15 @@ TEST(ScenarioYaml, ChannelOptionsAndAuto) {
   EXPECT_NE(wide.find("at most 1 m"), std::string::npos) << wide;
   EXPECT_NE(error_of(base + "channel_options:\n  thin_post_max_width_m: -1\n").find("thin_post_max_width_m"),
             std::string::npos);
+  // Double diffraction: 0 (off) … 100 m.
+  EXPECT_EQ(*parse_scenario(base + "channel_options:\n  double_diffraction_max_m: 0.5\n", "s.yaml")
+                 .channel_options.double_diffraction_max_m,
+            0.5);
+  EXPECT_FALSE(parse_scenario(base, "s.yaml").channel_options.double_diffraction_max_m);
+  const std::string far = error_of(base + "channel_options:\n  double_diffraction_max_m: 200\n");
+  EXPECT_NE(far.find("channel_options.double_diffraction_max_m"), std::string::npos) << far;
+  EXPECT_NE(error_of(base + "channel_options:\n  double_diffraction_max_m: -1\n").find("double_diffraction_max_m"),
+            std::string::npos);
 }
 
 }  // namespace

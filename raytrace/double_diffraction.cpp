@@ -1,0 +1,245 @@
+// Levels full-selective and full: second-order diffraction at two edges (raytrace/edge_pairs.h: parallel edges, and
+// any two edges of one facet), the path A → Q1 (edge 1) → Q2 (edge 2) → T. Why: between the two plates of a rack bay first-order UTD lights each plate's
+// back edge with the free-space field and the plate's full reflection, but the back edge lies in the front edge's
+// transition region (a ray grazing the plate at 7–11°, its first Fresnel zone along the plate metres long): the
+// field that reaches it is the front edge's incident and reflected fields plus that edge's diffracted field, which
+// only this path carries. Against FDTD (docs/fullwave.md, rack bay) it halves `full`'s error there.
+//
+// Geometry: Keller's law at both edges (each edge's two legs at equal angles to it) is Fermat's principle, the length
+// L(t1, t2) = |Q1 − A| + |Q2 − Q1| + |T − Q2| stationary in the two points' positions along their edges. L is convex
+// (a sum of norms of affine maps), so its stationary point is its minimum: for parallel edges in closed form (every
+// leg at one angle to them, the unfolded path straight: with ρ0, ρ12, ρ2 the distances across the edges' direction
+// and z along it, z_Q1 = z_A + (z_T − z_A)·ρ0/(ρ0 + ρ12 + ρ2), z_Q2 = z_A + (z_T − z_A)·(ρ0 + ρ12)/(ρ0 + ρ12 + ρ2)),
+// otherwise by Newton's method on the 2 × 2 system. A point off its edge: no path.
+// Field (KP's spherical-wave diffraction twice): edge 1's diffracted wave at Q2 is astigmatic, radius ρ1 = s12 across
+// edge 1 (its caustic is the edge) and ρ2 = s' + s12 along it; edge 2 sees it with the radius ρe of its normal section
+// in edge 2's plane of incidence (1/ρe = cos²θ/ρ1 + sin²θ/ρ2, θ between that section and edge 1's φ̂), and a
+// straight edge's diffracted wave keeps ρe as its caustic distance (KP eq. 16 with no edge curvature):
+//   E = E_A(ŝ') · e^{−jkL} · D1 · D2 · (1/s')·√(s'/(s12(s' + s12))) · √(ρe/(s(ρe + s))),  L = s' + s12 + s,
+// with D1 for source A and observer Q2 (L1 = s' s12 sin²β1/(s' + s12)) and D2 for that wave (KP's general
+// L2 = s(ρe + s)ρ1ρ2 sin²β2/(ρe(ρ1 + s)(ρ2 + s))), each a dyadic in its own edge-fixed basis
+// (raytrace/diffraction.cpp). For parallel edges ρe = ρ2 and the amplitude is √(L/(s' s12 s))/L.
+// When the two edges bound one facet the leg between them runs along it (grazing): edge 1's field along the face is
+// its diffracted field at φ = 0 (or nπ), and edge 2's hard coefficient at grazing incidence is halved, since its two
+// terms then count one field twice (Kouyoumjian & Pathak, Proc. IEEE 62(11), 1974, the note after eq. 31). Both sides
+// of a sheet carry such a leg (a half-plane's two faces); a solid's edge only its outside. The soft coefficient
+// vanishes at grazing (the field along a conductor's face with E along the edge is zero): slope diffraction, which
+// would carry that case, is not modelled.
+// Not modelled: more than two diffractions (a path whose last leg grazes a face, e.g. in a plate's plane beyond its
+// edge, needs a third to be continuous), diffraction combined with reflection, non-parallel edges of different
+// facets, and whether a leg across a non-convex facet stays on it.
+#include <algorithm>
+#include <cmath>
+
+#include "core/fresnel.h"
+#include "core/units.h"
+#include "core/utd.h"
+#include "raytrace/path_finder.h"
+
+namespace rfidray {
+namespace {
+
+constexpr double kDoubleDiffractionOnEdgeM = 1e-6;  // an end this close to an edge's line is on it
+
+// The angles of a direction `v` and a source `v_source` (both ⟂ the edge) about edge e, with `v` exactly on the
+// face `graze_facet` (a grazing leg, side `side`: the face's normal or its opposite), snapped to 0 or nπ.
+bool grazing_angles(const Edge& e, const Vec3& into_face, const Vec3& side, const Vec3& v_other, bool graze_is_source,
+                    WedgeAngles& w) {
+  const Vec3 v_graze = into_face + 1e-6 * side;  // just off the face on that side: which region it is in
+  const bool ok = graze_is_source ? wedge_angles(e, v_graze, v_other, w) : wedge_angles(e, v_other, v_graze, w);
+  if (!ok) return false;
+  double& a = graze_is_source ? w.phi_prime_rad : w.phi_rad;
+  a = a < 0.5 * w.n * kPi ? 0.0 : w.n * kPi;
+  return true;
+}
+
+double sq(double x) { return x * x; }
+
+// The two diffraction points of edges e1, e2 (not parallel) for A and T: the minimum of the path's length over
+// their positions t1, t2 along the edges, by Newton's method with a backtracking line search (L is convex). False
+// when it does not converge or a point falls off its edge.
+bool keller_points(const Edge& e1, const Edge& e2, const Vec3& a, const Vec3& t, double& t1, double& t2) {
+  const Vec3 &d1 = e1.direction, &d2 = e2.direction;
+  const auto length = [&](double x1, double x2) {
+    const Vec3 q1 = e1.start + x1 * d1, q2 = e2.start + x2 * d2;
+    return (q1 - a).norm() + (q2 - q1).norm() + (t - q2).norm();
+  };
+  t1 = 0.5 * e1.length_m;
+  t2 = 0.5 * e2.length_m;
+  double l = length(t1, t2);
+  for (int iteration = 0; iteration < 60; ++iteration) {
+    const Vec3 q1 = e1.start + t1 * d1, q2 = e2.start + t2 * d2;
+    const Vec3 u = q1 - a, v = q2 - q1, w = t - q2;
+    const double nu = u.norm(), nv = v.norm(), nw = w.norm();
+    if (!(nu > 1e-12 && nv > 1e-12 && nw > 1e-12)) return false;
+    const Vec3 uh = u / nu, vh = v / nv, wh = w / nw;
+    const double g1 = d1.dot(uh - vh), g2 = d2.dot(vh - wh);
+    if (std::abs(g1) < 1e-13 && std::abs(g2) < 1e-13) break;
+    const double h11 = (1.0 - sq(d1.dot(uh))) / nu + (1.0 - sq(d1.dot(vh))) / nv;
+    const double h22 = (1.0 - sq(d2.dot(vh))) / nv + (1.0 - sq(d2.dot(wh))) / nw;
+    const double h12 = -(d1.dot(d2) - d1.dot(vh) * d2.dot(vh)) / nv;
+    const double det = h11 * h22 - h12 * h12;
+    if (!(det > 1e-300)) return false;
+    double step1 = -(h22 * g1 - h12 * g2) / det, step2 = -(h11 * g2 - h12 * g1) / det;
+    // Backtrack until the length decreases (Newton's step on a convex function is a descent direction).
+    double scale = 1.0, next = length(t1 + step1, t2 + step2);
+    while (next > l && scale > 1e-6) {
+      scale *= 0.5;
+      next = length(t1 + scale * step1, t2 + scale * step2);
+    }
+    t1 += scale * step1;
+    t2 += scale * step2;
+    if (std::abs(scale * step1) < 1e-13 && std::abs(scale * step2) < 1e-13) break;
+    l = next;
+  }
+  const Vec3 q1 = e1.start + t1 * d1, q2 = e2.start + t2 * d2;
+  const double g1 = d1.dot((q1 - a).normalized() - (q2 - q1).normalized());
+  const double g2 = d2.dot((q2 - q1).normalized() - (t - q2).normalized());
+  if (!(std::abs(g1) < 1e-9 && std::abs(g2) < 1e-9)) return false;
+  return t1 >= 0.0 && t1 <= e1.length_m && t2 >= 0.0 && t2 <= e2.length_m;
+}
+
+}  // namespace
+
+void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, double f, double floor,
+                                     std::vector<TracedPath>& out) const {
+  if (edge_pairs_.empty()) return;
+  const Vec3& a = ant.pose.position;
+  const Vec3& t = tag.pose.position;
+  const double k = wavenumber_rad_m(f);
+  const auto& facets = scene_->facets();
+  const auto& materials = scene_->materials();
+  const EmbreeScene& bvh = scene_->bvh();
+  using C = std::complex<double>;
+  for (const EdgePair& pair : edge_pairs_) {
+    for (int order = 0; order < 2; ++order) {
+      const uint32_t i1 = order == 0 ? pair.first : pair.second, i2 = order == 0 ? pair.second : pair.first;
+      const Edge& e1 = edges_[i1];
+      const Edge& e2 = edges_[i2];
+      const Vec3& d = e1.direction;
+      Vec3 q1, q2, va, vt2;  // va: A from edge 1's line; vt2: T from edge 2's line (both ⟂ their edge)
+      if (pair.parallel) {
+        // Across the edges: A from edge 1's line, edge 2's line from edge 1's, T from edge 2's line.
+        const Vec3 ra = a - e1.start, rt = t - e1.start, r12 = e2.start - e1.start;
+        const double za = ra.dot(d), zt = rt.dot(d);
+        va = ra - za * d;
+        const Vec3 w12 = r12 - r12.dot(d) * d;
+        vt2 = (rt - zt * d) - w12;
+        const double rho0 = va.norm(), rho12 = w12.norm(), rho2 = vt2.norm();
+        if (rho0 < kDoubleDiffractionOnEdgeM || rho2 < kDoubleDiffractionOnEdgeM) continue;
+        const double total = rho0 + rho12 + rho2;
+        const double zq1 = za + (zt - za) * rho0 / total, zq2 = za + (zt - za) * (rho0 + rho12) / total;
+        if (zq1 < 0.0 || zq1 > e1.length_m) continue;
+        q1 = e1.start + zq1 * d;
+        q2 = e1.start + w12 + zq2 * d;
+        const double along2 = (q2 - e2.start).dot(e2.direction);
+        if (along2 < 0.0 || along2 > e2.length_m) continue;
+      } else {
+        const Vec3 ra = a - e1.start, rt = t - e2.start;
+        va = ra - ra.dot(d) * d;
+        vt2 = rt - rt.dot(e2.direction) * e2.direction;
+        if (va.norm() < kDoubleDiffractionOnEdgeM || vt2.norm() < kDoubleDiffractionOnEdgeM) continue;
+        double t1 = 0.0, t2 = 0.0;
+        if (!keller_points(e1, e2, a, t, t1, t2)) continue;
+        q1 = e1.start + t1 * d;
+        q2 = e2.start + t2 * e2.direction;
+      }
+      const Vec3 s1 = q1 - a, s12v = q2 - q1, s2 = t - q2;
+      const double s_in = s1.norm(), s12 = s12v.norm(), s_out = s2.norm();
+      if (!(s_in > 0.0 && s12 > 0.0 && s_out > 0.0)) continue;
+      if (s12 > options_.double_diffraction_max_m) continue;  // the leg between the edges: short, or not modelled
+      const double length = s_in + s12 + s_out;
+      if (length * length > max_length2_) continue;
+      const Vec3 s_hat_in = s1 / s_in, s_hat_mid = s12v / s12, s_hat_out = s2 / s_out;
+      const double sin_beta1 = s_hat_in.cross(d).norm(), sin_beta2 = s_hat_mid.cross(e2.direction).norm();
+      if (sin_beta1 < 1e-9 || sin_beta2 < 1e-9) continue;
+      const double beta1 = std::atan2(sin_beta1, s_hat_in.dot(d));
+      const double beta2 = std::atan2(sin_beta2, s_hat_mid.dot(e2.direction));
+      // The leg between the edges, across each edge (from edge 1 into its side; from edge 2 back to edge 1).
+      const Vec3 w1 = s12v - s12v.dot(d) * d, w2 = -(s12v - s12v.dot(e2.direction) * e2.direction);
+      if (w1.norm() < kDoubleDiffractionOnEdgeM || w2.norm() < kDoubleDiffractionOnEdgeM) continue;
+      const Vec3 u1 = w1.normalized(), u2 = w2.normalized();
+      // One leg between the edges in free space, or one per side of their shared face (a sheet's two sides).
+      const Vec3 face_normal = pair.shared_facet != kNoFacet ? facets[pair.shared_facet].normal : Vec3::Zero();
+      const int sides = pair.shared_facet != kNoFacet ? 2 : 1;
+      for (int side_index = 0; side_index < sides; ++side_index) {
+        const Vec3 side = side_index == 0 ? face_normal : Vec3(-face_normal);
+        WedgeAngles wa1, wa2;
+        const bool grazing = pair.shared_facet != kNoFacet;
+        if (grazing) {
+          // The leg lies on the facet: across each edge it must point into the facet's side of that edge.
+          if (facet_towards(e1, u1) != pair.shared_facet || facet_towards(e2, u2) != pair.shared_facet) continue;
+          if (!grazing_angles(e1, u1, side, va, /*graze_is_source=*/false, wa1)) continue;
+          if (!grazing_angles(e2, u2, side, vt2, /*graze_is_source=*/true, wa2)) continue;
+        } else {
+          if (!wedge_angles(e1, va, w1, wa1) || !wedge_angles(e2, w2, vt2, wa2)) continue;
+        }
+        // Edge 1's diffracted wave at Q2: radius s12 along φ̂1 (across edge 1), s' + s12 along β̂1; edge 2's
+        // plane of incidence cuts it along t2 (⟂ ŝ12, in the plane of ŝ12 and edge 2).
+        const double rho1 = s12, rho2 = s_in + s12;
+        const Vec3 phi1 = d.cross(s_hat_mid).normalized();
+        const Vec3 section = (e2.direction - e2.direction.dot(s_hat_mid) * s_hat_mid).normalized();
+        const double cos2 = sq(section.dot(phi1));
+        const double rho_e = 1.0 / (cos2 / rho1 + (1.0 - cos2) / rho2);
+        const double l1 = s_in * s12 * sin_beta1 * sin_beta1 / (s_in + s12);
+        const double l2 = s_out * (rho_e + s_out) * rho1 * rho2 * sin_beta2 * sin_beta2 /
+                          (rho_e * (rho1 + s_out) * (rho2 + s_out));
+        const auto coefficients = [&](const WedgeAngles& w, double beta0, double l) {
+          const RadioMaterial& m0 = materials[facets[w.face0].material];
+          const RadioMaterial& mn = materials[facets[w.facen].material];
+          const FresnelCoefficients r0 = material_reflection(m0, f, std::abs(std::sin(w.phi_prime_rad)));
+          const FresnelCoefficients rn = material_reflection(mn, f, std::abs(std::sin(w.n * kPi - w.phi_rad)));
+          return wedge_diffraction(w.n, w.phi_rad, w.phi_prime_rad, beta0, l, k, r0, rn);
+        };
+        const UtdCoefficients d1 = coefficients(wa1, beta1, l1);
+        UtdCoefficients d2 = coefficients(wa2, beta2, l2);
+        if (grazing) d2.hard *= 0.5;  // KP: at grazing incidence the hard coefficient's two terms are one field
+        // Edge-fixed bases (KP), as in diffraction.cpp: φ̂' = −ê × ŝ' / |·|, β̂0' = φ̂' × ŝ', φ̂ = ê × ŝ / |·|, β̂0 = φ̂ × ŝ.
+        const Vec3 phi_in1 = -(d.cross(s_hat_in)).normalized(), beta_in1 = phi_in1.cross(s_hat_in);
+        const Vec3 phi_out1 = d.cross(s_hat_mid).normalized(), beta_out1 = phi_out1.cross(s_hat_mid);
+        const Vec3& d2v = e2.direction;
+        const Vec3 phi_in2 = -(d2v.cross(s_hat_mid)).normalized(), beta_in2 = phi_in2.cross(s_hat_mid);
+        const Vec3 phi_out2 = d2v.cross(s_hat_out).normalized(), beta_out2 = phi_out2.cross(s_hat_out);
+        const CVec3 e_in = ant.polarization.field(ant.pose.orientation, s_hat_in);
+        const CVec3 e_mid = -(d1.soft * beta_in1.cast<C>().dot(e_in)) * beta_out1.cast<C>() -
+                            (d1.hard * phi_in1.cast<C>().dot(e_in)) * phi_out1.cast<C>();
+        const CVec3 e_out = -(d2.soft * beta_in2.cast<C>().dot(e_mid)) * beta_out2.cast<C>() -
+                            (d2.hard * phi_in2.cast<C>().dot(e_mid)) * phi_out2.cast<C>();
+        const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, s_hat_in) *
+                                      tag.pattern.gain_linear_world(tag.pose.orientation, -s_hat_out));
+        const double spreading = (length / s_in) * std::sqrt(s_in / (s12 * (s_in + s12))) *
+                                 std::sqrt(rho_e / (s_out * (rho_e + s_out)));
+        const C coefficient = gain * spreading *
+                              polarization_match(e_out, tag.polarization, tag.pose.orientation, s_hat_out);
+        const C contribution = path_contribution(length, coefficient, f);
+        if (std::norm(contribution) < floor) continue;  // would be dropped: no ray for it
+        // Legs: from each edge point (where float precision matters), stopping short of the ends; the grazing
+        // leg just off its face on its side.
+        const double end_in = std::min(options_.endpoint_epsilon_m, 0.25 * s_in);
+        const double end_out = std::min(options_.endpoint_epsilon_m, 0.25 * s_out);
+        const double end_mid = std::min(options_.endpoint_epsilon_m, 0.25 * s12);
+        const Vec3 mid_origin = grazing ? Vec3(q1 + options_.surface_epsilon_m * side) : q1;
+        if (bvh.occluded(q1, -s_hat_in, end_in, s_in - end_in) ||
+            bvh.occluded(mid_origin, s_hat_mid, end_mid, s12 - end_mid) ||
+            bvh.occluded(q2, s_hat_out, end_out, s_out - end_out))
+          continue;
+        TracedPath p;
+        p.kind = PathKind::kDiffraction2;
+        p.length_m = length;
+        p.point = q1;
+        p.point2 = q2;
+        p.material = facets[wa1.face0].material;
+        p.material2 = facets[wa2.face0].material;
+        p.facet = wa1.face0;
+        p.facet2 = wa2.face0;
+        p.edge = i1;
+        p.edge2 = i2;
+        p.coefficient = coefficient;
+        p.contribution = contribution;
+        out.push_back(p);
+      }
+    }
+  }
+}
+
+}  // namespace rfidray
