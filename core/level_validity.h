@@ -10,14 +10,14 @@
 // which no ray carries; GO + UTD is off by ~0.38 of the incident field at kρ = 0.73, 0.10 at kρ = 2.9). Level full
 // adds that near field (core/edge_near_field.h) where the canonical problem holds; its estimate is what the
 // near field's weight leaves out, and never less than what the FDTD runs of bench/fullwave/ measured for `full`
-// beside a finite sheet lit from 1 m (docs/fullwave.md: 0.03 along the edge, 0.14 / 0.12 / 0.06 / 0.05 across it
+// beside a finite sheet lit from 1 m (docs/fullwave.md: 0.03 along the edge, 0.12 / 0.10 / 0.04 / 0.04 across it
 // at kρ ≤ 1.1 / 2.2 / 4.4 / 9).
 //
 // What that canonical check covers and what it does not (docs/fullwave.md, with the full-wave FDTD runs of
 // bench/fullwave/ that check the geometries it leaves out):
 //   - covered: one straight edge of a wedge or a sheet, faces of metal, the other end far from the edge;
 //   - flagged, not covered: a second edge close to the same end (a corner, a narrow plate or a 3 cm shelf lip:
-//     double diffraction, which no level has), the other end close to the same edge too (the incident wave is
+//     double diffraction, which `full` has only in UTD's form, not checked this close), the other end close to the same edge too (the incident wave is
 //     not plane there), faces that are not metal (UTD with Luebbers' heuristic coefficients).
 //   - judged from the FDTD runs of the geometries the wedge does not cover (core/obstacle_sight.h; the estimate is
 //     the measured median error of the level there, bench/results/fullwave/CASE.csv): a narrow obstacle on or

@@ -183,9 +183,11 @@ const EdgeProximity& RaytracedChannel::edge_index() const {
 }
 
 ObstacleSight RaytracedChannel::obstacle_sight(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) const {
-  return find_obstacles(scene(), edge_index(), antenna.pose.position, tag.pose.position, frequency_hz,
-                        level_validity_reach_m(frequency_hz), finder_.options().surface_epsilon_m,
-                        finder_.post_of_edge());
+  ObstacleSight o = find_obstacles(scene(), edge_index(), antenna.pose.position, tag.pose.position, frequency_hz,
+                                   level_validity_reach_m(frequency_hz), finder_.options().surface_epsilon_m,
+                                   finder_.post_of_edge());
+  if (o.plates) o.plates->second_order_diffraction = finder_.options().double_diffraction_max_m >= o.plates->gap_m;
+  return o;
 }
 
 std::optional<EdgeSight> RaytracedChannel::nearest_edge(const Endpoint& end_point, const Endpoint& other_point,

@@ -222,11 +222,11 @@ TEST(ThinPosts, FullIsCloseToFdtdWhereShelvesRunThroughThePost) {
   std::sort(face_errors.begin(), face_errors.end());
   EXPECT_LT(errors[4], 0.08);                    // median
   EXPECT_GT(face_errors[4], 2.0 * errors[4]);    // and twice better than faces and edges
-  // A tag 6 cm in front of the shelves, 8 cm from the post and off the direct line (0.135 off): validity says so.
+  // A tag 6 cm in front of the shelves, 8 cm from the post and off the direct line (0.063 off; 0.135 with first-order
+  // diffraction only): validity names the post and estimates what FDTD measured beside it (median 0.07).
   const LevelValidity v =
       level_validity(ChannelLevel::kFull, link_sight(c, z_dipole_at(a), z_dipole_at(Vec3(0.10, -0.06, 0.0)), kF), kF);
-  EXPECT_FALSE(v.level_ok) << v.reason;
-  EXPECT_NEAR(v.estimated_error, 0.11, 1e-12);
+  EXPECT_NEAR(v.estimated_error, 0.07, 1e-12);
   EXPECT_NE(v.reason.find("off the direct line"), std::string::npos) << v.reason;
 }
 
