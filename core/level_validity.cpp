@@ -163,8 +163,9 @@ LevelValidity level_validity(ChannelLevel level, const std::optional<EdgeSight>&
   if (sight->second_edge_m && k * *sight->second_edge_m < kNearEdgeKrho) {
     v.level_ok = false;
     append(v.reason, "a second edge " + centimetres(*sight->second_edge_m) +
-                         " away (a corner or a narrow plate): double diffraction, which no level has, is not checked "
-                         "here; the error is at least the above");
+                         " away (a corner or a narrow plate): the two edges interact (full diffracts twice only "
+                         "between edges λ/2 or more apart, and no level diffracts at corners), not checked here; the "
+                         "error is at least the above");
   }
   if (k * sight->other_distance_m < kNearEdgeKrho) {
     v.level_ok = false;

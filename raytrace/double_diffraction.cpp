@@ -55,10 +55,70 @@ bool grazing_angles(const Edge& e, const Vec3& into_face, const Vec3& side, cons
 
 double sq(double x) { return x * x; }
 
+// Two edges that meet at a corner C (not parallel): whether the shortest path A → edge 1 → edge 2 → T is the one
+// through C itself, where the middle leg vanishes. L is convex, so that is when 0 is in its subdifferential at C:
+// some z with |z| ≤ 1 (the subgradients of |Q2 − Q1| at 0) has d1·z = d1·(C − A)/|C − A| and d2·z = d2·(T − C)/|T − C|;
+// the shortest such z lies in the plane of d1 and d2. Exact, and cheap where Newton's method would crawl to the kink.
+bool corner_is_shortest(const Edge& e1, const Edge& e2, const Vec3& a, const Vec3& t) {
+  const Vec3 ends1[2] = {e1.start, e1.start + e1.length_m * e1.direction};
+  const Vec3 ends2[2] = {e2.start, e2.start + e2.length_m * e2.direction};
+  for (const Vec3& c1 : ends1)
+    for (const Vec3& c2 : ends2) {
+      if ((c1 - c2).squaredNorm() > 1e-18) continue;
+      const Vec3 ca = c1 - a, tc = t - c1;
+      if (ca.norm() < 1e-12 || tc.norm() < 1e-12) return true;
+      const double p = e1.direction.dot(ca.normalized()), q = e2.direction.dot(tc.normalized());
+      const double c = e1.direction.dot(e2.direction);
+      const double alpha = (p - c * q) / (1.0 - c * c), beta = (q - c * p) / (1.0 - c * c);
+      return alpha * p + beta * q <= 1.0;
+    }
+  return false;  // they do not meet
+}
+
+// The Fermat point of a path F → line → P on a line (origin o, unit direction d): its coordinate along the line,
+// dividing [z_F, z_P] in the ratio ρ_F : ρ_P of the two points' distances from it (unclamped; NaN if both are on it).
+double fermat_on_line(const Vec3& o, const Vec3& d, const Vec3& f, const Vec3& p) {
+  const Vec3 rf = f - o, rp = p - o;
+  const double zf = rf.dot(d), zp = rp.dot(d);
+  const double rho_f = (rf - zf * d).norm(), rho_p = (rp - zp * d).norm();
+  return zf + (zp - zf) * rho_f / (rho_f + rho_p);
+}
+
+// Whether the shortest path A → edge 1 → edge 2 → T over the two edges' whole lines has both points on the edges,
+// without finding it. h(t2) = min over t1 of L(t1, t2) is convex (L is jointly convex), its minimizer is the path's
+// t2, and by the envelope theorem h'(t2) = ∂L/∂t2 at t1 = the Fermat point on line 1 of A and Q2(t2), in closed
+// form. So t2 ∈ [0, len2] exactly when h' ≤ 0 at 0 and ≥ 0 at len2; likewise t1. Four closed-form evaluations
+// that reject, exactly, the pairs whose path is off an edge (most pairs, most links) before Newton's method.
+bool path_points_on_edges(const Edge& e1, const Edge& e2, const Vec3& a, const Vec3& t) {
+  const Vec3 &d1 = e1.direction, &d2 = e2.direction;
+  const auto g1 = [&](double t1, double t2) {  // ∂L/∂t1 = d1·(û − v̂)
+    const Vec3 q1 = e1.start + t1 * d1, q2 = e2.start + t2 * d2;
+    return d1.dot((q1 - a).normalized() - (q2 - q1).normalized());
+  };
+  const auto g2 = [&](double t1, double t2) {  // ∂L/∂t2 = d2·(v̂ − ŵ)
+    const Vec3 q1 = e1.start + t1 * d1, q2 = e2.start + t2 * d2;
+    return d2.dot((q2 - q1).normalized() - (t - q2).normalized());
+  };
+  for (double t2 : {0.0, e2.length_m}) {
+    const double t1 = fermat_on_line(e1.start, d1, a, e2.start + t2 * d2);
+    if (!std::isfinite(t1)) return true;  // degenerate: let Newton's method decide
+    const double slope = g2(t1, t2);
+    if (t2 == 0.0 ? slope > 0.0 : slope < 0.0) return false;
+  }
+  for (double t1 : {0.0, e1.length_m}) {
+    const double t2 = fermat_on_line(e2.start, d2, t, e1.start + t1 * d1);
+    if (!std::isfinite(t2)) return true;
+    const double slope = g1(t1, t2);
+    if (t1 == 0.0 ? slope > 0.0 : slope < 0.0) return false;
+  }
+  return true;
+}
+
 // The two diffraction points of edges e1, e2 (not parallel) for A and T: the minimum of the path's length over
 // their positions t1, t2 along the edges, by Newton's method with a backtracking line search (L is convex). False
-// when it does not converge or a point falls off its edge.
-bool keller_points(const Edge& e1, const Edge& e2, const Vec3& a, const Vec3& t, double& t1, double& t2) {
+// when it does not converge, a point falls off its edge, or the leg between them falls below `min_leg_m`.
+bool keller_points(const Edge& e1, const Edge& e2, const Vec3& a, const Vec3& t, double min_leg_m, double& t1,
+                   double& t2) {
   const Vec3 &d1 = e1.direction, &d2 = e2.direction;
   const auto length = [&](double x1, double x2) {
     const Vec3 q1 = e1.start + x1 * d1, q2 = e2.start + x2 * d2;
@@ -71,7 +131,9 @@ bool keller_points(const Edge& e1, const Edge& e2, const Vec3& a, const Vec3& t,
     const Vec3 q1 = e1.start + t1 * d1, q2 = e2.start + t2 * d2;
     const Vec3 u = q1 - a, v = q2 - q1, w = t - q2;
     const double nu = u.norm(), nv = v.norm(), nw = w.norm();
-    if (!(nu > 1e-12 && nv > 1e-12 && nw > 1e-12)) return false;
+    // The middle leg shrinking to nothing: the minimum is the kink where the two edges meet (a corner, which
+    // diffracts as a corner, not modelled), where L is not differentiable and Newton would crawl.
+    if (!(nu > 1e-12 && nv > min_leg_m && nw > 1e-12)) return false;
     const Vec3 uh = u / nu, vh = v / nv, wh = w / nw;
     const double g1 = d1.dot(uh - vh), g2 = d2.dot(vh - wh);
     if (std::abs(g1) < 1e-13 && std::abs(g2) < 1e-13) break;
@@ -83,7 +145,7 @@ bool keller_points(const Edge& e1, const Edge& e2, const Vec3& a, const Vec3& t,
     double step1 = -(h22 * g1 - h12 * g2) / det, step2 = -(h11 * g2 - h12 * g1) / det;
     // Backtrack until the length decreases (Newton's step on a convex function is a descent direction).
     double scale = 1.0, next = length(t1 + step1, t2 + step2);
-    while (next > l && scale > 1e-6) {
+    while (next > l && scale > 1e-9) {
       scale *= 0.5;
       next = length(t1 + scale * step1, t2 + scale * step2);
     }
@@ -111,7 +173,9 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
   const auto& materials = scene_->materials();
   const EmbreeScene& bvh = scene_->bvh();
   using C = std::complex<double>;
+  const double min_leg_m = 0.5 * wavelength_m(f);
   for (const EdgePair& pair : edge_pairs_) {
+    if (pair.distance_m > options_.double_diffraction_max_m) continue;
     for (int order = 0; order < 2; ++order) {
       const uint32_t i1 = order == 0 ? pair.first : pair.second, i2 = order == 0 ? pair.second : pair.first;
       const Edge& e1 = edges_[i1];
@@ -139,15 +203,20 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
         va = ra - ra.dot(d) * d;
         vt2 = rt - rt.dot(e2.direction) * e2.direction;
         if (va.norm() < kDoubleDiffractionOnEdgeM || vt2.norm() < kDoubleDiffractionOnEdgeM) continue;
+        if (!path_points_on_edges(e1, e2, a, t)) continue;
+        if (pair.distance_m == 0.0 && corner_is_shortest(e1, e2, a, t)) continue;
         double t1 = 0.0, t2 = 0.0;
-        if (!keller_points(e1, e2, a, t, t1, t2)) continue;
+        if (!keller_points(e1, e2, a, t, 0.1 * min_leg_m, t1, t2)) continue;
         q1 = e1.start + t1 * d;
         q2 = e2.start + t2 * e2.direction;
       }
       const Vec3 s1 = q1 - a, s12v = q2 - q1, s2 = t - q2;
       const double s_in = s1.norm(), s12 = s12v.norm(), s_out = s2.norm();
       if (!(s_in > 0.0 && s12 > 0.0 && s_out > 0.0)) continue;
-      if (s12 > options_.double_diffraction_max_m) continue;  // the leg between the edges: short, or not modelled
+      // The leg between the edges: at most double_diffraction_max_m, and at least λ/2 (k·s12 ≥ π): UTD at edge 2
+      // takes edge 1's diffracted field there for a ray. Closer edges (a 3 cm shelf's two front edges) are one thick
+      // edge, which this does not model.
+      if (s12 > options_.double_diffraction_max_m || s12 < min_leg_m) continue;
       const double length = s_in + s12 + s_out;
       if (length * length > max_length2_) continue;
       const Vec3 s_hat_in = s1 / s_in, s_hat_mid = s12v / s12, s_hat_out = s2 / s_out;

@@ -313,6 +313,39 @@ def doorway() -> Case:
     )
 
 
+# Case (g): a link grazing a shelf plate's corner (the paper warehouse's fixed antenna reads a tag past a shelf's
+# corner so): a horizontal PEC plate 0.6 × 0.6 m (z = 0, x, y ∈ [0, 0.6]), its corner at the origin; a z dipole
+# (normal to the plate: E across both edges) in front of the edge y = 0, just above the plate's plane; tags beyond the
+# edge x = 0, just above and below the plane. The paths that diffract at the edge y = 0 and then at the edge x = 0,
+# across the plate near its corner, are second-order diffraction between two edges of one facet.
+def plate_corner() -> Case:
+    plate = Box((0.0, 0.0, 0.0), (0.6, 0.6, 0.0), "metal")
+    source = (0.45, -0.8, 0.05)
+    specs = []
+    # Below the plane: the direct line crosses the plate at (cx, cy), a few centimetres from its corner (shadowed);
+    # above it at the same x, y: lit.
+    for cx, cy, z in ((0.03, 0.03, -0.02), (0.08, 0.03, -0.02), (0.03, 0.08, -0.02), (0.10, 0.10, -0.02),
+                      (0.03, 0.03, -0.03), (0.08, 0.08, -0.03)):
+        f = (source[2] - z) / source[2]
+        x, y = source[0] + f * (cx - source[0]), source[1] + f * (cy - source[1])
+        x, y = round(x, 3), round(y, 3)
+        specs.append((f"shadow_c{cx * 100:.0f}_{cy * 100:.0f}_z{z * 100:+.0f}", (x, y, z), "shadowed by the corner"))
+        specs.append((f"lit_c{cx * 100:.0f}_{cy * 100:.0f}_z{-z * 100:+.0f}", (x, y, -z), "lit, beyond the corner"))
+    return Case(
+        name="plate_corner",
+        description="horizontal PEC plate 0.6 × 0.6 m (z = 0, x, y ∈ [0, 0.6]), corner at the origin; z dipole at "
+                    "(0.45, −0.8, 0.05); tags beyond the corner 2–3 cm below the plate's plane, shadowed by it a few "
+                    "centimetres from the corner, and as far above it, lit",
+        boxes=(plate,),
+        source=source,
+        axis="z",
+        observers=_labelled(specs, (plate,)),
+        domain_lo=(-0.40, -0.95, -0.30),
+        domain_hi=(0.75, 0.80, 0.30),
+        polarization_name="vertical (z), across both edges",
+    )
+
+
 CASES = {
     "sheet_edge_soft": lambda: sheet_edge("z"),
     "sheet_edge_hard": lambda: sheet_edge("x"),
@@ -323,4 +356,5 @@ CASES = {
     "upright_hard": lambda: upright("x"),
     "rack_post": rack_post,
     "doorway": doorway,
+    "plate_corner": plate_corner,
 }

@@ -18,7 +18,7 @@ import numpy as np
 
 from summary import read_rows
 
-CASES = ("concrete_wall", "doorway", "plate_front", "rack_bay", "upright", "upright_hard", "rack_post")
+CASES = ("concrete_wall", "doorway", "plate_front", "rack_bay", "upright", "upright_hard", "rack_post", "plate_corner")
 LEVELS = ("los", "los+blocked", "single-bounce", "double-bounce", "full-selective", "full")
 CONVERGED = 0.05
 

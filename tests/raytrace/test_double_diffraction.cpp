@@ -105,7 +105,8 @@ TEST(DoubleDiffraction, PathsObeyKellersLawAtBothEdges) {
   finder.prepare_pose(a, candidates);
   std::vector<TracedPath> paths;
   size_t checked = 0, parallel = 0;  // parallel pairs in closed form, the others by Newton's method
-  for (const Vec3& t : {Vec3(0.3, 0.05, 0.0), Vec3(-0.2, 0.3, 0.1), Vec3(0.25, -0.2, 0.15), Vec3(0.0, 0.8, -0.1)}) {
+  for (const Vec3& t : {Vec3(0.3, 0.05, 0.0), Vec3(-0.2, 0.3, 0.1), Vec3(0.25, -0.2, 0.15), Vec3(0.0, 0.8, -0.1),
+                        Vec3(0.6, 0.7, 0.05), Vec3(-0.7, 0.2, -0.05)}) {
     finder.trace(z_dipole_at(a), z_dipole_at(t), kF, candidates, paths);
     for (const TracedPath& p : paths) {
       if (p.kind != PathKind::kDiffraction2) continue;
@@ -129,7 +130,7 @@ TEST(DoubleDiffraction, PathsObeyKellersLawAtBothEdges) {
     }
   }
   EXPECT_GT(parallel, 10u);
-  EXPECT_GT(checked - parallel, 10u);
+  EXPECT_GT(checked - parallel, 5u);  // 8 here: a pair of one facet needs its leg ≥ λ/2 and both points on the edges
 }
 
 TEST(DoubleDiffraction, Reciprocal) {
@@ -231,6 +232,41 @@ TEST(DoubleDiffraction, RackBayCloserToFdtd) {
   };
   EXPECT_GT(median(before), 0.11);
   EXPECT_LT(median(after), 0.095);
+}
+
+// A link grazing a plate's corner (plate_corner.csv: a 0.6 × 0.6 m plate in z = 0, corner at the origin; a z dipole at
+// (0.45, −0.8, 0.05); tags beyond the corner 2–3 cm below and above the plane; 30/60 px/m, spread ≤ 0.017). A field
+// with E normal to a plate grazing it hardly sees it: FDTD gives 0.97–1.03 of the free-space field everywhere.
+// First-order diffraction is 0.61–0.94 off; where a path diffracts at the edge y = 0 and then at x = 0, across the
+// plate near its corner (two edges of one facet), the second diffraction brings it to 0.05–0.17. Where the shortest
+// such path is through the corner itself (the tags whose direct line crosses the plate 3 cm from both edges) there
+// is none, and `full` stays 0.84–0.86 off: a corner's own diffraction, not modelled.
+TEST(DoubleDiffraction, PlateCornerCloserToFdtd) {
+  TriangleMesh m;
+  m.name = "plate";
+  m.material_names = {"metal"};
+  add_quad(m, Vec3(0.0, 0.0, 0.0), Vec3(0.6, 0.0, 0.0), Vec3(0.0, 0.6, 0.0), 0, 1, 1);
+  std::vector<TriangleMesh> meshes;
+  meshes.push_back(std::move(m));
+  const auto scene = std::make_shared<const Scene>(std::move(meshes), MaterialAssignment{});
+  const RaytracedChannel first_order(scene, full_options(0.0)), second_order(scene, full_options());
+  const Vec3 a(0.45, -0.8, 0.05);
+  size_t with_path = 0;
+  for (const auto& o : read_fdtd("plate_corner.csv")) {
+    const auto paths = second_order.paths(z_dipole_at(a), z_dipole_at(o.position), kF);
+    const bool across_the_corner =
+        std::any_of(paths.begin(), paths.end(), [](const Path& p) { return p.kind == PathKind::kDiffraction2; });
+    const auto ratio = [&](const RaytracedChannel& c) { return h_of(c, z_dipole_at(a), z_dipole_at(o.position)) / h_free(a, o.position); };
+    const double before = std::abs(ratio(first_order) - o.field), after = std::abs(ratio(second_order) - o.field);
+    EXPECT_GT(before, 0.5) << o.name;
+    if (across_the_corner) {
+      ++with_path;
+      EXPECT_LT(after, 0.2) << o.name;
+    } else {
+      EXPECT_NEAR(after, before, 1e-12) << o.name;  // nothing added where no second-order path exists
+    }
+  }
+  EXPECT_EQ(with_path, 6u);
 }
 
 }  // namespace
