@@ -4,12 +4,13 @@
 // (core/channel_error.h: p95 round-trip phase and RSSI errors over links readable in either, read flips).
 //
 //   bench_levels [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes paper,w10k,w1m] [--reference LEVEL]
-//                [--reference-candidates exhaustive|exact] [--skipped-fractions 0.02,0.1] [--posts-as-faces]
+//                [--reference-candidates exhaustive|exact] [--skipped-fractions 0.02,0.1] [--posts-as-faces] [--first-order-too]
 // (--reference double-bounce: what double reflections alone add, without diffraction. --reference-candidates
 // fast: the same paths, for scenes where the exhaustive search is too slow (w1m: ~1 s per link at full).
 // --skipped-fractions: full-selective once per ε, TraceOptions::diffraction_skipped_fraction. --posts-as-faces: also
 // full-selective and full with thin posts as faces and edges (TraceOptions::thin_post_max_width_m = 0), as before
 // they were cylinders: what the post model costs and how much it changes a link, in the same run.)
+// --first-order-too: also full-selective and full without second-order diffraction (double_diffraction_max_m = 0).
 // Writes DIR/levels.csv and DIR/levels_pareto.png (error against µs per link).
 #include <omp.h>
 
@@ -64,6 +65,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   bool posts_as_faces = false;
   app.add_flag("--posts-as-faces", posts_as_faces, "also full-selective and full with thin posts as faces and edges");
+  bool first_order_too = false;
+  app.add_flag("--first-order-too", first_order_too,
+               "also full-selective and full with first-order diffraction only (double_diffraction_max_m = 0)");
   app.add_option("--skipped-fractions", fractions_list,
                  "full-selective: skipped fractions ε of |h| (TraceOptions::diffraction_skipped_fraction), comma-separated")
       ->capture_default_str();
@@ -108,7 +112,13 @@ int main(int argc, char** argv) {
     }
     const auto with_faces = [&](const std::string& label, TraceOptions t) {
       rows.emplace_back(label, t);
-      if (!posts_as_faces || !includes(level, ChannelLevel::kFullSelective)) return;
+      if (!includes(level, ChannelLevel::kFullSelective)) return;
+      if (first_order_too) {
+        TraceOptions first = t;
+        first.double_diffraction_max_m = 0.0;
+        rows.emplace_back(label + " first order", first);
+      }
+      if (!posts_as_faces) return;
       t.thin_post_max_width_m = 0.0;
       rows.emplace_back(label + " posts as faces", t);
     };
