@@ -72,9 +72,11 @@ std::vector<EdgePair> find_edge_pairs(std::span<const Edge> edges, std::span<con
     int axis = 0;
     for (int i = 1; i < 3; ++i)
       if (std::abs(head[i]) < std::abs(head[axis])) axis = i;
-    const auto lo = [&](uint32_t e) { return std::min(edges[e].start[axis], (edges[e].start + edges[e].length_m * edges[e].direction)[axis]); };
-    const auto hi = [&](uint32_t e) { return std::max(edges[e].start[axis], (edges[e].start + edges[e].length_m * edges[e].direction)[axis]); };
-    std::sort(group.begin(), group.end(), [&](uint32_t a, uint32_t b) { return std::pair(lo(a), a) < std::pair(lo(b), b); });
+    const auto end_coordinate = [&](uint32_t e) { return (edges[e].start + edges[e].length_m * edges[e].direction)[axis]; };
+    const auto lo = [&](uint32_t e) { return std::min(edges[e].start[axis], end_coordinate(e)); };
+    const auto hi = [&](uint32_t e) { return std::max(edges[e].start[axis], end_coordinate(e)); };
+    std::sort(group.begin(), group.end(),
+              [&](uint32_t a, uint32_t b) { return std::pair(lo(a), a) < std::pair(lo(b), b); });
     for (size_t x = 0; x < group.size(); ++x) {
       const Edge& ei = edges[group[x]];
       const double reach = hi(group[x]) + max_distance_m;
