@@ -179,8 +179,7 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
   const EmbreeScene& bvh = scene_->bvh();
   using C = std::complex<double>;
   const double min_leg_m = 0.5 * wavelength_m(f);
-  for (const EdgePair& pair : edge_pairs_) {
-    if (pair.distance_m > options_.double_diffraction_max_m) continue;
+  for (const EdgePair& pair : edge_pairs_) {  // found within double_diffraction_max_m (raytrace/edge_pairs.h)
     for (int order = 0; order < 2; ++order) {
       const uint32_t i1 = order == 0 ? pair.first : pair.second, i2 = order == 0 ? pair.second : pair.first;
       const Edge& e1 = edges_[i1];
