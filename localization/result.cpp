@@ -24,6 +24,7 @@ const char* to_string(FailReason r) {
     case FailReason::kAmbiguousPeak: return "ambiguous: another optimum fits as well";
     case FailReason::kBehindAntenna: return "behind the antenna";
     case FailReason::kMultipath: return "multipath from the scene";
+    case FailReason::kNotLocated: return "not located: 95% region wider than the search region";
   }
   return "?";
 }

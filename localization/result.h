@@ -4,7 +4,7 @@
 //   uncertain — a position and its 95 % radius, with the reason it is not ok (radius above the request, a misfit
 //               larger than the phase model allows, a short aperture): the answer, but not the accuracy asked for;
 //   failed    — no position (too few reads, separated optima that fit equally, no convergence, a fit the prior
-//               excludes), with the reason.
+//               excludes, a 95 % radius wider than the search region), with the reason.
 // Never a silent wrong point: an uncertain position is reported with its radius and its reason.
 #include <cmath>
 #include <limits>
@@ -30,6 +30,7 @@ enum class FailReason {
   kAmbiguousPeak,     // another optimum (not the mirror) outside the confidence region fits nearly as well
   kBehindAntenna,     // --mirror-prior boresight, yet the best fit lies behind the antenna (prior and data disagree)
   kMultipath,         // the known scene's extra paths bend the phase at the estimate by more than it can be trusted
+  kNotLocated,        // the 95 % region is wider than the search region (max_range_m): the reads do not place the tag
 };
 
 const char* to_string(Method m);

@@ -140,6 +140,33 @@ TEST_P(EachMethod, RadiusAboveTheLimitIsUncertainWithItsPosition) {
   EXPECT_DOUBLE_EQ(r.uncertainty_m, ok.uncertainty_m);
 }
 
+// A 95 % region wider than the search region places the tag nowhere the search region did not: failed, no
+// position (not a point with a radius of kilometres, as some real AdaRF fits had).
+TEST_P(EachMethod, RadiusWiderThanTheSearchRegionIsFailedWithoutAPosition) {
+  const Vec3 tag(0.5, 0.0, 2.05);  // 1.5 m from a 0.8 m straight pass (x = −1): the range is poorly determined
+  SyntheticSpec s = clean_spec();
+  s.phase_noise_rad = 0.8;
+  const TagReads reads = synthesize("t", tag, straight_path(0.8), s);
+  LocalizeOptions o = options_2d();
+  o.mirror_prior = MirrorPrior::kPoint;
+  o.prior_point = tag;
+  o.max_range_m = 6.0;
+  const LocalizeResult wide = localize(GetParam(), reads, o);
+  ASSERT_TRUE(wide.has_position()) << to_string(wide.reason) << ": " << wide.detail;
+  // A search region that still holds the fit (its distance from the path + 10 cm) but is narrower than its radius.
+  const double reach_m = std::hypot(wide.position.x() + 1.0, std::max(0.0, std::abs(wide.position.y()) - 0.4)) + 0.1;
+  ASSERT_LT(reach_m, wide.uncertainty_m);
+  o.max_range_m = reach_m;
+  const LocalizeResult r = localize(GetParam(), reads, o);
+  EXPECT_EQ(r.status(), Status::kFailed) << to_string(r.reason) << ": " << r.detail;
+  EXPECT_EQ(r.reason, FailReason::kNotLocated) << r.detail;
+  EXPECT_FALSE(r.position.allFinite());
+  EXPECT_NE(r.detail.find("wider than the search region"), std::string::npos) << r.detail;
+  // The same reads with the region as wide as the radius: the position is given again.
+  o.max_range_m = wide.uncertainty_m * 1.01;
+  EXPECT_TRUE(localize(GetParam(), reads, o).has_position());
+}
+
 TEST_P(EachMethod, StraightPathIsAmbiguousMirror) {
   const TagReads reads = synthesize("t", kTag, straight_path(6.0), clean_spec());
   const LocalizeResult r = localize(GetParam(), reads, options_2d());
