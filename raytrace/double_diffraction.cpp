@@ -33,10 +33,12 @@
 // facets, and whether a leg across a non-convex facet stays on it.
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "core/fresnel.h"
 #include "core/units.h"
 #include "core/utd.h"
+#include "raytrace/line_feet.h"
 #include "raytrace/path_finder.h"
 
 namespace rfidray {
@@ -71,8 +73,10 @@ bool corner_is_shortest(const Edge& e1, const Edge& e2, const Vec3& a, const Vec
     for (const Vec3& c2 : ends2) {
       if ((c1 - c2).squaredNorm() > 1e-18) continue;
       const Vec3 ca = c1 - a, tc = t - c1;
-      if (ca.norm() < 1e-12 || tc.norm() < 1e-12) return true;
-      const double p = e1.direction.dot(ca.normalized()), q = e2.direction.dot(tc.normalized());
+      const double ca_norm = ca.norm(), tc_norm = tc.norm();
+      if (ca_norm < 1e-12 || tc_norm < 1e-12) return true;
+      // v / |v| is Eigen's normalized() to the bit (it divides by the same square root).
+      const double p = e1.direction.dot(ca / ca_norm), q = e2.direction.dot(tc / tc_norm);
       const double c = e1.direction.dot(e2.direction);
       const double alpha = (p - c * q) / (1.0 - c * c), beta = (q - c * p) / (1.0 - c * c);
       return alpha * p + beta * q <= 1.0;
@@ -179,21 +183,26 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
   const EmbreeScene& bvh = scene_->bvh();
   using C = std::complex<double>;
   const double min_leg_m = 0.5 * wavelength_m(f);
+  // A and T seen from every paired edge's line, once per link instead of once per pair and order (an edge is in
+  // many pairs). Per-thread scratch: no allocation once warm.
+  thread_local std::vector<LineFeet> tl_feet;
+  tl_feet.resize(edges_.size());
+  for (const uint32_t ei : paired_edges_) tl_feet[ei] = line_feet(edges_[ei].start, edges_[ei].direction, a, t);
   for (const EdgePair& pair : edge_pairs_) {  // found within double_diffraction_max_m (raytrace/edge_pairs.h)
     for (int order = 0; order < 2; ++order) {
       const uint32_t i1 = order == 0 ? pair.first : pair.second, i2 = order == 0 ? pair.second : pair.first;
       const Edge& e1 = edges_[i1];
       const Edge& e2 = edges_[i2];
       const Vec3& d = e1.direction;
+      const LineFeet& feet1 = tl_feet[i1];
       Vec3 q1, q2, va, vt2;  // va: A from edge 1's line; vt2: T from edge 2's line (both ⟂ their edge)
       if (pair.parallel) {
         // Across the edges: A from edge 1's line, edge 2's line from edge 1's, T from edge 2's line.
-        const Vec3 ra = a - e1.start, rt = t - e1.start, r12 = e2.start - e1.start;
-        const double za = ra.dot(d), zt = rt.dot(d);
-        va = ra - za * d;
-        const Vec3 w12 = r12 - r12.dot(d) * d;
-        vt2 = (rt - zt * d) - w12;
-        const double rho0 = va.norm(), rho12 = w12.norm(), rho2 = vt2.norm();
+        const double za = feet1.z_a, zt = feet1.z_t;
+        va = feet1.v_a;
+        const Vec3& w12 = pair.offset_m[order];
+        vt2 = feet1.v_t - w12;
+        const double rho0 = feet1.rho_a, rho12 = pair.offset_length_m[order], rho2 = vt2.norm();
         if (rho0 < kDoubleDiffractionOnEdgeM || rho2 < kDoubleDiffractionOnEdgeM) continue;
         const double total = rho0 + rho12 + rho2;
         const double zq1 = za + (zt - za) * rho0 / total, zq2 = za + (zt - za) * (rho0 + rho12) / total;
@@ -203,12 +212,13 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
         const double along2 = (q2 - e2.start).dot(e2.direction);
         if (along2 < 0.0 || along2 > e2.length_m) continue;
       } else {
-        const Vec3 ra = a - e1.start, rt = t - e2.start;
-        va = ra - ra.dot(d) * d;
-        vt2 = rt - rt.dot(e2.direction) * e2.direction;
-        if (va.norm() < kDoubleDiffractionOnEdgeM || vt2.norm() < kDoubleDiffractionOnEdgeM) continue;
-        if (!path_points_on_edges(e1, e2, a, t)) continue;
+        va = feet1.v_a;
+        vt2 = tl_feet[i2].v_t;
+        if (feet1.rho_a < kDoubleDiffractionOnEdgeM || tl_feet[i2].rho_t < kDoubleDiffractionOnEdgeM) continue;
+        // Both tests are exact; the corner's (two square roots) first: it rejects most corner pairs (paper
+        // warehouse: it leaves 5 % of what the slope test leaves), the slope test's sixteen are then mostly spared.
         if (pair.distance_m == 0.0 && corner_is_shortest(e1, e2, a, t)) continue;
+        if (!path_points_on_edges(e1, e2, a, t)) continue;
         double t1 = 0.0, t2 = 0.0;
         if (!keller_points(e1, e2, a, t, 0.1 * min_leg_m, t1, t2)) continue;
         q1 = e1.start + t1 * d;

@@ -136,6 +136,17 @@ std::vector<EdgePair> find_edge_pairs(std::span<const Edge> edges, std::span<con
   pairs.erase(std::unique(pairs.begin(), pairs.end(),
                           [](const EdgePair& a, const EdgePair& b) { return a.first == b.first && a.second == b.second; }),
               pairs.end());
+  for (EdgePair& p : pairs) {
+    if (!p.parallel) continue;
+    for (int order = 0; order < 2; ++order) {
+      const Edge& e1 = edges[order == 0 ? p.first : p.second];
+      const Edge& e2 = edges[order == 0 ? p.second : p.first];
+      const Vec3& d = e1.direction;
+      const Vec3 r12 = e2.start - e1.start;
+      p.offset_m[order] = r12 - r12.dot(d) * d;
+      p.offset_length_m[order] = p.offset_m[order].norm();
+    }
+  }
   return pairs;
 }
 

@@ -21,6 +21,11 @@ struct EdgePair {
   uint32_t shared_facet = kNoFacet;
   double distance_m = 0.0;  // parallel: between the two edges' lines; else between the two segments
   bool parallel = true;
+  // Parallel pairs, per order of the tracer (0: first then second; 1: second then first): the offset of the other
+  // edge's line from the first-taken edge's, ⟂ that edge (from its start to the other's start, minus the part
+  // along it), and its length. The same arithmetic the tracer would do per link, done once.
+  Vec3 offset_m[2] = {Vec3::Zero(), Vec3::Zero()};
+  double offset_length_m[2] = {0.0, 0.0};
 };
 
 // The facet of edge e that the direction `u` (unit, ⟂ the edge) points into from the edge, or kNoFacet.

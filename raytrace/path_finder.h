@@ -275,6 +275,7 @@ class PathFinder {
   std::vector<std::vector<uint32_t>> plane_members_;  // facets of each plane group
   std::vector<Edge> edges_;
   std::vector<EdgePair> edge_pairs_;  // parallel edges within TraceOptions::double_diffraction_max_m
+  std::vector<uint32_t> paired_edges_;  // every edge of edge_pairs_, once, ascending
   ThinPosts posts_;
   std::vector<uint64_t> occupancy_;
   std::vector<ExactGroup> exact_groups_;
