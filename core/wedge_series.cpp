@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
+#include "core/bessel_ladder.h"
 #include "core/fresnel.h"
 #include "core/units.h"
 #include "core/utd.h"
@@ -11,6 +13,10 @@ namespace rfidray {
 namespace {
 
 using C = std::complex<double>;
+
+// Ladders tried for the orders m/n: n = p/q with p ≤ 12 (every wedge whose interior angle is a multiple of 30° or
+// 45°); other wedges take std::cyl_bessel_j per term.
+constexpr int kMaxLadders = 12;
 
 void check(double n, double rho_m, double phi_rad, double phi_prime_rad, double k) {
   const double krho = k * rho_m;
@@ -34,9 +40,37 @@ WedgeField wedge_plane_wave_exact(double n, double rho_m, double phi_rad, double
   // Past ν ≈ x the terms fall faster than geometrically; ν = x + 30 + 4·x^{1/3} leaves < 1e-15 for x ≤ 200
   // (J_ν(x) ≤ (x/2)^ν/Γ(ν+1) and the Debye transition region is ~x^{1/3} wide).
   const double nu_max = x + 30.0 + 4.0 * std::cbrt(x);
+  // When 1/n is a ratio q/p of small integers (a sheet: 1/2; a right-angled wedge: 2/3) the orders m/n = mq/p fall
+  // on p unit ladders (core/bessel_ladder.h): J at every order from p direct evaluations instead of two per term.
+  int p = 0, q = 0;
+  for (int pp = 1; pp <= kMaxLadders && x > 0.0; ++pp) {
+    const double qq = pp / n;
+    if (std::abs(qq - std::round(qq)) <= 1e-12 * qq) {
+      p = pp, q = static_cast<int>(std::round(qq));
+      break;
+    }
+  }
+  const int rungs = static_cast<int>(nu_max) + 3;  // orders up to ν_max + 1 (the derivative's J_{ν+1})
+  thread_local std::vector<double> tl_ladders;      // ladder r at [r·rungs, (r + 1)·rungs): J_{r/p + i}(x)
+  if (p > 0) {
+    tl_ladders.resize(static_cast<size_t>(p) * rungs);
+    for (int r = 0; r < p; ++r) bessel_j_ladder(static_cast<double>(r) / p, x, rungs, &tl_ladders[r * rungs]);
+  }
+  // J_{ν_m}(x) and J_{ν_m + 1}(x).
+  const auto bessel = [&](int m, double nu, double& jn, double& jn1) {
+    if (p > 0) {
+      const int r = (m * q) % p, i = (m * q) / p;
+      jn = tl_ladders[r * rungs + i];
+      jn1 = tl_ladders[r * rungs + i + 1];
+    } else {
+      jn = std::cyl_bessel_j(nu, x);
+      jn1 = std::cyl_bessel_j(nu + 1.0, x);
+    }
+  };
   for (int m = 1; m / n <= nu_max; ++m) {
-    const double nu = m / n;
-    const double jn = std::cyl_bessel_j(nu, x);
+    const double nu = p > 0 ? static_cast<double>(m * q) / p : m / n;
+    double jn = 0.0, jn1 = 0.0;
+    bessel(m, nu, jn, jn1);
     // Past ν = x, J_ν(x) falls monotonically and faster than geometrically: once a term is below 1e-16 of the
     // incident field the rest add less than that (and the derivative terms, ~(ν/x)·J_ν, follow within a few terms).
     if (nu > x + 2.0 && std::abs(jn) * std::max(1.0, nu / std::max(x, 1e-300)) < 1e-16) break;
@@ -45,7 +79,7 @@ WedgeField wedge_plane_wave_exact(double n, double rho_m, double phi_rad, double
     u.soft += (4.0 / n) * jnu * jn * std::sin(nu * phi_prime_rad) * std::sin(nu * phi_rad);
     u.hard += (4.0 / n) * jnu * jn * cos_source * std::cos(nu * phi_rad);
     // J'_ν(x) = (ν/x) J_ν(x) − J_{ν+1}(x) (DLMF 10.6.2): orders stay positive, which std::cyl_bessel_j needs.
-    const double dj = x > 0.0 ? (nu / x) * jn - std::cyl_bessel_j(nu + 1.0, x) : (nu == 1.0 ? 0.5 : 0.0);
+    const double dj = x > 0.0 ? (nu / x) * jn - jn1 : (nu == 1.0 ? 0.5 : 0.0);
     sum_drho += (4.0 / n) * jnu * dj * cos_source * std::cos(nu * phi_rad);
     sum_dphi += (4.0 / n) * jnu * jn * cos_source * -nu * std::sin(nu * phi_rad);
   }
