@@ -88,6 +88,21 @@ TEST(CylinderScattering, HankelExpansionMatchesTheBesselFunctionsWhereItTakesOve
   EXPECT_LT(std::abs(hankel2_zero_far(400.0) - hankel0(400.0)), 1e-3 * std::abs(hankel0(400.0)));
 }
 
+TEST(CylinderScattering, NeumannSeriesGivesTheLibrarysBesselFunctionsOfTheSecondKind) {
+  // Below x = 300 hankel2_orders takes Y_0, Y_1 from Neumann's series over one Miller ladder, then recurs upwards;
+  // above, the library's. Every order against the library, on both sides of the switch, near zeros of J_0 (where a
+  // Wronskian would divide by ~0) and at the thin-wire end.
+  for (double x : {1e-3, 0.02, 0.5, 2.404825557695773, 5.520078110286311, 9.0, 17.3, 29.9, 44.0, 120.0, 299.9, 300.1}) {
+    C h[12];
+    hankel2_orders(x, 12, h, 13);  // 13 significant orders: the Bessel functions up to x = 338, not the expansion
+    for (int n = 0; n < 12; ++n) {
+      const double y = std::cyl_neumann(n, x);
+      EXPECT_NEAR(-h[n].imag(), y, 1e-13 * std::max(1.0, std::abs(y))) << "n " << n << " x " << x;
+      EXPECT_NEAR(h[n].real(), std::cyl_bessel_j(n, x), 1e-13) << "n " << n << " x " << x;
+    }
+  }
+}
+
 TEST(CylinderScattering, ForwardScatteringOfAThickCylinderCastsAShadow) {
   // A cylinder of ka = 6 lit from far away: straight behind it, close to it, the total field is far below the
   // incident one; to the side (90°, lit) it is not.
