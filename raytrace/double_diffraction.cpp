@@ -32,7 +32,10 @@
 // edge, needs a third to be continuous), diffraction combined with reflection, non-parallel edges of different
 // facets, and whether a leg across a non-convex facet stays on it.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <map>
 #include <vector>
 
 #include "core/fresnel.h"
@@ -62,26 +65,35 @@ bool grazing_angles(const Edge& e, const Vec3& into_face, const Vec3& side, cons
 
 double sq(double x) { return x * x; }
 
+// A corner of a pair of edges seen from the link's ends: the unit vectors (C − A)/|C − A| and (T − C)/|T − C|.
+struct CornerView {
+  Vec3 from_a = Vec3::Zero(), to_t = Vec3::Zero();
+  bool on_corner = false;  // A or T within 1e-12 m of C
+};
+
 // Two edges that meet at a corner C (not parallel): whether the shortest path A → edge 1 → edge 2 → T is the one
 // through C itself, where the middle leg vanishes. L is convex, so that is when 0 is in its subdifferential at C:
 // some z with |z| ≤ 1 (the subgradients of |Q2 − Q1| at 0) has d1·z = d1·(C − A)/|C − A| and d2·z = d2·(T − C)/|T − C|;
 // the shortest such z lies in the plane of d1 and d2. Exact, and cheap where Newton's method would crawl to the kink.
-bool corner_is_shortest(const Edge& e1, const Edge& e2, const Vec3& a, const Vec3& t) {
+bool corner_view_is_shortest(const Edge& e1, const Edge& e2, const CornerView& v) {
+  if (v.on_corner) return true;
+  const double p = e1.direction.dot(v.from_a), q = e2.direction.dot(v.to_t);
+  const double c = e1.direction.dot(e2.direction);
+  const double alpha = (p - c * q) / (1.0 - c * c), beta = (q - c * p) / (1.0 - c * c);
+  return alpha * p + beta * q <= 1.0;
+}
+
+// The corner where edges e1 and e2 meet, as e1's end point (the one corner_is_shortest uses), or false.
+bool meeting_corner(const Edge& e1, const Edge& e2, Vec3& corner) {
   const Vec3 ends1[2] = {e1.start, e1.start + e1.length_m * e1.direction};
   const Vec3 ends2[2] = {e2.start, e2.start + e2.length_m * e2.direction};
   for (const Vec3& c1 : ends1)
-    for (const Vec3& c2 : ends2) {
-      if ((c1 - c2).squaredNorm() > 1e-18) continue;
-      const Vec3 ca = c1 - a, tc = t - c1;
-      const double ca_norm = ca.norm(), tc_norm = tc.norm();
-      if (ca_norm < 1e-12 || tc_norm < 1e-12) return true;
-      // v / |v| is Eigen's normalized() to the bit (it divides by the same square root).
-      const double p = e1.direction.dot(ca / ca_norm), q = e2.direction.dot(tc / tc_norm);
-      const double c = e1.direction.dot(e2.direction);
-      const double alpha = (p - c * q) / (1.0 - c * c), beta = (q - c * p) / (1.0 - c * c);
-      return alpha * p + beta * q <= 1.0;
-    }
-  return false;  // they do not meet
+    for (const Vec3& c2 : ends2)
+      if ((c1 - c2).squaredNorm() <= 1e-18) {
+        corner = c1;
+        return true;
+      }
+  return false;
 }
 
 // The Fermat point of a path F → line → P on a line (origin o, unit direction d): its coordinate along the line,
@@ -172,6 +184,27 @@ bool keller_points(const Edge& e1, const Edge& e2, const Vec3& a, const Vec3& t,
 
 }  // namespace
 
+void PathFinder::index_pair_corners() {
+  pair_corners_.clear();
+  pair_corner_of_.assign(2 * edge_pairs_.size(), -1);
+  std::map<std::array<double, 3>, int32_t> index;  // exact coordinates → corner
+  for (size_t pi = 0; pi < edge_pairs_.size(); ++pi) {
+    const EdgePair& pair = edge_pairs_[pi];
+    if (pair.parallel || pair.distance_m != 0.0) continue;
+    for (int order = 0; order < 2; ++order) {
+      const Edge& e1 = edges_[order == 0 ? pair.first : pair.second];
+      const Edge& e2 = edges_[order == 0 ? pair.second : pair.first];
+      Vec3 corner;
+      if (!meeting_corner(e1, e2, corner)) continue;  // touching elsewhere: no corner test
+      // The same point (to the bit) for every pair meeting there: one view per corner and link.
+      const auto [at, added] = index.try_emplace({corner.x(), corner.y(), corner.z()},
+                                                 static_cast<int32_t>(pair_corners_.size()));
+      if (added) pair_corners_.push_back(corner);
+      pair_corner_of_[2 * pi + order] = at->second;
+    }
+  }
+}
+
 void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, double f, double floor,
                                      std::vector<TracedPath>& out) const {
   if (edge_pairs_.empty()) return;
@@ -185,10 +218,34 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
   const double min_leg_m = 0.5 * wavelength_m(f);
   // A and T seen from every paired edge's line, once per link instead of once per pair and order (an edge is in
   // many pairs). Per-thread scratch: no allocation once warm.
+  // Across two parallel edges both diffraction points lie between A's and T's feet on each edge's line (Fermat:
+  // the unfolded path is straight), so a pair whose either edge lies wholly beyond both feet has no path (most
+  // pairs of most links). The slack keeps this a superset of the exact test below: float rounding of the points
+  // (~1e-14 m) and the 1e-6 rad that "parallel" allows (≤ 1e-6 m over a 1 m gap).
+  constexpr double kSpanSlackM = 1e-4;
   thread_local std::vector<LineFeet> tl_feet;
+  thread_local std::vector<uint8_t> tl_span;  // 1: the edge overlaps [min(z_A, z_T), max(z_A, z_T)] along its line
   tl_feet.resize(edges_.size());
-  for (const uint32_t ei : paired_edges_) tl_feet[ei] = line_feet(edges_[ei].start, edges_[ei].direction, a, t);
-  for (const EdgePair& pair : edge_pairs_) {  // found within double_diffraction_max_m (raytrace/edge_pairs.h)
+  tl_span.resize(edges_.size());
+  for (const uint32_t ei : paired_edges_) {
+    const LineFeet& feet = tl_feet[ei] = line_feet(edges_[ei].start, edges_[ei].direction, a, t);
+    tl_span[ei] = std::max(feet.z_a, feet.z_t) >= -kSpanSlackM &&
+                  std::min(feet.z_a, feet.z_t) <= edges_[ei].length_m + kSpanSlackM;
+  }
+  // The corners' directions from A and to T, once per link (corner_is_shortest's arithmetic, shared by the pairs
+  // meeting there).
+  thread_local std::vector<CornerView> tl_corners;
+  tl_corners.resize(pair_corners_.size());
+  for (size_t c = 0; c < pair_corners_.size(); ++c) {
+    const Vec3 ca = pair_corners_[c] - a, tc = t - pair_corners_[c];
+    CornerView& v = tl_corners[c];
+    const double ca_norm = ca.norm(), tc_norm = tc.norm();
+    v.on_corner = ca_norm < 1e-12 || tc_norm < 1e-12;
+    if (!v.on_corner) v.from_a = ca / ca_norm, v.to_t = tc / tc_norm;
+  }
+  for (size_t pi = 0; pi < edge_pairs_.size(); ++pi) {  // found within double_diffraction_max_m (edge_pairs.h)
+    const EdgePair& pair = edge_pairs_[pi];
+    if (pair.parallel && !(tl_span[pair.first] && tl_span[pair.second])) continue;
     for (int order = 0; order < 2; ++order) {
       const uint32_t i1 = order == 0 ? pair.first : pair.second, i2 = order == 0 ? pair.second : pair.first;
       const Edge& e1 = edges_[i1];
@@ -217,7 +274,8 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
         if (feet1.rho_a < kDoubleDiffractionOnEdgeM || tl_feet[i2].rho_t < kDoubleDiffractionOnEdgeM) continue;
         // Both tests are exact; the corner's (two square roots) first: it rejects most corner pairs (paper
         // warehouse: it leaves 5 % of what the slope test leaves), the slope test's sixteen are then mostly spared.
-        if (pair.distance_m == 0.0 && corner_is_shortest(e1, e2, a, t)) continue;
+        const int32_t corner = pair_corner_of_[2 * pi + order];
+        if (corner >= 0 && corner_view_is_shortest(e1, e2, tl_corners[corner])) continue;
         if (!path_points_on_edges(e1, e2, a, t)) continue;
         double t1 = 0.0, t2 = 0.0;
         if (!keller_points(e1, e2, a, t, 0.1 * min_leg_m, t1, t2)) continue;

@@ -133,6 +133,7 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     for (const EdgePair& p : edge_pairs_) paired[p.first] = paired[p.second] = 1;
     for (uint32_t i = 0; i < edges_.size(); ++i)
       if (paired[i]) paired_edges_.push_back(i);
+    index_pair_corners();
   }
 }
 
