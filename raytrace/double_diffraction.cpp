@@ -13,7 +13,7 @@
 // leg at one angle to them, the unfolded path straight: with ρ0, ρ12, ρ2 the distances across the edges' direction
 // and z along it, z_Q1 = z_A + (z_T − z_A)·ρ0/(ρ0 + ρ12 + ρ2), z_Q2 = z_A + (z_T − z_A)·(ρ0 + ρ12)/(ρ0 + ρ12 + ρ2)),
 // otherwise by Newton's method on the 2 × 2 system, after two exact tests that reject most pairs of most links in
-// closed form (path_points_on_edges, corner_is_shortest). A point off its edge: no path.
+// closed form (path_points_on_edges, corner_view_is_shortest). A point off its edge: no path.
 // Field (KP's spherical-wave diffraction twice): edge 1's diffracted wave at Q2 is astigmatic, radius ρ1 = s12 across
 // edge 1 (its caustic is the edge) and ρ2 = s' + s12 along it; edge 2 sees it with the radius ρe of its normal section
 // in edge 2's plane of incidence (1/ρe = cos²θ/ρ1 + sin²θ/ρ2, θ between that section and edge 1's φ̂), and a
@@ -75,6 +75,7 @@ struct CornerView {
 // through C itself, where the middle leg vanishes. L is convex, so that is when 0 is in its subdifferential at C:
 // some z with |z| ≤ 1 (the subgradients of |Q2 − Q1| at 0) has d1·z = d1·(C − A)/|C − A| and d2·z = d2·(T − C)/|T − C|;
 // the shortest such z lies in the plane of d1 and d2. Exact, and cheap where Newton's method would crawl to the kink.
+// `v`: C seen from this link's A and T.
 bool corner_view_is_shortest(const Edge& e1, const Edge& e2, const CornerView& v) {
   if (v.on_corner) return true;
   const double p = e1.direction.dot(v.from_a), q = e2.direction.dot(v.to_t);
@@ -83,7 +84,7 @@ bool corner_view_is_shortest(const Edge& e1, const Edge& e2, const CornerView& v
   return alpha * p + beta * q <= 1.0;
 }
 
-// The corner where edges e1 and e2 meet, as e1's end point (the one corner_is_shortest uses), or false.
+// The corner where edges e1 and e2 meet, as e1's end point (the point the corner test measures from), or false.
 bool meeting_corner(const Edge& e1, const Edge& e2, Vec3& corner) {
   const Vec3 ends1[2] = {e1.start, e1.start + e1.length_m * e1.direction};
   const Vec3 ends2[2] = {e2.start, e2.start + e2.length_m * e2.direction};
@@ -218,6 +219,7 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
   const double min_leg_m = 0.5 * wavelength_m(f);
   // A and T seen from every paired edge's line, once per link instead of once per pair and order (an edge is in
   // many pairs). Per-thread scratch: no allocation once warm.
+  //
   // Across two parallel edges both diffraction points lie between A's and T's feet on each edge's line (Fermat:
   // the unfolded path is straight), so a pair whose either edge lies wholly beyond both feet has no path (most
   // pairs of most links). The slack keeps this a superset of the exact test below: float rounding of the points
@@ -232,8 +234,7 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
     tl_span[ei] = std::max(feet.z_a, feet.z_t) >= -kSpanSlackM &&
                   std::min(feet.z_a, feet.z_t) <= edges_[ei].length_m + kSpanSlackM;
   }
-  // The corners' directions from A and to T, once per link (corner_is_shortest's arithmetic, shared by the pairs
-  // meeting there).
+  // The corners' directions from A and to T, once per link and corner (shared by every pair meeting there).
   thread_local std::vector<CornerView> tl_corners;
   tl_corners.resize(pair_corners_.size());
   for (size_t c = 0; c < pair_corners_.size(); ++c) {
