@@ -32,8 +32,9 @@ import numpy as np
 from scipy.special import fresnel
 
 import cases
-from geometry import K_RAD_M, Box, axis_vector
-from rfidray_link import _hertz_weight, link_json, write_obj
+from geometry import K_RAD_M, Box
+import rfidray_link
+from rfidray_link import link_json, write_obj
 
 FIRST_ORDER = ["--double-diffraction-max", "0"]
 
@@ -44,19 +45,8 @@ def fail(msg):
 
 
 def weighted_paths(j, case, tag):
-    """[(kind, points, contribution)] with the short dipoles' weights (as rfidray_link.link), and h_ideal."""
-    src, axis = np.array(case.source), np.array(axis_vector(case.axis))
-    los = tag - src
-    w_los = _hertz_weight(axis, los) * _hertz_weight(axis, -los)
-    out = []
-    for p in j["raytraced"]["paths"]:
-        pts = [np.array(q) for q in p["points"]] if p["kind"] not in ("los", "blocked") else []
-        first = (pts[0] if pts else tag) - src
-        last = tag - (pts[-1] if pts else src)
-        probe = 1.0 if p["kind"] == "edge-near-field" else _hertz_weight(axis, last)
-        out.append((p["kind"], pts, complex(p["contribution"]["re"], p["contribution"]["im"]) *
-                    _hertz_weight(axis, first) * probe / w_los))
-    return out, complex(j["ideal"]["h"]["re"], j["ideal"]["h"]["im"])
+    """rfidray_link's weighted paths and the ideal channel's h."""
+    return rfidray_link.weighted_paths(j, case, tag), complex(j["ideal"]["h"]["re"], j["ideal"]["h"]["im"])
 
 
 def fresnel_phi(u):

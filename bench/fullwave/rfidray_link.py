@@ -93,16 +93,14 @@ def link_json(binary: str, scene: str, case: Case, position, level: str, thickne
     return json.loads(r.stdout)
 
 
-def link(binary: str, scene: str, case: Case, position, level: str, thickness_m: float | None = None,
-         extra_args=()) -> dict:
-    j = link_json(binary, scene, case, position, level, thickness_m, extra_args)
+def weighted_paths(j: dict, case: Case, position) -> list:
+    """[(kind, points, contribution)] of a `link --json` result, each contribution weighted by the short dipoles'
+    amplitudes (the module's header) relative to the direct line's."""
     src, tag = np.array(case.source), np.array(position, dtype=float)
     axis = np.array(axis_vector(case.axis))
     los = tag - src
     w_los = _hertz_weight(axis, los) * _hertz_weight(axis, -los)
-    h_raw = complex(j["raytraced"]["h"]["re"], j["raytraced"]["h"]["im"])
-    h0 = complex(j["ideal"]["h"]["re"], j["ideal"]["h"]["im"])
-    h = 0j
+    out = []
     for p in j["raytraced"]["paths"]:
         pts = [np.array(q) for q in p["points"]] if p["kind"] not in ("los", "blocked") else []
         first = (pts[0] if pts else tag) - src
@@ -111,7 +109,18 @@ def link(binary: str, scene: str, case: Case, position, level: str, thickness_m:
         # part is not transverse to any ray): only the source's Hertzian amplitude applies.
         probe = 1.0 if p["kind"] == "edge-near-field" else _hertz_weight(axis, last)
         w = _hertz_weight(axis, first) * probe / w_los
-        h += complex(p["contribution"]["re"], p["contribution"]["im"]) * w
+        out.append((p["kind"], pts, complex(p["contribution"]["re"], p["contribution"]["im"]) * w))
+    return out
+
+
+def link(binary: str, scene: str, case: Case, position, level: str, thickness_m: float | None = None,
+         extra_args=()) -> dict:
+    j = link_json(binary, scene, case, position, level, thickness_m, extra_args)
+    h_raw = complex(j["raytraced"]["h"]["re"], j["raytraced"]["h"]["im"])
+    h0 = complex(j["ideal"]["h"]["re"], j["ideal"]["h"]["im"])
+    h = 0j
+    for _, _, c in weighted_paths(j, case, position):
+        h += c
     return {"ratio": h / h0, "ratio_isotropic": h_raw / h0, "paths": [p["kind"] for p in j["raytraced"]["paths"]]}
 
 
