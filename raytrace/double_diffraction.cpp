@@ -185,7 +185,12 @@ bool keller_points(const Edge& e1, const Edge& e2, const Vec3& a, const Vec3& t,
 
 }  // namespace
 
-void PathFinder::index_pair_corners() {
+void PathFinder::index_edge_pairs() {
+  std::vector<uint8_t> paired(edges_.size(), 0);
+  for (const EdgePair& p : edge_pairs_) paired[p.first] = paired[p.second] = 1;
+  paired_edges_.clear();
+  for (uint32_t i = 0; i < edges_.size(); ++i)
+    if (paired[i]) paired_edges_.push_back(i);
   pair_corners_.clear();
   pair_corner_of_.assign(2 * edge_pairs_.size(), -1);
   std::map<std::array<double, 3>, int32_t> index;  // exact coordinates → corner

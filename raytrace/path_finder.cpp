@@ -129,11 +129,7 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     std::vector<uint8_t> post_edge(edges_.size(), 0);
     for (size_t i = 0; i < edges_.size(); ++i) post_edge[i] = posts_.post_of_edge[i] != kNoPost;
     edge_pairs_ = find_edge_pairs(edges_, post_edge, options_.double_diffraction_max_m);
-    std::vector<uint8_t> paired(edges_.size(), 0);
-    for (const EdgePair& p : edge_pairs_) paired[p.first] = paired[p.second] = 1;
-    for (uint32_t i = 0; i < edges_.size(); ++i)
-      if (paired[i]) paired_edges_.push_back(i);
-    index_pair_corners();
+    index_edge_pairs();
   }
 }
 

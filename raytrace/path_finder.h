@@ -274,13 +274,14 @@ class PathFinder {
   std::vector<uint32_t> plane_of_facet_;
   std::vector<std::vector<uint32_t>> plane_members_;  // facets of each plane group
   std::vector<Edge> edges_;
-  std::vector<EdgePair> edge_pairs_;  // parallel edges within TraceOptions::double_diffraction_max_m
-  std::vector<uint32_t> paired_edges_;  // every edge of edge_pairs_, once, ascending
-  // Corners where the edges of a non-parallel pair meet (double_diffraction.cpp), and for each pair and order of
-  // the tracer (2·pair + order) its corner's index, −1 if the edges do not meet at an end.
+  std::vector<EdgePair> edge_pairs_;  // edge pairs within TraceOptions::double_diffraction_max_m (edge_pairs.h)
+  // What the second-order loop reads per link instead of per pair (double_diffraction.cpp, index_edge_pairs): every
+  // edge of edge_pairs_ once, ascending; the corners where a non-parallel pair's edges meet, and for each pair and
+  // order of the tracer (2·pair + order) its corner's index, −1 if the edges do not meet at an end.
+  std::vector<uint32_t> paired_edges_;
   std::vector<Vec3> pair_corners_;
   std::vector<int32_t> pair_corner_of_;
-  void index_pair_corners();
+  void index_edge_pairs();
   ThinPosts posts_;
   std::vector<uint64_t> occupancy_;
   std::vector<ExactGroup> exact_groups_;
