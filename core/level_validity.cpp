@@ -250,6 +250,19 @@ LevelValidity level_validity(ChannelLevel level, const LinkSight& sight, double 
             centimetres(o.plates->gap_m) + " apart: bounces between the plates and their edges interact (FDTD " +
             (o.plates->inside ? "inside" : "in front of") + " a rack bay, docs/fullwave.md)");
   }
+  if (o.edge_end && diffracts) {
+    char b[400];
+    const EdgeEnd& end = *o.edge_end;
+    std::snprintf(b, sizeof b, "a diffraction point %s %s an edge's end, within its Fresnel zone (half-width %s): "
+                  "the edge's term (%.2f of the free-space field) is computed for an infinite edge and dropped past "
+                  "the end, where the edge carries a share of it (docs/fullwave.md, \"Where `full` is "
+                  "discontinuous\"); estimated off by %.2f of the free-space field",
+                  centimetres(std::abs(end.past_end_m)).c_str(), end.past_end_m > 0.0 ? "past" : "inside",
+                  centimetres(end.fresnel_half_width_m).c_str(), end.term_share, end.estimated_error);
+    append(v.reason, b);
+    worst = std::max(worst, end.estimated_error);
+    flagged |= end.estimated_error > kLevelErrorLimit;
+  }
   if (worst > v.estimated_error) set_error(v, worst, relative_amplitude);
   if (flagged && v.level_ok) {
     v.level_ok = false;

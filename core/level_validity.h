@@ -23,7 +23,10 @@
 //     the measured median error of the level there, bench/results/fullwave/CASE.csv): a narrow obstacle on or
 //     beside the direct line (a 5 cm rack upright), the direct line through a penetrable slab near the slab's
 //     edge and an end near a penetrable slab's edge beyond its plane (a concrete wall, a doorway), an end between
-//     or just in front of two facing parallel metal plates (a rack bay).
+//     or just in front of two facing parallel metal plates (a rack bay);
+//   - estimated from the link's own edges (raytrace/edge_end_finder.h, diffracting levels only): a first-order
+//     diffraction point within a Fresnel zone of its edge's end (a plate's corner), where the levels drop the
+//     edge's term at the end and the field jumps.
 // Errors are fractions of the free-space field (|h/h₀ − E/E₀|: the field at this end in units of the incident
 // field at the edge, which is the free-space field when the other end is far). The verdict's dB and rad are what
 // that error can do to a link whose |h/h₀| is given: 20·log10(1 + e/|h/h₀|) (at most 40) and

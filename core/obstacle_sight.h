@@ -3,7 +3,7 @@
 // core/level_validity.h does not cover and that the FDTD runs of bench/fullwave/ found the ray levels wrong in
 // (docs/fullwave.md, "Other geometries"): a narrow obstacle on or beside the direct line (a rack upright), the
 // direct line through a penetrable slab near the slab's edge (a concrete wall), an end between two facing parallel
-// metal plates (a rack bay), an end behind a penetrable slab near its edge or opening (a doorway). Values: raytrace fills them from the scene (Channel::obstacle_sight), core judges
+// metal plates (a rack bay), an end behind a penetrable slab near its edge or opening (a doorway), a diffraction point near its edge's end (a plate's corner). Values: raytrace fills them from the scene (Channel::obstacle_sight), core judges
 // them (core/level_validity.h). Units: metres.
 #include <optional>
 
@@ -57,11 +57,29 @@ struct ParallelPlates {
   bool second_order_diffraction = false;
 };
 
+// A first-order diffraction point near its edge's end (a plate's corner, the end of a shelf's lip): the diffracting
+// levels compute each edge's term as if the edge were infinite and drop it once its Keller point leaves the edge,
+// so the field jumps there by the whole term (0.91 of the free-space field beside a 0.6 m plate's corner,
+// docs/fullwave.md, "Where `full` is discontinuous"). What the edge integral carries instead is its stationary
+// value weighted by the share T of the Fresnel zone that lies on the edge (½ with the point at an end, → 1 deep
+// inside, → 0 far past it: the uniform endpoint evaluation of the edge integral); the estimate is the term's share
+// of the free-space field times |step − T|, step the level's 1 on the edge and 0 off it.
+struct EdgeEnd {
+  double past_end_m = 0.0;            // the Keller point's distance past the nearer end (negative: on the edge)
+  double fresnel_half_width_m = 0.0;  // the edge's first Fresnel zone half-width along it, √(λ s s'/(s + s'))/sin β₀
+  double term_share = 0.0;            // the infinite edge's term there, a fraction of the free-space field
+  double estimated_error = 0.0;       // term_share · |step − T| (see above)
+};
+
 struct ObstacleSight {
   std::optional<NarrowObstacle> narrow;
   std::optional<SlabCrossing> slab;
   std::optional<PenetrableEdge> beyond_slab_edge;
   std::optional<ParallelPlates> plates;
+  std::optional<EdgeEnd> edge_end;  // the link's most uncertain edge end, when its estimate is ≥ kEdgeEndReported
 };
+
+// Below this estimate (a fraction of the free-space field) an edge end is not reported.
+inline constexpr double kEdgeEndReported = 0.05;
 
 }  // namespace rfidray

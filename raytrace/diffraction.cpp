@@ -26,6 +26,7 @@
 #include "core/fresnel.h"
 #include "core/units.h"
 #include "core/utd.h"
+#include "raytrace/diffraction_legs.h"
 #include "raytrace/line_feet.h"
 #include "raytrace/path_finder.h"
 
@@ -105,16 +106,6 @@ void push_diffraction(TracedPath p, bool keep_ray, bool keep_near, std::complex<
   p.coefficient = near;
   p.contribution = near_contribution;
   out.push_back(p);
-}
-
-// Both legs of a diffracted ray clear, each shot from the edge point q (Embree works in float: the ray's origin
-// is where its precision matters, next to the faces that meet at the edge), starting and ending just off the
-// edge and the ends.
-bool legs_clear(const EmbreeScene& bvh, const Vec3& q, const Vec3& s_hat_in, double s_in, const Vec3& s_hat_out,
-                double s_out, double endpoint_epsilon_m) {
-  const double end_in = std::min(endpoint_epsilon_m, 0.25 * s_in);
-  const double end_out = std::min(endpoint_epsilon_m, 0.25 * s_out);
-  return !bvh.occluded(q, -s_hat_in, end_in, s_in - end_in) && !bvh.occluded(q, s_hat_out, end_out, s_out - end_out);
 }
 
 }  // namespace

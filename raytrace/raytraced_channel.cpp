@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "core/level_validity.h"
+#include "raytrace/edge_end_finder.h"
 #include "raytrace/morton.h"
 #include "raytrace/obstacle_finder.h"
 
@@ -187,6 +188,7 @@ ObstacleSight RaytracedChannel::obstacle_sight(const Endpoint& antenna, const En
                                    level_validity_reach_m(frequency_hz), finder_.options().surface_epsilon_m,
                                    finder_.post_of_edge());
   if (o.plates) o.plates->second_order_diffraction = finder_.options().double_diffraction_max_m >= o.plates->gap_m;
+  o.edge_end = find_edge_end(finder_, antenna, tag, frequency_hz);
   return o;
 }
 

@@ -53,7 +53,8 @@ class RaytracedChannel final : public Channel {
   std::optional<EdgeSight> nearest_edge(const Endpoint& end, const Endpoint& other_end,
                                         double max_distance_m) const override;
   // Narrow obstacles, slab crossings and parallel plates of the link (raytrace/obstacle_finder.h), with the same
-  // edge index; one Embree ray and a few index queries.
+  // edge index; one Embree ray and a few index queries. At the diffracting levels also the link's most uncertain
+  // edge end (raytrace/edge_end_finder.h): one pass over the edges.
   ObstacleSight obstacle_sight(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) const override;
 
   const PathFinder& finder() const { return finder_; }

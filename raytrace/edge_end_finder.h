@@ -1,0 +1,45 @@
+#pragma once
+// The edge-end check of core/obstacle_sight.h (EdgeEnd) for one link, from the diffracting levels' own edges: for
+// every edge whose Keller point lies within four Fresnel half-widths of an end (on the edge or past it), the
+// infinite edge's first-order UTD term as a share of the free-space field, r·max(|D_s|, |D_h|)/√(s s' (s + s'))
+// (core/utd.h: the field ratio of the diffracted to the direct ray, r = |antenna − tag|, with the ends' patterns
+// towards the Keller point and along the direct line), times
+// |step − T|: the difference between what the levels do (the whole term while the point is on the edge, none past
+// it) and the uniform asymptotic evaluation of the edge integral ∫ f(z) e^{−jkL(z)} dz, f = 1/(s s') (the incident
+// field times a line source's spreading, times the ends' pattern amplitudes along the path), relative to its stationary-phase value (the infinite edge's term):
+// with τ(z) = sign(z − z_Q)·√(k (L(z) − L(z_Q))) and g(z) = f(z)/f(z_Q) · (dz/dτ)(z)/(dz/dτ)(z_Q),
+//   T = [G(τ₁) − G(τ₀) + h(τ₁) − h(τ₀)] / (√π e^{−jπ/4}),  G(a) = ∫_{−∞}^a e^{−jτ²} dτ,  h(τ) = (g − 1) e^{−jτ²}/(−2jτ)
+// (a stationary point near an endpoint: the Fresnel integral, then integration by parts at the ends to first order;
+// N. Bleistein, R. A. Handelsman, "Asymptotic Expansions of Integrals", 1975),
+// L(z) the path length antenna → edge point z → tag (the exact detour, not its quadratic), ends z = 0 and L_e. The
+// term's UTD coefficient is taken at z_Q all along (conservative near a boundary, where it is largest there).
+// Beyond four half-widths |step − T| is about 0.04 or less (the Fresnel tail there), below what is reported for any term share up to 1. The legs of the
+// reported edge's point (on the edge, or its nearer end when the point is past it) must be clear.
+// Cost: one pass over the edges with a few flops each, UTD coefficients for the few near an end, two rays for the
+// worst. Units: metres, hertz. Thread-safe (reads only); nothing throws.
+#include <complex>
+#include <functional>
+#include <optional>
+
+#include "core/channel.h"
+#include "core/geometry.h"
+#include "core/obstacle_sight.h"
+
+namespace rfidray {
+
+class PathFinder;
+
+// The link's most uncertain edge end, when its estimate is ≥ kEdgeEndReported; nullopt when the finder has no edges
+// (levels without diffraction) or none is that uncertain.
+std::optional<EdgeEnd> find_edge_end(const PathFinder& finder, const Endpoint& antenna, const Endpoint& tag,
+                                     double frequency_hz);
+
+// The share T of an edge integral's stationary value that the edge [0, length_m] along `start` + z·`direction`
+// carries for the path antenna → edge → tag (see above). 1 for a Keller point deep inside, ½ at an end.
+// `end_weight(z)`, when given, is the ends' antenna and tag pattern amplitudes √(G_R G_T) along the path via edge point
+// z relative to via the Keller point (f is multiplied by it; 1 when absent: isotropic ends).
+std::complex<double> edge_truncation(const Vec3& start, const Vec3& direction, double length_m, const Vec3& antenna,
+                                     const Vec3& tag, double wavenumber_rad_m,
+                                     const std::function<double(double)>& end_weight = {});
+
+}  // namespace rfidray
