@@ -44,6 +44,9 @@ using namespace rfidray;
 
 namespace {
 
+// A CSV field of an error or a localization figure: empty when not finite (an unbounded p95, a figure not computed).
+std::string field(double v) { return error_text(v, 6, ""); }
+
 struct Setting {
   std::string name;
   std::string group;  // level | drop | rays | spread | merge | level+ (above single-bounce)
@@ -308,8 +311,8 @@ int main(int argc, char** argv) {
                 "(both)", "RSSI p95", "flips");
     auto vs_full_columns = [&](const ChannelErrorStats& e) {
       std::ostringstream o;
-      o << ws.links() << "," << e.phase_p95_rad << "," << e.rssi_p95_db << "," << e.phase_p95_both_rad << ","
-        << e.rssi_p95_both_db << "," << e.status_mismatches << "," << e.links;
+      o << ws.links() << "," << field(e.phase_p95_rad) << "," << field(e.rssi_p95_db) << ","
+        << field(e.phase_p95_both_rad) << "," << field(e.rssi_p95_both_db) << "," << e.status_mismatches << "," << e.links;
       return o.str();
     };
     const ChannelErrorStats ref_vs_full = channel_errors(full.h, reference_sub, min_h2_sub);
@@ -360,15 +363,18 @@ int main(int argc, char** argv) {
                                                     : std::make_unique<RaytracedChannel>(scene, s.options);
         le = localization_error(paper, *ch, seeds);
       }
-      std::printf("  %-36s %9.2f %8.1f %10.4f %10.4f %10.3f %9.2e %8zu %9.1f | %18.4f %9.4f %9.3f %6zu\n", s.name.c_str(),
-                  v.us_per_link, reference.us_per_link / v.us_per_link, e.phase_p50_rad, e.phase_p95_rad,
-                  e.rssi_p95_db, missed, e.status_mismatches, le.mean_mm, ef.phase_p95_rad, ef.phase_p95_both_rad,
-                  ef.rssi_p95_db, ef.status_mismatches);
+      std::printf("  %-36s %9.2f %8.1f %10s %10s %10s %9.2e %8zu %9s | %18s %9s %9s %6zu\n", s.name.c_str(),
+                  v.us_per_link, reference.us_per_link / v.us_per_link, error_text(e.phase_p50_rad, 4, "flips").c_str(),
+                  error_text(e.phase_p95_rad, 4, "flips").c_str(), error_text(e.rssi_p95_db, 4, "flips").c_str(), missed,
+                  e.status_mismatches, error_text(le.mean_mm, 4, "-").c_str(), error_text(ef.phase_p95_rad, 4, "flips").c_str(),
+                  error_text(ef.phase_p95_both_rad, 4, "flips").c_str(), error_text(ef.rssi_p95_db, 4, "flips").c_str(),
+                  ef.status_mismatches);
       csv << sc.name << "," << quoted(s.name) << "," << s.group << "," << wl.links() << "," << v.us_per_link << ","
-          << reference.us_per_link / v.us_per_link << "," << e.phase_p50_rad << "," << e.phase_p95_rad << ","
-          << e.phase_max_rad << "," << e.rssi_p50_db << "," << e.rssi_p95_db << "," << e.magnitude_p95 << ","
-          << e.phase_p95_both_rad << "," << e.rssi_p95_both_db << "," << missed << "," << e.status_mismatches << ","
-          << e.links << "," << le.mean_mm << "," << le.max_mm << "," << le.failed << "," << vs_full_columns(ef)
+          << reference.us_per_link / v.us_per_link << "," << field(e.phase_p50_rad) << "," << field(e.phase_p95_rad) << ","
+          << field(e.phase_max_rad) << "," << field(e.rssi_p50_db) << "," << field(e.rssi_p95_db) << ","
+          << field(e.magnitude_p95) << "," << field(e.phase_p95_both_rad) << "," << field(e.rssi_p95_both_db) << ","
+          << missed << "," << e.status_mismatches << "," << e.links << "," << field(le.mean_mm) << ","
+          << field(le.max_mm) << "," << le.failed << "," << vs_full_columns(ef)
           << "\n";
       if (!sub) {
         times.push_back(v.us_per_link);

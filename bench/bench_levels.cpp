@@ -172,14 +172,17 @@ int main(int argc, char** argv) {
         const double pairs = double(take_pool_plane_pairs()) / double(runs * w.links());
         std::sort(rates.begin(), rates.end());
         const double median = rates[rates.size() / 2];
+        // A p95 that flips reach is unbounded: "flips" in the table, an empty field in the CSV.
         std::printf("  %-22s %d thread%s %11.0f links/s %8.2f µs/link %8.1f rays/link %8.0f plane pairs/link | readable %zu, "
-                    "flips %zu, phase p95 %.4g rad, RSSI p95 %.4g dB (readable in both: %.4g rad, %.4g dB)\n",
+                    "flips %zu, phase p95 %s rad, RSSI p95 %s dB (readable in both: %.4g rad, %.4g dB)\n",
                     label.c_str(), threads, threads == 1 ? " " : "s", median, 1e6 / median, rays, pairs, e.links,
-                    e.status_mismatches, e.phase_p95_rad, e.rssi_p95_db, e.phase_p95_both_rad, e.rssi_p95_both_db);
+                    e.status_mismatches, error_text(e.phase_p95_rad, 4, "(flips)").c_str(),
+                    error_text(e.rssi_p95_db, 4, "(flips)").c_str(), e.phase_p95_both_rad, e.rssi_p95_both_db);
         csv << bs.name << "," << scene->triangle_count() << "," << reference.finder().edges().size() << ","
             << label << "," << threads << "," << w.links() << "," << median << "," << 1e6 / median << ","
-            << rays << "," << pairs << "," << e.links << "," << e.status_mismatches << "," << e.phase_p95_rad << "," << e.rssi_p95_db
-            << "," << e.phase_p95_both_rad << "," << e.rssi_p95_both_db << "\n";
+            << rays << "," << pairs << "," << e.links << "," << e.status_mismatches << ","
+            << error_text(e.phase_p95_rad, 6, "") << "," << error_text(e.rssi_p95_db, 6, "") << ","
+            << error_text(e.phase_p95_both_rad, 6, "") << "," << error_text(e.rssi_p95_both_db, 6, "") << "\n";
         if (threads == 1) {
           // Links readable in only one channel make the p95 infinite: the chart shows the p95 over links
           // readable in both (the table above has the flips).

@@ -1,5 +1,7 @@
 #include "core/channel_error.h"
 
+#include "core/number_text.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -56,6 +58,10 @@ ChannelErrorStats channel_errors(std::span<const std::complex<double>> reference
   s.rssi_max_db = rssi.empty() ? 0.0 : rssi.back();
   s.magnitude_p50 = percentile(magnitude, 50), s.magnitude_p95 = percentile(magnitude, 95);
   return s;
+}
+
+std::string error_text(double value, int significant_digits, const std::string& not_finite) {
+  return std::isfinite(value) ? rounded_text(value, significant_digits) : not_finite;
 }
 
 }  // namespace rfidray

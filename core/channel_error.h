@@ -4,6 +4,7 @@
 // `channel: auto` (raytrace/fidelity.h) and the accuracy benchmarks.
 #include <complex>
 #include <span>
+#include <string>
 
 namespace rfidray {
 
@@ -26,5 +27,11 @@ struct ChannelErrorStats {
 ChannelErrorStats channel_errors(std::span<const std::complex<double>> reference,
                                  std::span<const std::complex<double>> test,
                                  std::span<const double> min_readable_h2);
+
+// One of the errors above as text for a table or a CSV: `value` to `significant_digits` (printf %.*g), or
+// `not_finite` when it is not a finite number — a percentile that links readable in only one channel reach (+∞),
+// or a value that was not computed (NaN). No output prints "inf" or "nan": a table says why, a CSV leaves the
+// field empty (its header's README says so). Thread-safe; throws only std::bad_alloc.
+std::string error_text(double value, int significant_digits, const std::string& not_finite);
 
 }  // namespace rfidray

@@ -167,13 +167,19 @@ std::vector<std::string> describe(const FidelityChoice& choice) {
   std::snprintf(line, sizeof line, "  %-28s %8s %9s %14s %12s %10s  %s", "rung", "readable", "mismatch",
                 "phase p95 rad", "RSSI p95 dB", "rays/link", "within");
   out.push_back(line);
+  bool flips = false;
   for (const FidelityRow& r : choice.rows) {
     const ChannelErrorStats& e = r.errors;
-    std::snprintf(line, sizeof line, "  %-28s %8zu %9zu %14.4g %12.4g %10.2f  %s", r.rung.label.c_str(), e.links,
-                  e.status_mismatches, e.phase_p95_rad, e.rssi_p95_db, r.rays_per_link,
-                  r.within ? "yes" : "no");
+    flips |= !std::isfinite(e.phase_p95_rad) || !std::isfinite(e.rssi_p95_db);
+    std::snprintf(line, sizeof line, "  %-28s %8zu %9zu %14s %12s %10.2f  %s", r.rung.label.c_str(), e.links,
+                  e.status_mismatches, error_text(e.phase_p95_rad, 4, "flips").c_str(),
+                  error_text(e.rssi_p95_db, 4, "flips").c_str(), r.rays_per_link, r.within ? "yes" : "no");
     out.push_back(line);
   }
+  // A link read in one channel and not in the other has no finite error: with 5 % or more of them the p95 has none.
+  if (flips)
+    out.push_back("  (flips: 5 % or more of the readable links are readable in only one of the rung and the reference; "
+                  "their error is unbounded, so the p95 is too)");
   return out;
 }
 

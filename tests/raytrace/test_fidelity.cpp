@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <limits>
+#include <string>
 
 #include "core/reader_model.h"
 #include "core/simulation.h"
@@ -165,6 +167,35 @@ TEST(Fidelity, CachedAndRecomputedRaytracedLinksGiveIdenticalReadings) {
     }
   }
   EXPECT_GT(reads, 500u);
+}
+
+// A rung whose links flip readability has an unbounded p95 (core/channel_error.h): the table says "flips" and why,
+// never "inf"; a finite p95 is printed as a number.
+TEST(Fidelity, TableNamesFlipsInsteadOfPrintingInfinity) {
+  FidelityChoice c;
+  FidelityRow flipping, finite;
+  flipping.rung.label = "los";
+  flipping.errors.links = 20;
+  flipping.errors.status_mismatches = 3;
+  flipping.errors.phase_p95_rad = std::numeric_limits<double>::infinity();
+  flipping.errors.rssi_p95_db = std::numeric_limits<double>::infinity();
+  finite.rung.label = "full";
+  finite.errors.links = 20;
+  finite.errors.phase_p95_rad = 0.0123;
+  finite.errors.rssi_p95_db = 0.25;
+  finite.within = true;
+  c.rows = {flipping, finite};
+  c.picked = finite.rung;
+  std::string all;
+  for (const std::string& line : describe(c)) all += line + "\n";
+  EXPECT_EQ(all.find("inf"), std::string::npos) << all;
+  EXPECT_NE(all.find("flips"), std::string::npos) << all;
+  EXPECT_NE(all.find("unbounded"), std::string::npos) << all;
+  EXPECT_NE(all.find("0.0123"), std::string::npos) << all;
+  c.rows = {finite};  // no flips: no explanation line
+  all.clear();
+  for (const std::string& line : describe(c)) all += line + "\n";
+  EXPECT_EQ(all.find("unbounded"), std::string::npos) << all;
 }
 
 }  // namespace
