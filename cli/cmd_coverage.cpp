@@ -22,6 +22,7 @@ namespace {
 struct CoverageOptions {
   PlanningOptions plan;
   std::vector<std::string> antennas;  // names; empty: all
+  bool no_validity = false;           // skip the per-cell validity verdict (outside_validity, validity_error empty)
 };
 
 int run_coverage(const CoverageOptions& o) {
@@ -49,7 +50,7 @@ int run_coverage(const CoverageOptions& o) {
     io::check_output_path(dir / "coverage.csv", "coverage CSV");
   }
   const auto t_setup = std::chrono::steady_clock::now();
-  const std::vector<planning::CoverageValues> values = sharded_coverage(p, antennas, o.plan, "coverage");
+  const std::vector<planning::CoverageValues> values = sharded_coverage(p, antennas, o.plan, "coverage", false, !o.no_validity);
   const auto t_computed = std::chrono::steady_clock::now();
   if (!ranks.root()) return 0;
 
@@ -120,6 +121,15 @@ int run_coverage(const CoverageOptions& o) {
       std::printf("; localization bound (Cramer-Rao RMS) <= 1 cm at %zu cells, <= 5 cm at %zu, defined at %zu", within_1cm,
                   within_5cm, with_bound);
     std::printf("\n");
+    // Where the level itself cannot be trusted (planning/coverage_map.h: judged from the antenna's first pose).
+    size_t judged = 0, outside = 0;
+    for (size_t i = 0; i < p.cells.size(); ++i)
+      if (std::isfinite(values[k].outside_validity[i])) ++judged, outside += values[k].outside_validity[i] > 0.5;
+    if (judged)
+      std::printf("    %zu of %zu cells are where level %s is outside its validity or what was checked (near metal "
+                  "edges and edge ends, narrow obstacles, penetrable slabs, parallel plates; docs/fullwave.md): "
+                  "coverage.csv's outside_validity, validity_error\n",
+                  outside, judged, p.channel->name().c_str());
   }
   std::printf("  -> %s\n", (dir / "coverage.csv").string().c_str());
   for (const std::string& png : pngs) std::printf("  -> %s\n", png.c_str());
@@ -140,11 +150,15 @@ std::function<int()> setup_coverage(CLI::App& app) {
       "attempt, averaged over its carriers; moving antenna: at least once per pass), noise-free RSSI, the\n"
       "multipath phase error against free space, and for a moving antenna the Cramer-Rao bound of the tag's\n"
       "position from the pass's phase history. Same physics as simulate/link; deterministic (no draws).\n"
-      "Output in DIR: coverage.csv (antenna,x,y,z,read_probability,rssi_dbm,phase_error_rad,localization_bound_m;\n"
+      "Output in DIR: coverage.csv (antenna,x,y,z,read_probability,rssi_dbm,phase_error_rad,localization_bound_m,\n"
+      "outside_validity,validity_error;\n"
       "empty where a value does not exist) and coverage_<antenna>_<value>.png (plane or tags).\n"
       "Scale out: mpirun -n N rfidray coverage ... (cells shared over ranks; the files are identical to 1 rank).");
   add_planning_options(*cmd, o->plan);
   cmd->add_option("--antenna", o->antennas, "only these antennas (repeatable; default: all)");
+  cmd->add_flag("--no-validity", o->no_validity,
+                "skip each cell's validity verdict (its columns empty): it costs up to half a trace per cell at levels "
+                "full-selective and full (docs/commands.md)");
   cmd->add_option("-o,--output", o->plan.output_dir, "output directory (default out/coverage)");
   return [o] { return run_coverage(*o); };
 }

@@ -219,7 +219,7 @@ Planning prepare_planning(const PlanningOptions& o) {
 
 std::vector<planning::CoverageValues> sharded_coverage(const Planning& p, const std::vector<size_t>& antennas,
                                                  const PlanningOptions& o, const std::string& label,
-                                                 bool information) {
+                                                 bool information, bool validity) {
   const parallel::Ranks& ranks = parallel::Ranks::world();
   const auto [first, count] = ranks.share(p.cells.size());
   const planning::CoverageCells mine = p.cells.slice(first, count);
@@ -228,14 +228,15 @@ std::vector<planning::CoverageValues> sharded_coverage(const Planning& p, const 
   opt.height_known = !o.three_d;
   opt.threads = p.threads;
   opt.information = information;
+  opt.validity = validity;
   size_t work = 0;
   for (size_t a : antennas) work += planning::coverage_work(p.scenario, p.motion, a, mine.size(), opt);
   ProgressLine progress(label, work, "links", ranks.root() && ProgressLine::enabled_for(o.quiet, o.progress));
   opt.progress = [&](size_t n) { progress.advance(n); };
   const bool same = p.scenario.channel == ChannelLevel::kIdeal;
-  // Per cell, per antenna: 4 values [+ 6 of information] (the gather's item is a cell, so shares concatenate in
+  // Per cell, per antenna: 6 values [+ 6 of information] (the gather's item is a cell, so shares concatenate in
   // cell order).
-  const size_t kValues = information ? 10 : 4;
+  const size_t kValues = information ? 12 : 6;
   std::vector<double> local;
   try {
     std::vector<planning::CoverageValues> v;
@@ -246,8 +247,8 @@ std::vector<planning::CoverageValues> sharded_coverage(const Planning& p, const 
       for (size_t k = 0; k < antennas.size(); ++k) {
         double* d = &local[(i * antennas.size() + k) * kValues];
         d[0] = v[k].read_probability[i], d[1] = v[k].rssi_dbm[i], d[2] = v[k].phase_error_rad[i],
-        d[3] = v[k].localization_bound_m[i];
-        if (information) std::copy_n(&v[k].information[6 * i], 6, d + 4);
+        d[3] = v[k].localization_bound_m[i], d[4] = v[k].outside_validity[i], d[5] = v[k].validity_error[i];
+        if (information) std::copy_n(&v[k].information[6 * i], 6, d + 6);
       }
   } catch (...) {
     (void)ranks.all_ok(false);  // the other ranks learn of it and stop too
@@ -264,8 +265,8 @@ std::vector<planning::CoverageValues> sharded_coverage(const Planning& p, const 
     for (size_t k = 0; k < antennas.size(); ++k) {
       const double* d = &all[(i * antennas.size() + k) * kValues];
       out[k].read_probability[i] = d[0], out[k].rssi_dbm[i] = d[1], out[k].phase_error_rad[i] = d[2],
-      out[k].localization_bound_m[i] = d[3];
-      if (information) std::copy_n(d + 4, 6, &out[k].information[6 * i]);
+      out[k].localization_bound_m[i] = d[3], out[k].outside_validity[i] = d[4], out[k].validity_error[i] = d[5];
+      if (information) std::copy_n(d + 6, 6, &out[k].information[6 * i]);
     }
   return out;
 }

@@ -61,10 +61,11 @@ Planning prepare_planning(const PlanningOptions& o);
 
 // Coverage of `antennas` (indices into scenario.antennas) over the cells, each rank computing its share of the
 // cells; the result (index-aligned with `antennas`) on rank 0 only (empty elsewhere). Progress on rank 0.
-// `information`: also each pass's position information (planning::CoverageValues::information).
+// `information`: also each pass's position information (planning::CoverageValues::information); `validity`: each
+// cell's validity verdict (planning::CoverageValues::outside_validity, validity_error; NaN without).
 std::vector<planning::CoverageValues> sharded_coverage(const Planning& p, const std::vector<size_t>& antennas,
                                                  const PlanningOptions& o, const std::string& label,
-                                                 bool information = false);
+                                                 bool information = false, bool validity = false);
 
 // The floor map of one quantity, its walls (scene cut at plane_z), antennas and robot paths filled.
 io::FloorMap floor_map(const Planning& p, const std::vector<size_t>& antennas, const std::vector<double>& value,

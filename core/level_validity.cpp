@@ -280,6 +280,13 @@ std::optional<EdgeSight> link_edge_sight(const Channel& channel, const Endpoint&
   return at_tag ? at_tag : at_antenna;
 }
 
+std::optional<ChannelLevel> judged_level(const Channel& channel) {
+  const std::string name = channel.name();
+  const std::optional<ChannelLevel> level = parse_channel_level(std::string_view(name));
+  if (!level || *level == ChannelLevel::kIdeal) return std::nullopt;
+  return level;
+}
+
 LevelValidity with_reference_error(LevelValidity v, double error_vs_reference, double relative_amplitude,
                                    const std::string& reference_name) {
   if (!(error_vs_reference > v.estimated_error)) return v;

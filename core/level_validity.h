@@ -97,6 +97,10 @@ LinkSight link_sight(const Channel& channel, const Endpoint& antenna, const Endp
 LevelValidity level_validity(ChannelLevel level, const LinkSight& sight, double frequency_hz,
                              double relative_amplitude = 1.0);
 
+// The level a channel's verdicts are for: a traced level, known by the channel's name; nullopt for the ideal
+// channel (it ignores the scene) and for a channel that is not a level (a test double), which are not judged.
+std::optional<ChannelLevel> judged_level(const Channel& channel);
+
 // The same verdict with a measured error added: `error_vs_reference` (a fraction of the free-space field) is the
 // difference to a richer level computed on the same link (`link` compares with `full`). The larger of the two
 // errors decides.

@@ -200,13 +200,9 @@ template <typename AntennaEndpoint, typename TagEndpoint>
 void count_tags_outside_validity(const Scenario& scenario, const SceneMotion& motion, const Channel& channel,
                                  AntennaEndpoint&& antenna_endpoint, TagEndpoint&& tag_endpoint,
                                  SimulationResult& result) {
-  ChannelLevel level;
-  try {
-    level = parse_channel_level(channel.name(), "channel");
-  } catch (const InputError&) {
-    return;
-  }
-  if (level == ChannelLevel::kIdeal || scenario.antennas.empty() || scenario.tags.empty()) return;
+  const std::optional<ChannelLevel> judged = judged_level(channel);
+  if (!judged || scenario.antennas.empty() || scenario.tags.empty()) return;
+  const ChannelLevel level = *judged;
   const double f = scenario.antennas.front().reader.frequencies_hz.front();
   size_t worst = 0;
   LevelValidity worst_v;

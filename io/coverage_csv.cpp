@@ -45,6 +45,8 @@ void write_coverage_csv(std::ostream& out, const std::vector<std::string>& anten
       field(line, 3, v.rssi_dbm[i]);
       field(line, 5, v.phase_error_rad[i]);
       field(line, 6, v.localization_bound_m[i]);
+      field(line, 0, v.outside_validity[i]);
+      field(line, 3, v.validity_error[i]);
       line += '\n';
       out << line;
     }

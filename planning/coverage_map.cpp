@@ -1,5 +1,7 @@
 #include "planning/coverage_map.h"
 
+#include "core/level_validity.h"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -113,6 +115,8 @@ void CoverageValues::resize(size_t n, bool with_information) {
   rssi_dbm.assign(n, kNaN);
   phase_error_rad.assign(n, kNaN);
   localization_bound_m.assign(n, kNaN);
+  outside_validity.assign(n, kNaN);
+  validity_error.assign(n, kNaN);
   information.assign(with_information ? 6 * n : 0, 0.0);
 }
 
@@ -140,6 +144,8 @@ CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, siz
   std::mutex error_mutex;
 
   const std::vector<uint32_t> order = spatial_order(cells);
+  // The level judged at each cell, from the pass's first pose (CoverageValues::outside_validity).
+  const std::optional<ChannelLevel> judged = options.validity ? judged_level(channel) : std::nullopt;
 
   // Tag antennas (core/tag_couplings.h): each cell's backing (the scene's metal near the cell, or the given one) and
   // its coupling at every carrier, resolved serially before the parallel loop. Cells share a block when their tag
@@ -252,6 +258,17 @@ CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, siz
               fisher[i].add({pp.centre.position, lambda, pp.carrier, pp.weight * p, phase_sigma(reader, p_rx_w)});
           }
           if (options.progress) options.progress(m);
+        }
+        if (judged && !pass.poses.empty()) {
+          Endpoint ant = antenna_shape;
+          ant.pose = pass.poses.front().centre;
+          const double f = reader.frequencies_hz[pass.poses.front().carrier];
+          for (size_t i = 0; i < m; ++i) {
+            if (!valid[i]) continue;
+            const LevelValidity v = level_validity(*judged, link_sight(channel, ant, tags[i], f), f);
+            out.outside_validity[cell_of[i]] = v.level_ok ? 0.0 : 1.0;
+            out.validity_error[cell_of[i]] = v.estimated_error;
+          }
         }
         for (size_t i = 0; i < m; ++i) {
           if (!valid[i]) continue;

@@ -50,6 +50,7 @@ struct CoverageOptions {
   bool height_known = true;  // localization bound in 2-D (x, y), the tag height known; else 3-D
   int threads = 0;           // OpenMP threads (0: default)
   bool information = false;  // also fill CoverageValues::information (for `place --objective worst-bound`)
+  bool validity = true;      // fill CoverageValues::outside_validity, validity_error (NaN when false)
   // Called with the number of (cell × pose) link evaluations just finished; from any thread, may be empty.
   std::function<void(size_t)> progress;
 };
@@ -57,6 +58,12 @@ struct CoverageOptions {
 // Values of one antenna, index-aligned with the cells.
 struct CoverageValues {
   std::vector<double> read_probability, rssi_dbm, phase_error_rad, localization_bound_m;
+  // Whether the channel's level can be trusted at the cell (core/level_validity.h: near metal edges and edge ends,
+  // narrow obstacles, penetrable slabs, parallel plates), judged on the link from the antenna's first pose of the
+  // pass (a fixed antenna's pose) at its first carrier, as `simulate` judges its tags at their start poses:
+  // outside_validity 1 (outside) or 0, validity_error the estimated error (a fraction of the free-space field).
+  // NaN for a channel that is not judged (ideal, or not a traced level) and where no value exists.
+  std::vector<double> outside_validity, validity_error;
   // With CoverageOptions::information: 6 numbers per cell, the position information S of the pass packed as
   // localization::pack_information (m⁻²; zero for a fixed antenna, which fixes no position in this model).
   // Informations of several antennas add (localization/cramer_rao.h); position_bound_m(S) is

@@ -34,21 +34,23 @@ struct Row {
   std::string antenna;
   double x, y, z;
   std::string p, rssi, err, bound;  // as written (may be empty)
+  std::string outside, validity_error;
 };
 
 std::vector<Row> read_csv(const fs::path& f) {
   std::ifstream in(f);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "antenna,x,y,z,read_probability,rssi_dbm,phase_error_rad,localization_bound_m");
+  EXPECT_EQ(line, "antenna,x,y,z,read_probability,rssi_dbm,phase_error_rad,localization_bound_m,outside_validity,"
+                  "validity_error");
   std::vector<Row> rows;
   while (std::getline(in, line)) {
     std::vector<std::string> c;
     std::stringstream s(line);
     std::string cell;
     while (std::getline(s, cell, ',')) c.push_back(cell);
-    while (c.size() < 8) c.push_back("");
-    rows.push_back({c[0], std::stod(c[1]), std::stod(c[2]), std::stod(c[3]), c[4], c[5], c[6], c[7]});
+    while (c.size() < 10) c.push_back("");
+    rows.push_back({c[0], std::stod(c[1]), std::stod(c[2]), std::stod(c[3]), c[4], c[5], c[6], c[7], c[8], c[9]});
   }
   return rows;
 }
@@ -127,6 +129,65 @@ TEST(CoverageCli, CellsAgreeWithLink) {
   EXPECT_GE(compared, 6);
   EXPECT_GT(readable, 0);
   EXPECT_LT(readable, compared);  // the sample crosses the edge of the read range
+}
+
+// Cells where the level itself cannot be trusted: a 0.6 m metal plate at level full, cells 1 m up on a 6 × 6 m grid.
+// Each cell's outside_validity and validity_error are `rfidray link --json`'s verdict on the same link (the
+// antenna's pose), the summary line counts them, and the ideal channel is not judged (empty fields), nor is any
+// with --no-validity.
+TEST(CoverageCli, CellsOutsideTheLevelsValidityAreMarkedAndCounted) {
+  const auto d = scratch("validity");
+  write(d, "plate.obj", "v 0 0 0\nv 0.6 0 0\nv 0.6 0.6 0\nv 0 0.6 0\nf 1 2 3\nf 1 3 4\n");
+  const std::string body = "model: physical\nscene:\n  meshes:\n    - {file: " + (d.path() / "plate.obj").string() +
+                           ", material: metal}\nantennas:\n  - {name: a, position: [0.45, -0.8, 0.05], tx_power_dbm: 30}\n"
+                           "tags:\n  - {name: t, position: [0, 0.9, -0.05]}\n";
+  const fs::path sc = write(d, "s.yaml", "channel: full\n" + body);
+  const auto r = run_rfidray("coverage " + sc.string() + " --plane z=1 --extent=-3,-3,3,3 --step 0.5 --no-png -o " +
+                             (d / "out").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto rows = read_csv(d / "out" / "coverage.csv");
+  ASSERT_EQ(rows.size(), 144u);
+  size_t outside = 0;
+  const Row* flagged = nullptr;
+  const Row* ok = nullptr;
+  for (const Row& row : rows) {
+    ASSERT_TRUE(row.outside == "0" || row.outside == "1") << row.outside;
+    ASSERT_FALSE(row.validity_error.empty());
+    outside += row.outside == "1";
+    if (row.outside == "1" && !flagged) flagged = &row;
+    if (row.outside == "0" && !ok) ok = &row;
+  }
+  ASSERT_TRUE(flagged && ok) << outside << " of 144 outside";
+  EXPECT_NE(r.output.find(std::to_string(outside) + " of 144 cells are where level full is outside its validity"),
+            std::string::npos)
+      << r.output;
+  for (const Row* row : {flagged, ok}) {
+    char tag[96];
+    std::snprintf(tag, sizeof tag, "%.4f,%.4f,%.4f", row->x, row->y, row->z);
+    const auto l = run_rfidray("link --json --channel full --material metal --scene " + (d.path() / "plate.obj").string() +
+                               " --antenna 0.45,-0.8,0.05 --tag=" + tag);
+    ASSERT_EQ(l.status, 0) << l.output;
+    const auto v = nlohmann::json::parse(l.output.substr(l.output.find('{')))["validity"];
+    EXPECT_EQ(row->outside == "1", !v["level_ok"].get<bool>()) << tag << ": " << v["reason"];
+    EXPECT_NEAR(std::stod(row->validity_error), v["estimated_error"].get<double>(), 6e-4) << tag;
+  }
+  // The ideal channel ignores the scene: not judged.
+  const fs::path ideal = write(d, "ideal.yaml", "channel: ideal\n" + body);
+  const auto ri = run_rfidray("coverage " + ideal.string() + " --plane z=1 --extent=-3,-3,3,3 --step 1 --no-png -q -o " +
+                              (d / "ideal").string());
+  ASSERT_EQ(ri.status, 0) << ri.output;
+  for (const Row& row : read_csv(d / "ideal" / "coverage.csv")) EXPECT_EQ(row.outside + row.validity_error, "");
+  // --no-validity: the same map without the verdicts (and without their summary line).
+  const auto rn = run_rfidray("coverage " + sc.string() + " --plane z=1 --extent=-3,-3,3,3 --step 0.5 --no-png --no-validity -o " +
+                              (d / "none").string());
+  ASSERT_EQ(rn.status, 0) << rn.output;
+  EXPECT_EQ(rn.output.find("outside its validity"), std::string::npos) << rn.output;
+  const auto plain = read_csv(d / "none" / "coverage.csv");
+  ASSERT_EQ(plain.size(), rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(plain[i].outside + plain[i].validity_error, "");
+    EXPECT_EQ(plain[i].p + plain[i].rssi + plain[i].err, rows[i].p + rows[i].rssi + rows[i].err);
+  }
 }
 
 // A robot pass: a read probability per pass and a localization bound where the pass reads the tag; the
