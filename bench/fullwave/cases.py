@@ -346,6 +346,29 @@ def plate_corner() -> Case:
     )
 
 
+def plate_corner_line() -> Case:
+    """Case (g)'s plate and source, tags along the line (x, 0.9, −0.05) across the two places where `full` jumps
+    (docs/fullwave.md, "Where `full` is discontinuous": x = −0.50604, the edge y = 0's Keller point at its end, and
+    x = −0.34543, the corner pair's path at the corner), to check the edge-end check's estimate against FDTD."""
+    plate = Box((0.0, 0.0, 0.0), (0.6, 0.6, 0.0), "metal")
+    specs = []
+    for x in (-0.70, -0.60, -0.55, -0.52, -0.50, -0.48, -0.45, -0.40, -0.36, -0.33, -0.30, -0.20, -0.10, 0.0, 0.10):
+        region = "past x = -0.506" if x < -0.50604 else ("between the jumps" if x < -0.34543 else "past x = -0.345")
+        specs.append((f"line_x{x * 100:+.0f}", (x, 0.9, -0.05), region))
+    return Case(
+        name="plate_corner_line",
+        description="case (g)'s horizontal PEC plate 0.6 × 0.6 m (z = 0, x, y ∈ [0, 0.6]) and z dipole at "
+                    "(0.45, −0.8, 0.05); tags along (x, 0.9, −0.05), x = −0.70 … 0.10, across the two jumps of `full`",
+        boxes=(plate,),
+        source=(0.45, -0.8, 0.05),
+        axis="z",
+        observers=_labelled(specs, (plate,)),
+        domain_lo=(-0.85, -0.95, -0.30),
+        domain_hi=(0.75, 1.05, 0.30),
+        polarization_name="vertical (z), across both edges",
+    )
+
+
 CASES = {
     "sheet_edge_soft": lambda: sheet_edge("z"),
     "sheet_edge_hard": lambda: sheet_edge("x"),
@@ -357,4 +380,5 @@ CASES = {
     "rack_post": rack_post,
     "doorway": doorway,
     "plate_corner": plate_corner,
+    "plate_corner_line": plate_corner_line,
 }
