@@ -80,6 +80,12 @@ int run_coverage(const CoverageOptions& o) {
       if (moving)
         layers.push_back({"localization_bound_m", &values[k].localization_bound_m,
                           "localization bound (m, Cramér–Rao RMS)", true, std::nullopt});
+      // Where the level cannot be trusted: its estimated error, when cells were judged (planning/coverage_map.h).
+      if (std::any_of(values[k].validity_error.begin(), values[k].validity_error.end(),
+                      [](double e) { return std::isfinite(e); }))
+        layers.push_back({"validity_error", &values[k].validity_error,
+                          "estimated error of level " + p.channel->name() + " (fraction of the free-space field)", true,
+                          std::make_pair(0.0, 0.5)});
       char buf[32];
       std::snprintf(buf, sizeof buf, "%.2f m", p.plane_z);
       const std::string height = buf;

@@ -142,9 +142,10 @@ TEST(CoverageCli, CellsOutsideTheLevelsValidityAreMarkedAndCounted) {
                            ", material: metal}\nantennas:\n  - {name: a, position: [0.45, -0.8, 0.05], tx_power_dbm: 30}\n"
                            "tags:\n  - {name: t, position: [0, 0.9, -0.05]}\n";
   const fs::path sc = write(d, "s.yaml", "channel: full\n" + body);
-  const auto r = run_rfidray("coverage " + sc.string() + " --plane z=1 --extent=-3,-3,3,3 --step 0.5 --no-png -o " +
+  const auto r = run_rfidray("coverage " + sc.string() + " --plane z=1 --extent=-3,-3,3,3 --step 0.5 -o " +
                              (d / "out").string());
   ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_GT(fs::file_size(d / "out" / "coverage_a_validity_error.png"), 1000u);  // the map of the estimates
   const auto rows = read_csv(d / "out" / "coverage.csv");
   ASSERT_EQ(rows.size(), 144u);
   size_t outside = 0;
@@ -178,10 +179,12 @@ TEST(CoverageCli, CellsOutsideTheLevelsValidityAreMarkedAndCounted) {
   ASSERT_EQ(ri.status, 0) << ri.output;
   for (const Row& row : read_csv(d / "ideal" / "coverage.csv")) EXPECT_EQ(row.outside + row.validity_error, "");
   // --no-validity: the same map without the verdicts (and without their summary line).
-  const auto rn = run_rfidray("coverage " + sc.string() + " --plane z=1 --extent=-3,-3,3,3 --step 0.5 --no-png --no-validity -o " +
+  const auto rn = run_rfidray("coverage " + sc.string() + " --plane z=1 --extent=-3,-3,3,3 --step 0.5 --no-validity -o " +
                               (d / "none").string());
   ASSERT_EQ(rn.status, 0) << rn.output;
   EXPECT_EQ(rn.output.find("outside its validity"), std::string::npos) << rn.output;
+  EXPECT_TRUE(fs::exists(d / "none" / "coverage_a_read_probability.png"));
+  EXPECT_FALSE(fs::exists(d / "none" / "coverage_a_validity_error.png"));
   const auto plain = read_csv(d / "none" / "coverage.csv");
   ASSERT_EQ(plain.size(), rows.size());
   for (size_t i = 0; i < rows.size(); ++i) {
