@@ -88,6 +88,21 @@ std::optional<EdgeEnd> find_edge_end(const PathFinder& finder, const Endpoint& a
     if (!wedge_angles(e, feet.v_a, feet.v_t, w)) continue;
     const double length = s_in + s_out;
     const double l_utd = s_in * s_out * sin_beta * sin_beta / length;
+    const double q_pattern = pattern(q);
+    if (!(q_pattern > 0.0)) continue;
+    const double step = past_end <= 0.0 ? 1.0 : 0.0;
+    const auto weight = [&](double z) { return pattern(e.start + z * e.direction) / q_pattern; };
+    const double deficit = std::abs(step - edge_truncation(e.start, e.direction, e.length_m, a, t, k, weight));
+    // Before the UTD coefficients: each of D's four terms is at most 1/(2√(πX)) of the diffracted ray's free-space
+    // field (|F(X)| < 1, |R| ≤ 1; core/utd.h, tests/core/test_utd.cpp), so the share is at most
+    // (r / (s + s'))·2/√(π X_min) with the patterns' ratio. An edge whose estimate cannot reach what is reported, or
+    // the worst so far, is skipped: the result is the same as with its coefficients computed.
+    const double x_min = utd_min_transition_argument(w.n, w.phi_rad, w.phi_prime_rad, k * l_utd);
+    const double pattern_ratio = q_pattern / direct_pattern;
+    if (x_min > 0.0) {
+      const double bound = r / length * 2.0 * 1.001 / std::sqrt(kPi * x_min) * pattern_ratio * deficit;
+      if (bound < kEdgeEndReported || (worst && bound <= worst->estimated_error)) continue;
+    }
     const double beta0 = std::atan2(sin_beta, (sa / s_in).dot(e.direction));
     const RadioMaterial& m0 = materials[facets[w.face0].material];
     const RadioMaterial& mn = materials[facets[w.facen].material];
@@ -95,14 +110,9 @@ std::optional<EdgeEnd> find_edge_end(const PathFinder& finder, const Endpoint& a
         wedge_diffraction(w.n, w.phi_rad, w.phi_prime_rad, beta0, l_utd, k,
                           material_reflection(m0, f, std::abs(std::sin(w.phi_prime_rad))),
                           material_reflection(mn, f, std::abs(std::sin(w.n * kPi - w.phi_rad))));
-    const double q_pattern = pattern(q);
-    if (!(q_pattern > 0.0)) continue;
-    const double share = r * std::max(std::abs(dc.soft), std::abs(dc.hard)) / std::sqrt(s_in * s_out * length) *
-                         q_pattern / direct_pattern;
-    const double step = past_end <= 0.0 ? 1.0 : 0.0;
-    const auto weight = [&](double z) { return pattern(e.start + z * e.direction) / q_pattern; };
-    const double estimate =
-        share * std::abs(step - edge_truncation(e.start, e.direction, e.length_m, a, t, k, weight));
+    const double share =
+        r * std::max(std::abs(dc.soft), std::abs(dc.hard)) / std::sqrt(s_in * s_out * length) * pattern_ratio;
+    const double estimate = share * deficit;
     if (!std::isfinite(estimate) || estimate < kEdgeEndReported || (worst && estimate <= worst->estimated_error))
       continue;
     // The point's legs (its nearer end's when it is past the edge) must be clear for the term to be there at all.

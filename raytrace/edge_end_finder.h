@@ -15,8 +15,8 @@
 // term's UTD coefficient is taken at z_Q all along (conservative near a boundary, where it is largest there).
 // Beyond four half-widths |step − T| is about 0.04 or less (the Fresnel tail there), below what is reported for any term share up to 1. The legs of the
 // reported edge's point (on the edge, or its nearer end when the point is past it) must be clear.
-// Cost: one pass over the edges with a few flops each, UTD coefficients for the few near an end, two rays for the
-// worst. Units: metres, hertz. Thread-safe (reads only); nothing throws.
+// Cost: one pass over the edges with a few flops each, T for those near an end, UTD coefficients only where the
+// bound of D (core/utd.h: 1/(2√(πX)) per term) lets the estimate reach what is reported, two rays for the worst. Units: metres, hertz. Thread-safe (reads only); nothing throws.
 #include <complex>
 #include <functional>
 #include <optional>

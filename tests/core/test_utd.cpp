@@ -241,5 +241,33 @@ TEST(Utd, MinTransitionArgumentAndTheBoundOutsideTheTransitionRegion) {
   EXPECT_GT(checked, 500);
 }
 
+// The same bound at any distance from the boundaries (|F(X)| < 1 for every X > 0; the edge-end check of
+// raytrace/edge_end_finder.h skips an edge's coefficients with it): every term of D is at most 1/(2√(πX)) of the
+// diffracted ray's free-space field, so max(|D_s|, |D_h|)·sin β₀/√L ≤ 2/√(π X_min), for perfect conductors and for
+// lossy faces (|R| ≤ 1), at any β₀.
+TEST(Utd, TermBoundHoldsAtEveryTransitionArgument) {
+  const double k = wavenumber_rad_m(866e6);
+  const FresnelCoefficients lossy{std::complex<double>(-0.6, 0.2), std::complex<double>(0.3, -0.5)};
+  int checked = 0;
+  for (double n : {1.1, 1.25, 1.5, 1.75, 2.0})
+    for (double l : {0.01, 0.1, 0.5, 2.0, 30.0})
+      for (double beta_deg : {20.0, 90.0, 150.0})
+        for (double pp = 0.5; pp < 180.0 * n; pp += 13.0)
+          for (double p = 0.3; p < 180.0 * n; p += 2.9) {
+            const double phi = p * kPi / 180.0, phip = pp * kPi / 180.0, beta = beta_deg * kPi / 180.0;
+            const double x = utd_min_transition_argument(n, phi, phip, k * l);
+            if (!(x > 1e-9)) continue;
+            const double bound = 2.0 * 1.001 / std::sqrt(kPi * x);
+            for (const FresnelCoefficients& r : {FresnelCoefficients{-1.0, 1.0}, lossy}) {
+              const UtdCoefficients d = wedge_diffraction(n, phi, phip, beta, l, k, r, r);
+              const double scale = std::sin(beta) / std::sqrt(l);
+              EXPECT_LE(std::abs(d.soft) * scale, bound) << n << " " << l << " " << pp << " " << p << " " << x;
+              EXPECT_LE(std::abs(d.hard) * scale, bound) << n << " " << l << " " << pp << " " << p << " " << x;
+            }
+            ++checked;
+          }
+  EXPECT_GT(checked, 20000);
+}
+
 }  // namespace
 }  // namespace rfidray
