@@ -24,6 +24,8 @@
 //     beside the direct line (a 5 cm rack upright), the direct line through a penetrable slab near the slab's
 //     edge and an end near a penetrable slab's edge beyond its plane (a concrete wall, a doorway), an end between
 //     or just in front of two facing parallel metal plates (a rack bay);
+//     A metal plate seen edge-on (two edges of one facet within the direct line's Fresnel zone, less than λ/2 apart
+//     across it: a shelf at grazing), where FDTD finds the plate nearly invisible (raytrace/edge_on_plate_finder.h);
 //   - estimated from the link's own edges (raytrace/edge_end_finder.h, diffracting levels only): a first-order
 //     diffraction point within a Fresnel zone of its edge's end (a plate's corner), where the levels drop the
 //     edge's term at the end and the field jumps.

@@ -3,7 +3,7 @@
 // core/level_validity.h does not cover and that the FDTD runs of bench/fullwave/ found the ray levels wrong in
 // (docs/fullwave.md, "Other geometries"): a narrow obstacle on or beside the direct line (a rack upright), the
 // direct line through a penetrable slab near the slab's edge (a concrete wall), an end between two facing parallel
-// metal plates (a rack bay), an end behind a penetrable slab near its edge or opening (a doorway), a diffraction point near its edge's end (a plate's corner). Values: raytrace fills them from the scene (Channel::obstacle_sight), core judges
+// metal plates (a rack bay), an end behind a penetrable slab near its edge or opening (a doorway), a diffraction point near its edge's end (a plate's corner), a metal plate seen edge-on. Values: raytrace fills them from the scene (Channel::obstacle_sight), core judges
 // them (core/level_validity.h). Units: metres.
 #include <optional>
 
@@ -71,12 +71,25 @@ struct EdgeEnd {
   double estimated_error = 0.0;       // term_share · |step − T| (see above)
 };
 
+// A metal plate seen edge-on: two roughly parallel edges of one facet both within the direct line's first Fresnel
+// zone, λ/2 or more apart along the line but less than λ/2 apart across it (the line within a few degrees of the
+// plate's plane: a shelf seen at grazing). Rays see two opaque half-planes there (the direct ray blocked or grazing,
+// each edge's full UTD term); FDTD finds such a plate nearly invisible with E normal to it (|E/E₀| 0.97–1.0 beyond
+// a 0.6 m and a 1.8 m wide plate seen 3.4° from its plane; docs/fullwave.md).
+struct EdgeOnPlate {
+  double along_m = 0.0;           // the two edges' separation along the direct line
+  double across_m = 0.0;          // and across it
+  double clearance_m = 0.0;       // the farther of the two edges' distances from the direct segment
+  double fresnel_radius_m = 0.0;  // the first Fresnel zone radius where that edge passes
+};
+
 struct ObstacleSight {
   std::optional<NarrowObstacle> narrow;
   std::optional<SlabCrossing> slab;
   std::optional<PenetrableEdge> beyond_slab_edge;
   std::optional<ParallelPlates> plates;
   std::optional<EdgeEnd> edge_end;  // the link's most uncertain edge end, when its estimate is ≥ kEdgeEndReported
+  std::optional<EdgeOnPlate> edge_on_plate;
 };
 
 // Below this estimate (a fraction of the free-space field) an edge end is not reported.

@@ -12,6 +12,7 @@
 
 #include "core/level_validity.h"
 #include "raytrace/edge_end_finder.h"
+#include "raytrace/edge_on_plate_finder.h"
 #include "raytrace/morton.h"
 #include "raytrace/obstacle_finder.h"
 
@@ -189,6 +190,8 @@ ObstacleSight RaytracedChannel::obstacle_sight(const Endpoint& antenna, const En
                                    finder_.post_of_edge());
   if (o.plates) o.plates->second_order_diffraction = finder_.options().double_diffraction_max_m >= o.plates->gap_m;
   o.edge_end = find_edge_end(finder_, antenna, tag, frequency_hz);
+  o.edge_on_plate = find_edge_on_plate(scene(), edge_index(), antenna.pose.position, tag.pose.position, frequency_hz,
+                                       finder_.post_of_edge());
   return o;
 }
 

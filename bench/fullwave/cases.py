@@ -369,6 +369,33 @@ def plate_corner_line() -> Case:
     )
 
 
+def plate_grazing() -> Case:
+    """A wide plate (a shelf) crossed by the direct line near grazing, far from its corners: the source 5 cm above
+    its plane, tags a few centimetres below it beyond the far side, so that the line passes through the plate close
+    to its front edge with E normal to it (issue #33: what the corner line showed, without an edge's end nearby)."""
+    plate = Box((-0.9, 0.0, 0.0), (0.9, 0.6, 0.0), "metal")
+    source = (0.0, -0.8, 0.05)
+    specs = []
+    for y, z in ((0.9, -0.02), (0.9, -0.05), (0.9, -0.10), (0.9, -0.20), (1.3, -0.05), (1.3, -0.10), (0.9, 0.02),
+                 (0.9, 0.05), (0.3, -0.05), (0.3, 0.05)):
+        region = ("beyond the plate, below its plane" if z < 0 else "beyond the plate, above its plane") if y > 0.6 \
+            else ("under the plate" if z < 0 else "over the plate")
+        specs.append((f"y{y * 100:.0f}_z{z * 100:+.0f}", (0.0, y, z), region))
+    return Case(
+        name="plate_grazing",
+        description="horizontal PEC plate 1.8 × 0.6 m (z = 0, x ∈ [−0.9, 0.9], y ∈ [0, 0.6]); z dipole at (0, −0.8, 0.05), "
+                    "5 cm above its plane; tags on x = 0 beyond the far side and over and under the plate: the direct "
+                    "line crosses the plate near grazing, 0.9 m from its corners",
+        boxes=(plate,),
+        source=source,
+        axis="z",
+        observers=_labelled(specs, (plate,)),
+        domain_lo=(-1.05, -0.95, -0.35),
+        domain_hi=(1.05, 1.45, 0.30),
+        polarization_name="vertical (z), normal to the plate",
+    )
+
+
 CASES = {
     "sheet_edge_soft": lambda: sheet_edge("z"),
     "sheet_edge_hard": lambda: sheet_edge("x"),
@@ -381,4 +408,5 @@ CASES = {
     "doorway": doorway,
     "plate_corner": plate_corner,
     "plate_corner_line": plate_corner_line,
+    "plate_grazing": plate_grazing,
 }

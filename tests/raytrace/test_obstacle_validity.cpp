@@ -325,5 +325,31 @@ TEST(ObstacleValidity, EdgeTruncationIsTheEdgeIntegralsShare) {
   EXPECT_LT(std::abs(1.0 - middle), 0.1) << middle;
 }
 
+// bench/fullwave's plate_grazing: a 1.8 × 0.6 m metal plate in z = 0, the source 5 cm above its plane. A tag 0.7 m
+// beyond the far edge, 5 cm below the plane: the line passes within the Fresnel zone of both long edges, 0.6 m apart
+// along it and 3–4 cm across it — edge-on (FDTD: the plate nearly invisible, `full` 0.34 off). Seen steeply, or
+// from under the plate (the far edge not beside the segment), it is not.
+TEST(ObstacleValidity, PlateSeenEdgeOn) {
+  TriangleMesh plate = mesh("plate", "metal");
+  add_quad(plate, Vec3(-0.9, 0, 0), Vec3(1.8, 0, 0), Vec3(0, 0.6, 0), 0);
+  const RaytracedChannel full = full_channel(scene_of({plate}));
+  const Vec3 source(0.0, -0.8, 0.05), beyond(0.0, 1.3, -0.05);
+  const ObstacleSight o = full.obstacle_sight(z_dipole_at(source), z_dipole_at(beyond), kF);
+  ASSERT_TRUE(o.edge_on_plate);
+  EXPECT_NEAR(o.edge_on_plate->along_m, 0.6, 0.01);
+  EXPECT_LT(o.edge_on_plate->across_m, 0.5 * wavelength_m(kF));
+  EXPECT_LE(o.edge_on_plate->clearance_m, o.edge_on_plate->fresnel_radius_m);
+  for (ChannelLevel level : {ChannelLevel::kSingleBounce, ChannelLevel::kFull}) {
+    const LevelValidity v = verdict(full, level, source, beyond);
+    EXPECT_FALSE(v.level_ok) << v.reason;
+    EXPECT_NE(v.reason.find("seen edge-on"), std::string::npos) << v.reason;
+    EXPECT_GE(v.estimated_error, 0.17);
+  }
+  // Steeply through the plate (the two edges 0.6·sin 35° ≈ 0.34 m apart across the line): not edge-on.
+  EXPECT_FALSE(full.obstacle_sight(z_dipole_at(Vec3(0.0, -0.8, 0.7)), z_dipole_at(Vec3(0.0, 1.3, -0.7)), kF).edge_on_plate);
+  // Under the plate: its far edge lies beyond the tag, not beside the segment.
+  EXPECT_FALSE(full.obstacle_sight(z_dipole_at(source), z_dipole_at(Vec3(0.0, 0.3, -0.05)), kF).edge_on_plate);
+}
+
 }  // namespace
 }  // namespace rfidray
