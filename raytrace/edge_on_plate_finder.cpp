@@ -49,8 +49,11 @@ std::optional<EdgeOnPlate> find_edge_on_plate(const Scene& scene, const EdgeProx
   const auto& materials = scene.materials();
   const auto metal = [&](uint32_t facet) { return materials[facets[facet].material].perfect_conductor; };
   thread_local std::vector<NearEdge> near;  // per-thread scratch: no allocation once warm
+  thread_local std::vector<uint32_t> candidates;
   near.clear();
-  for (uint32_t i = 0; i < edges.edges(); ++i) {
+  // The first Fresnel zone is widest mid-link: √(λ d/4). Only edges that close to the segment can be in it.
+  edges.edges_near_segment(a, t, 0.5 * std::sqrt(lambda * length), candidates);
+  for (uint32_t i : candidates) {
     if (!post_of_edge.empty() && post_of_edge[i] != kNoPost) continue;
     const Edge& e = edges.edge(i);
     if (!metal(e.facet_a) || (!e.half_plane() && !metal(e.facet_b))) continue;

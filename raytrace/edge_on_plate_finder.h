@@ -5,7 +5,8 @@
 // are λ/2 or more apart along the line but less than λ/2 apart across it. Edges of a thin post the level models
 // as a cylinder are left out (judged as narrow obstacles). Of several such pairs the one with the smallest
 // across-separation is reported.
-// Cost: one pass over the edges (a segment–segment distance each) and the pairs among the few within the zone.
+// Cost: the edge index's cells along the segment (EdgeProximity::edges_near_segment), a segment–segment distance
+// for each edge found there, and the pairs among the few within the zone.
 // Units: metres, hertz. Thread-safe (reads only); nothing throws for finite input; non-finite ends give nullopt.
 #include <cstdint>
 #include <optional>

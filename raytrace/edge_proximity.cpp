@@ -71,6 +71,40 @@ std::array<EdgeProximity::Hit, 2> EdgeProximity::nearest_two(const Vec3& point) 
   return best;
 }
 
+void EdgeProximity::edges_near_segment(const Vec3& a, const Vec3& b, double distance_m, std::vector<uint32_t>& out) const {
+  out.clear();
+  if (!a.allFinite() || !b.allFinite() || !(distance_m >= 0.0) || !std::isfinite(distance_m)) return;
+  const double reach = distance_m + 0.5 * radius_m_;
+  const Vec3 lo = a.cwiseMin(b).array() - reach, hi = a.cwiseMax(b).array() + reach;
+  if (lo.cwiseAbs().maxCoeff() > 1e15 * cell_m_ || hi.cwiseAbs().maxCoeff() > 1e15 * cell_m_) return;
+  int64_t c0[3], c1[3];
+  double cells = 1.0;
+  for (int k = 0; k < 3; ++k) {
+    c0[k] = static_cast<int64_t>(std::floor(lo[k] / cell_m_));
+    c1[k] = static_cast<int64_t>(std::floor(hi[k] / cell_m_));
+    cells *= double(c1[k] - c0[k] + 1);
+  }
+  if (cells > 1e6) {  // a segment across a huge scene: every edge
+    out.resize(edges_.size());
+    for (uint32_t e = 0; e < edges_.size(); ++e) out[e] = e;
+    return;
+  }
+  const Vec3 d = b - a;
+  const double d2 = d.squaredNorm();
+  const double half_diagonal = 0.5 * std::sqrt(3.0) * cell_m_;
+  for (int64_t i = c0[0]; i <= c1[0]; ++i)
+    for (int64_t j = c0[1]; j <= c1[1]; ++j)
+      for (int64_t k = c0[2]; k <= c1[2]; ++k) {
+        const Vec3 centre((double(i) + 0.5) * cell_m_, (double(j) + 0.5) * cell_m_, (double(k) + 0.5) * cell_m_);
+        const double s = d2 > 0.0 ? std::clamp((centre - a).dot(d) / d2, 0.0, 1.0) : 0.0;
+        if ((centre - (a + s * d)).norm() > reach + half_diagonal) continue;
+        const auto it = cells_.find(key(i, j, k));
+        if (it != cells_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+      }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
 std::optional<double> EdgeProximity::nearest_m(const Vec3& point) const {
   const Hit h = nearest_two(point)[0];
   if (h.edge == kNoEdge) return std::nullopt;

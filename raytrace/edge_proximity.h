@@ -34,6 +34,10 @@ class EdgeProximity {
   std::array<Hit, 2> nearest_two(const Vec3& point) const;
   // Distance (m) from `point` to the nearest edge, when one is within the radius.
   std::optional<double> nearest_m(const Vec3& point) const;
+  // Every edge with a point within `distance_m` of the segment [a, b], and possibly others (the caller measures),
+  // into `out`, ascending, without repeats: the cells within distance_m + radius/2 of the segment (each edge has a
+  // sample every radius along it). When that is more than a million cells, every edge. Clears `out` first.
+  void edges_near_segment(const Vec3& a, const Vec3& b, double distance_m, std::vector<uint32_t>& out) const;
   const Edge& edge(uint32_t i) const { return edges_[i]; }
   double radius_m() const { return radius_m_; }
   size_t edges() const { return edges_.size(); }

@@ -63,6 +63,50 @@ TEST(EdgeProximity, NearestTwoMatchBruteForce) {
   EXPECT_FALSE(index.nearest_m(Vec3(std::nan(""), 0, 0)).has_value());
 }
 
+// Segment–segment distance by dense sampling of the edge (the brute force: 2000 points, good to 1.5 mm here).
+double segment_segment_distance(const Edge& e, const Vec3& a, const Vec3& b) {
+  double best = INFINITY;
+  for (int i = 0; i <= 2000; ++i) {
+    const Vec3 p = e.start + (e.length_m * i / 2000.0) * e.direction;
+    const double s = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    best = std::min(best, (p - (a + s * (b - a))).norm());
+  }
+  return best;
+}
+
+// Every edge within the distance of a segment is among those edges_near_segment returns (it may return more),
+// ascending and without repeats; a segment the length of the whole box finds most edges.
+TEST(EdgeProximity, EdgesNearASegmentIncludeEveryEdgeThatClose) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-3.0, 3.0), len(0.01, 3.0), dist(0.0, 1.5);
+  std::vector<Edge> edges(300);
+  for (Edge& e : edges) {
+    e.start = Vec3(u(rng), u(rng), u(rng));
+    e.direction = Vec3(u(rng), u(rng), u(rng)).normalized();
+    e.length_m = len(rng);
+  }
+  const EdgeProximity index(edges, 0.3);
+  std::vector<uint32_t> out;
+  size_t within_total = 0, returned_total = 0;
+  for (int i = 0; i < 200; ++i) {
+    const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
+    const double d = dist(rng);
+    index.edges_near_segment(a, b, d, out);
+    ASSERT_TRUE(std::is_sorted(out.begin(), out.end()));
+    ASSERT_EQ(std::adjacent_find(out.begin(), out.end()), out.end());
+    for (uint32_t e = 0; e < edges.size(); ++e)
+      if (segment_segment_distance(edges[e], a, b) <= d - 2e-3) {
+        ++within_total;
+        EXPECT_TRUE(std::binary_search(out.begin(), out.end(), e)) << "segment " << i << " edge " << e;
+      }
+    returned_total += out.size();
+  }
+  EXPECT_GT(within_total, 1000u);                // not vacuous
+  EXPECT_LT(returned_total, 200u * edges.size());  // and not every edge every time
+  index.edges_near_segment(Vec3(std::nan(""), 0, 0), Vec3(1, 0, 0), 0.5, out);
+  EXPECT_TRUE(out.empty());
+}
+
 std::shared_ptr<const Scene> metal_quad(const Vec3& corner, const Vec3& u, const Vec3& v) {
   TriangleMesh sheet;
   sheet.name = "sheet";
