@@ -133,7 +133,7 @@ int run_coverage(const CoverageOptions& o) {
       if (std::isfinite(values[k].outside_validity[i])) ++judged, outside += values[k].outside_validity[i] > 0.5;
     if (judged)
       std::printf("    %zu of %zu cells are where level %s is outside its validity or what was checked (near metal "
-                  "edges and edge ends, narrow obstacles, penetrable slabs, parallel plates; docs/fullwave.md): "
+                  "edges and edge ends, narrow obstacles, penetrable slabs, parallel plates, plates seen edge-on; docs/fullwave.md): "
                   "coverage.csv's outside_validity, validity_error\n",
                   outside, judged, p.channel->name().c_str());
   }

@@ -220,7 +220,7 @@ void count_tags_outside_validity(const Scenario& scenario, const SceneMotion& mo
   }
   if (result.tags_outside_validity == 0) return;
   char b[320];
-  std::snprintf(b, sizeof b, "%zu of %zu tags are where level %s is outside its validity or what was checked (near metal edges, narrow obstacles, penetrable slabs, parallel plates); the worst, tag '",
+  std::snprintf(b, sizeof b, "%zu of %zu tags are where level %s is outside its validity or what was checked (near metal edges and edge ends, narrow obstacles, penetrable slabs, parallel plates, plates seen edge-on); the worst, tag '",
                 result.tags_outside_validity, scenario.tags.size(), to_string(level));
   result.notes.push_back(std::string(b) + scenario.tags[worst].tag.name + "': " + worst_v.reason);
 }

@@ -15,7 +15,7 @@ namespace rfidray {
 namespace {
 
 constexpr double kOnEdge = 1e-6;          // metres: an end this close to the edge's line sees no wedge angle
-constexpr double kHalfWidthsChecked = 4;  // |step − T| ≤ 0.04 beyond (edge_end_finder.h)
+constexpr double kHalfWidthsChecked = 4;  // |step − T| about 0.04 or less beyond (edge_end_finder.h)
 
 }  // namespace
 

@@ -151,7 +151,7 @@ FidelityChoice choose_fidelity(std::shared_ptr<const Scene> scene, const std::ve
                .level_ok;
   if (choice.links_outside_validity > 0)
     choice.reason += "; " + std::to_string(choice.links_outside_validity) + " of the sampled links are outside " +
-                     ladder.back().label + "'s own validity near metal (edges, narrow obstacles, slabs, plates; docs/fullwave.md)";
+                     ladder.back().label + "'s own validity near metal (edges and edge ends, narrow obstacles, slabs, plates, plates seen edge-on; docs/fullwave.md)";
   return choice;
 }
 
