@@ -7,29 +7,13 @@
 
 #include "core/units.h"
 #include "raytrace/scene.h"
+#include "raytrace/segment_distance.h"
 #include "raytrace/thin_posts.h"
 
 namespace rfidray {
 namespace {
 
 constexpr double kParallelCos = 0.8660254037844387;  // cos 30°
-
-// Closest points of segments p0 + s·(p1 − p0) and q0 + u·(q1 − q0), s, u in [0, 1] (C. Ericson, "Real-Time
-// Collision Detection", 2005, §5.1.9).
-void closest_points(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1, double& s, double& u) {
-  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  const double c = d1.dot(r), b = d1.dot(d2), denom = a * e - b * b;
-  s = denom > 1e-14 * a * e ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-  u = (b * s + f) / e;
-  if (u < 0.0) {
-    u = 0.0;
-    s = std::clamp(-c / a, 0.0, 1.0);
-  } else if (u > 1.0) {
-    u = 1.0;
-    s = std::clamp((b - c) / a, 0.0, 1.0);
-  }
-}
 
 struct NearEdge {
   uint32_t edge;
@@ -57,12 +41,11 @@ std::optional<EdgeOnPlate> find_edge_on_plate(const Scene& scene, const EdgeProx
     if (!post_of_edge.empty() && post_of_edge[i] != kNoPost) continue;
     const Edge& e = edges.edge(i);
     if (!metal(e.facet_a) || (!e.half_plane() && !metal(e.facet_b))) continue;
-    double s = 0.0, v = 0.0;
-    const Vec3 e1 = e.start + e.length_m * e.direction;
-    closest_points(a, t, e.start, e1, s, v);
+    const SegmentClosest closest = closest_points(a, u_hat, length, e.start, e.direction, e.length_m);
+    const double s = closest.s_m / length;
     if (!(s > 0.0 && s < 1.0)) continue;  // not beside the segment
-    const Vec3 on_edge = e.start + v * (e1 - e.start);
-    const double distance = (a + s * (t - a) - on_edge).norm();
+    const Vec3 on_edge = e.start + closest.t_m * e.direction;
+    const double distance = closest.distance_m;
     const double radius = std::sqrt(lambda * s * (1.0 - s) * length);
     if (distance <= radius) near.push_back({i, on_edge, distance, radius});
   }

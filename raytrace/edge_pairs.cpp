@@ -8,6 +8,8 @@
 #include <tuple>
 #include <utility>
 
+#include "raytrace/segment_distance.h"
+
 namespace rfidray {
 namespace {
 
@@ -20,18 +22,6 @@ Vec3 canonical_direction(const Vec3& d) {
   for (int i = 1; i < 3; ++i)
     if (std::abs(d[i]) > std::abs(d[axis])) axis = i;
   return d[axis] < 0.0 ? Vec3(-d) : d;
-}
-
-// The distance between two segments p0 + s·u (s ∈ [0, lu]) and q0 + t·v (t ∈ [0, lv]), u and v unit and not
-// parallel: the closest points of the lines, clamped (Ericson, Real-Time Collision Detection, §5.1.9).
-double segment_distance(const Vec3& p0, const Vec3& u, double lu, const Vec3& q0, const Vec3& v, double lv) {
-  const Vec3 r = p0 - q0;
-  const double b = u.dot(v), c = u.dot(r), f = v.dot(r);
-  const double denom = 1.0 - b * b;
-  double s = denom > 1e-15 ? std::clamp((b * f - c) / denom, 0.0, lu) : 0.0;
-  double t = std::clamp(b * s + f, 0.0, lv);
-  s = std::clamp(b * t - c, 0.0, lu);
-  return (p0 + s * u - (q0 + t * v)).norm();
 }
 
 }  // namespace
@@ -118,7 +108,7 @@ std::vector<EdgePair> find_edge_pairs(std::span<const Edge> edges, std::span<con
         const Edge& ei = edges[by_facet[x].second];
         const Edge& ej = edges[by_facet[y].second];
         if (ei.direction.cross(ej.direction).norm() <= kParallelRad) continue;  // parallel: found above
-        const double distance = segment_distance(ei.start, ei.direction, ei.length_m, ej.start, ej.direction, ej.length_m);
+        const double distance = closest_points(ei.start, ei.direction, ei.length_m, ej.start, ej.direction, ej.length_m).distance_m;
         if (distance > max_distance_m) continue;
         EdgePair p;
         p.first = std::min(by_facet[x].second, by_facet[y].second);

@@ -6,6 +6,7 @@
 
 #include "core/units.h"
 #include "raytrace/scene.h"
+#include "raytrace/segment_distance.h"
 #include "raytrace/thin_posts.h"
 
 namespace rfidray {
@@ -22,25 +23,6 @@ constexpr double kSlabNuMax = 4.5;
 Vec3 closest_on_edge(const Edge& e, const Vec3& p) {
   const double z = std::clamp((p - e.start).dot(e.direction), 0.0, e.length_m);
   return e.start + z * e.direction;
-}
-
-// Closest points of the segments p0 + s·u (s ∈ [0, lu]) and q0 + t·v (t ∈ [0, lv]), u and v unit vectors: returns
-// the distance and s (Ericson, Real-Time Collision Detection, §5.1.9).
-std::pair<double, double> segment_distance(const Vec3& p0, const Vec3& u, double lu, const Vec3& q0, const Vec3& v,
-                                           double lv) {
-  const Vec3 r = p0 - q0;
-  const double b = u.dot(v), c = u.dot(r), f = v.dot(r);
-  const double denom = 1.0 - b * b;
-  double s = denom > 1e-12 ? std::clamp((b * f - c) / denom, 0.0, lu) : 0.0;
-  double t = b * s + f;
-  if (t < 0.0) {
-    t = 0.0;
-    s = std::clamp(-c, 0.0, lu);
-  } else if (t > lv) {
-    t = lv;
-    s = std::clamp(b * lv - c, 0.0, lu);
-  }
-  return {((p0 + s * u) - (q0 + t * v)).norm(), s};
 }
 
 // Distance from `p` (on the facet's plane) to the border of the facet's bounding box, over the two axes along
@@ -115,7 +97,8 @@ ObstacleSight find_obstacles(const Scene& scene, const EdgeProximity& edges, con
     if (std::abs(e1.direction.dot(e2.direction)) < kParallelEdgesCos) continue;
     const double width = (closest_on_edge(e1, probes[i].at) - closest_on_edge(e2, probes[i].at)).norm();
     if (!(width <= 0.5 * lambda)) continue;
-    const auto [clearance, s] = segment_distance(antenna, dir, length, e1.start, e1.direction, e1.length_m);
+    const SegmentClosest closest = closest_points(antenna, dir, length, e1.start, e1.direction, e1.length_m);
+    const double clearance = closest.distance_m, s = closest.s_m;
     const double radius = std::sqrt(lambda * s * (length - s) / length);
     // This obstacle blocks the segment when the blocking point lies within λ/2 of its nearer edge.
     const bool blocks = blocked_by_metal && (closest_on_edge(e1, blocking_point) - blocking_point).norm() <= 0.5 * lambda;
