@@ -396,6 +396,39 @@ def plate_grazing() -> Case:
     )
 
 
+def plate_corner_steep() -> Case:
+    """Case (g)'s plate lit steeply (34° from its normal) by a horizontal dipole, E along the plate: the corner's
+    shadow and reflection near the tags without grazing, to tell what is the corner's and what is grazing's in the
+    errors of cases (g) and its line (issue #33)."""
+    plate = Box((0.0, 0.0, 0.0), (0.6, 0.6, 0.0), "metal")
+    source = (0.35, 0.35, 0.5)
+    specs = []
+    # The direct line (below the plane) or the reflected one (above it, from the source's image) meets the plane at
+    # (cx, cy), a few centimetres from the corner: shadowed when (cx, cy) is on the plate, lit past its edges.
+    for cx, cy in ((0.03, 0.03), (0.08, 0.03), (0.03, 0.08), (-0.03, 0.03), (0.03, -0.03), (-0.03, -0.03),
+                   (-0.08, 0.05), (0.10, 0.10)):
+        for z in (-0.10, 0.10):
+            f = (source[2] + abs(z)) / source[2]
+            x, y = round(source[0] + f * (cx - source[0]), 4), round(source[1] + f * (cy - source[1]), 4)
+            on_plate = cx > 0.0 and cy > 0.0
+            region = ("shadowed" if on_plate else "lit, past the corner") if z < 0 else \
+                ("reflected" if on_plate else "no reflection, past the corner")
+            specs.append((f"{'below' if z < 0 else 'above'}_c{cx * 100:+.0f}_{cy * 100:+.0f}", (x, y, z), region))
+    return Case(
+        name="plate_corner_steep",
+        description="horizontal PEC plate 0.6 × 0.6 m (z = 0, x, y ∈ [0, 0.6]), corner at the origin; x dipole at "
+                    "(0.35, 0.35, 0.5); tags 10 cm below the plane where the direct line passes a few centimetres "
+                    "from the corner, and 10 cm above it where the reflected line does",
+        boxes=(plate,),
+        source=source,
+        axis="x",
+        observers=_labelled(specs, (plate,)),
+        domain_lo=(-0.30, -0.30, -0.30),
+        domain_hi=(0.75, 0.75, 0.65),
+        polarization_name="horizontal (x), along the plate",
+    )
+
+
 CASES = {
     "sheet_edge_soft": lambda: sheet_edge("z"),
     "sheet_edge_hard": lambda: sheet_edge("x"),
@@ -409,4 +442,5 @@ CASES = {
     "plate_corner": plate_corner,
     "plate_corner_line": plate_corner_line,
     "plate_grazing": plate_grazing,
+    "plate_corner_steep": plate_corner_steep,
 }
