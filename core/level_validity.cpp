@@ -187,7 +187,16 @@ LevelValidity level_validity(ChannelLevel level, const std::optional<EdgeSight>&
 }
 
 LinkSight link_sight(const Channel& channel, const Endpoint& antenna, const Endpoint& tag, double frequency_hz) {
-  return {link_edge_sight(channel, antenna, tag, frequency_hz), channel.obstacle_sight(antenna, tag, frequency_hz)};
+  const double reach = level_validity_reach_m(frequency_hz);
+  std::optional<EdgeSight> at_tag = channel.nearest_edge(tag, antenna, reach);
+  std::optional<EdgeSight> at_antenna = channel.nearest_edge(antenna, tag, reach);
+  LinkSight sight;
+  // As link_edge_sight: the nearer one first.
+  if (at_antenna && (!at_tag || at_antenna->distance_m < at_tag->distance_m)) std::swap(at_tag, at_antenna);
+  sight.edge = at_tag;
+  sight.edge_other_end = at_antenna;
+  sight.obstacles = channel.obstacle_sight(antenna, tag, frequency_hz);
+  return sight;
 }
 
 LevelValidity level_validity(ChannelLevel level, const LinkSight& sight, double frequency_hz,
@@ -197,14 +206,23 @@ LevelValidity level_validity(ChannelLevel level, const LinkSight& sight, double 
   const bool diffracts = includes(level, ChannelLevel::kFullSelective);
   double worst = v.estimated_error;
   bool flagged = false;
-  const auto add = [&](double error, const std::string& what) {
-    char b[64];
-    std::snprintf(b, sizeof b, ": measured off by %.2f of the free-space field", error);
+  // `what`, then how far off the level is there: measured (against FDTD, the default) or estimated.
+  const auto add = [&](double error, const std::string& what, const char* measured_or_estimated = ": measured") {
+    char b[80];
+    std::snprintf(b, sizeof b, "%s off by %.2f of the free-space field", measured_or_estimated, error);
     append(v.reason, what + b);
     worst = std::max(worst, error);
     flagged |= error > kLevelErrorLimit;
   };
   const auto pick = [&](const MeasuredError& m) { return diffracts ? m.diffracting : m.rays; };
+  if (sight.edge_other_end) {
+    const LevelValidity other = level_validity(level, sight.edge_other_end, frequency_hz, relative_amplitude);
+    if (!other.level_ok || other.estimated_error > worst) {
+      append(v.reason, "at the other end, " + other.reason);
+      worst = std::max(worst, other.estimated_error);
+      flagged |= !other.level_ok;
+    }
+  }
   const ObstacleSight& o = sight.obstacles;
   // A modelled post off the direct line is a near-field matter of the levels that model it only.
   if (o.narrow && !(o.narrow->off_line && !diffracts)) {
@@ -272,12 +290,10 @@ LevelValidity level_validity(ChannelLevel level, const LinkSight& sight, double 
     std::snprintf(b, sizeof b, "a diffraction point %s %s an edge's end, within its Fresnel zone (half-width %s): "
                   "the edge's term (%.2f of the free-space field) is computed for an infinite edge and dropped past "
                   "the end, where the edge carries a share of it (docs/fullwave.md, \"Where `full` is "
-                  "discontinuous\"); estimated off by %.2f of the free-space field",
+                  "discontinuous\")",
                   centimetres(std::abs(end.past_end_m)).c_str(), end.past_end_m > 0.0 ? "past" : "inside",
-                  centimetres(end.fresnel_half_width_m).c_str(), end.term_share, end.estimated_error);
-    append(v.reason, b);
-    worst = std::max(worst, end.estimated_error);
-    flagged |= end.estimated_error > kLevelErrorLimit;
+                  centimetres(end.fresnel_half_width_m).c_str(), end.term_share);
+    add(end.estimated_error, b, "; estimated");
   }
   if (worst > v.estimated_error) set_error(v, worst, relative_amplitude);
   if (flagged && v.level_ok) {

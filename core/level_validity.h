@@ -85,17 +85,20 @@ LevelValidity level_validity(ChannelLevel level, const std::optional<EdgeSight>&
 std::optional<EdgeSight> link_edge_sight(const Channel& channel, const Endpoint& antenna, const Endpoint& tag,
                                          double frequency_hz);
 
-// Everything the verdict looks at on one link: the nearer end's edge and the obstacles of the link.
+// Everything the verdict looks at on one link: the nearer end's edge, the other end's (when it has one within
+// reach: an end farther from its edge can be the worse one, e.g. beside a corner) and the obstacles of the link.
 struct LinkSight {
   std::optional<EdgeSight> edge;
+  std::optional<EdgeSight> edge_other_end;
   ObstacleSight obstacles;
 };
 
 // link_edge_sight and Channel::obstacle_sight of the link. Thread-safe when the channel is.
 LinkSight link_sight(const Channel& channel, const Endpoint& antenna, const Endpoint& tag, double frequency_hz);
 
-// The verdict on the edge (above), then on the obstacles: each one found adds its reason and raises the estimate
-// to its measured error when that is larger (flagged when above kLevelErrorLimit).
+// The verdict on the nearer end's edge (above; its distance is the verdict's nearest_edge_m), then on the other
+// end's and on the obstacles: each adds its reason where it raises the estimate or flags the link (flagged when
+// above kLevelErrorLimit or outside what was checked).
 LevelValidity level_validity(ChannelLevel level, const LinkSight& sight, double frequency_hz,
                              double relative_amplitude = 1.0);
 

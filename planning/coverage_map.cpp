@@ -1,7 +1,5 @@
 #include "planning/coverage_map.h"
 
-#include "core/level_validity.h"
-
 #include <omp.h>
 
 #include <algorithm>
@@ -13,6 +11,7 @@
 #include <tuple>
 
 #include "core/error.h"
+#include "core/level_validity.h"
 #include "core/limits.h"
 #include "core/read_probability.h"
 #include "core/tag_couplings.h"

@@ -40,8 +40,15 @@ EdgeProximity::EdgeProximity(const std::vector<Edge>& edges, double radius_m) : 
 
 std::array<EdgeProximity::Hit, 2> EdgeProximity::nearest_two(const Vec3& point) const {
   std::array<Hit, 2> best{};
+  nearest(point, best);
+  return best;
+}
+
+void EdgeProximity::nearest(const Vec3& point, std::span<Hit> best) const {
+  std::fill(best.begin(), best.end(), Hit{});
+  if (best.empty()) return;
   // Cell indices must fit an int64 (a point 1e308 away is far from every edge in any case).
-  if (!point.allFinite() || point.cwiseAbs().maxCoeff() > 1e15 * cell_m_) return best;
+  if (!point.allFinite() || point.cwiseAbs().maxCoeff() > 1e15 * cell_m_) return;
   const int64_t ci = static_cast<int64_t>(std::floor(point.x() / cell_m_));
   const int64_t cj = static_cast<int64_t>(std::floor(point.y() / cell_m_));
   const int64_t ck = static_cast<int64_t>(std::floor(point.z() / cell_m_));
@@ -51,7 +58,8 @@ std::array<EdgeProximity::Hit, 2> EdgeProximity::nearest_two(const Vec3& point) 
         const auto it = cells_.find(key(ci + di, cj + dj, ck + dk));
         if (it == cells_.end()) continue;
         for (uint32_t e : it->second) {
-          if (e == best[0].edge || e == best[1].edge) continue;  // an edge sampled into several cells
+          // An edge sampled into several cells is measured once.
+          if (std::any_of(best.begin(), best.end(), [&](const Hit& h) { return h.edge == e; })) continue;
           const Edge& edge = edges_[e];
           const double z = std::clamp((point - edge.start).dot(edge.direction), 0.0, edge.length_m);
           const double d = (point - (edge.start + z * edge.direction)).norm();
@@ -60,15 +68,14 @@ std::array<EdgeProximity::Hit, 2> EdgeProximity::nearest_two(const Vec3& point) 
           const auto before = [&](const Hit& h) {
             return h.edge == kNoEdge || d < h.distance_m || (d == h.distance_m && e < h.edge);
           };
-          if (before(best[0])) {
-            best[1] = best[0];
-            best[0] = {e, d};
-          } else if (before(best[1])) {
-            best[1] = {e, d};
-          }
+          // Insertion into the sorted list; the last one falls off.
+          size_t k = best.size();
+          while (k > 0 && before(best[k - 1])) --k;
+          if (k == best.size()) continue;
+          for (size_t m = best.size() - 1; m > k; --m) best[m] = best[m - 1];
+          best[k] = {e, d};
         }
       }
-  return best;
 }
 
 void EdgeProximity::edges_near_segment(const Vec3& a, const Vec3& b, double distance_m, std::vector<uint32_t>& out) const {

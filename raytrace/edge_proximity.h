@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <unordered_map>
 #include <vector>
 
@@ -32,6 +33,10 @@ class EdgeProximity {
   // The nearest edge within the radius, and the second nearest other edge within it (edge == kNoEdge where
   // there is none). Does not allocate.
   std::array<Hit, 2> nearest_two(const Vec3& point) const;
+  // The nearest best.size() edges within the radius, nearest first (edge == kNoEdge past the last found; ties go
+  // to the lower index). Where several edges meet (a box's corner: three, and a thin box's far face just beyond)
+  // the two nearest may both be edges the link's ends do not see alike. Does not allocate.
+  void nearest(const Vec3& point, std::span<Hit> best) const;
   // Distance (m) from `point` to the nearest edge, when one is within the radius.
   std::optional<double> nearest_m(const Vec3& point) const;
   // Every edge with a point within `distance_m` of the segment [a, b], and possibly others (the caller measures),

@@ -200,7 +200,10 @@ std::optional<EdgeSight> RaytracedChannel::nearest_edge(const Endpoint& end_poin
   const Vec3& end = end_point.pose.position;
   const Vec3& other_end = other_point.pose.position;
   const EdgeProximity& index = edge_index();
-  const auto hits = index.nearest_two(end);
+  // Up to six: a thin box's corner has three edges on each face, and the two nearest may both be on the face that
+  // the other end does not see (their wedges' interiors, extended, hold it), where the one that matters is next.
+  std::array<EdgeProximity::Hit, 6> hits;
+  index.nearest(end, hits);
   const auto post_of_edge = finder_.post_of_edge();
   const auto is_post_edge = [&](uint32_t e) { return !post_of_edge.empty() && post_of_edge[e] != kNoPost; };
   const auto& facets = scene().facets();
@@ -242,9 +245,13 @@ std::optional<EdgeSight> RaytracedChannel::nearest_edge(const Endpoint& end_poin
     sight.other_distance_m = v_other.norm();
     sight.metal_faces = materials[facets[w.face0].material].perfect_conductor &&
                         materials[facets[w.facen].material].perfect_conductor;
-    const EdgeProximity::Hit& other = hits[1 - i];
-    if (other.edge != kNoEdge && other.distance_m <= max_distance_m && !is_post_edge(other.edge))
+    // The second edge near this end: the nearest other one.
+    for (size_t j = 0; j < hits.size(); ++j) {
+      const EdgeProximity::Hit& other = hits[j];
+      if (j == i || other.edge == kNoEdge || other.distance_m > max_distance_m || is_post_edge(other.edge)) continue;
       sight.second_edge_m = other.distance_m;
+      break;
+    }
     return sight;
   }
   return std::nullopt;

@@ -396,11 +396,13 @@ def plate_grazing() -> Case:
     )
 
 
-def plate_corner_steep() -> Case:
+def plate_corner_steep(thickness_m: float = 0.0) -> Case:
     """Case (g)'s plate lit steeply (34° from its normal) by a horizontal dipole, E along the plate: the corner's
     shadow and reflection near the tags without grazing, to tell what is the corner's and what is grazing's in the
-    errors of cases (g) and its line (issue #33)."""
-    plate = Box((0.0, 0.0, 0.0), (0.6, 0.6, 0.0), "metal")
+    errors of cases (g) and its line (issue #33). With `thickness_m` > 0 the plate is a closed metal box that thick
+    below z = 0, as the shelves of rfidray's warehouses are (3 cm in scenes/paper_warehouse.obj): its corner is
+    three wedge edges, not a sheet's two."""
+    plate = Box((0.0, 0.0, -thickness_m), (0.6, 0.6, 0.0), "metal")
     source = (0.35, 0.35, 0.5)
     specs = []
     # The direct line (below the plane) or the reflected one (above it, from the source's image) meets the plane at
@@ -415,10 +417,12 @@ def plate_corner_steep() -> Case:
                 ("reflected" if on_plate else "no reflection, past the corner")
             specs.append((f"{'below' if z < 0 else 'above'}_c{cx * 100:+.0f}_{cy * 100:+.0f}", (x, y, z), region))
     return Case(
-        name="plate_corner_steep",
-        description="horizontal PEC plate 0.6 × 0.6 m (z = 0, x, y ∈ [0, 0.6]), corner at the origin; x dipole at "
-                    "(0.35, 0.35, 0.5); tags 10 cm below the plane where the direct line passes a few centimetres "
-                    "from the corner, and 10 cm above it where the reflected line does",
+        name="plate_corner_steep" + ("_box" if thickness_m > 0.0 else ""),
+        description=("horizontal PEC plate 0.6 × 0.6 m (z = 0, x, y ∈ [0, 0.6])" +
+                     (f", a closed box {thickness_m * 100:.0f} cm thick below z = 0" if thickness_m > 0.0 else "") +
+                     ", corner at the origin; x dipole at "
+                     "(0.35, 0.35, 0.5); tags 10 cm below the plane where the direct line passes a few centimetres "
+                    "from the corner, and 10 cm above it where the reflected line does"),
         boxes=(plate,),
         source=source,
         axis="x",
@@ -443,4 +447,5 @@ CASES = {
     "plate_corner_line": plate_corner_line,
     "plate_grazing": plate_grazing,
     "plate_corner_steep": plate_corner_steep,
+    "plate_corner_steep_box": lambda: plate_corner_steep(0.04),
 }

@@ -111,8 +111,14 @@ TEST(ObstacleValidity, NarrowPostBehindAndBeside) {
   const LevelValidity v_beside = verdict(full, ChannelLevel::kFull, source, aside);
   EXPECT_FALSE(v_beside.level_ok) << v_beside.reason;
   EXPECT_NEAR(v_beside.estimated_error, 0.25, 1e-12);
+  // Without diffraction both checks speak: the narrow obstacle (its measured median, 0.51) and the post's front
+  // edge (26 cm away, the nearest edge the two ends see alike: the two back edges nearer the tag have the source in
+  // their wedges' interiors, extended), whose exact wedge series says 0.71. FDTD: 0.47 (upright.csv).
   const LevelValidity rays = verdict(full, ChannelLevel::kSingleBounce, source, aside);
-  EXPECT_NEAR(rays.estimated_error, 0.51, 1e-12);
+  EXPECT_FALSE(rays.level_ok);
+  EXPECT_GE(rays.estimated_error, 0.51);
+  EXPECT_NE(rays.reason.find("narrow obstacle"), std::string::npos) << rays.reason;
+  EXPECT_NE(rays.reason.find("90° wedge"), std::string::npos) << rays.reason;
   // 1 m to the side of the post, the direct line is 0.8 m from it: nothing.
   EXPECT_FALSE(full.obstacle_sight(z_dipole_at(source), z_dipole_at(Vec3(1.0, 0.25, 0.0)), kF).narrow.has_value());
 
