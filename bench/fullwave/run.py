@@ -31,6 +31,18 @@ import cases  # noqa: E402
 from geometry import K_RAD_M  # noqa: E402
 
 
+def geometry_words(case) -> str:
+    """What the case's objects are in the FDTD, for the table's header: zero-thickness sheets, slabs (a sheet with
+    Box.slab_m, which the FDTD builds that thick), closed boxes."""
+    kinds = []
+    for box in case.boxes:
+        kind = ("closed boxes" if box.thin_axis is None else
+                f"{box.slab_m * 100:g} cm slabs" if box.slab_m > 0.0 else "zero-thickness sheets")
+        if kind not in kinds:
+            kinds.append(kind)
+    return " and ".join(kinds)
+
+
 def log(msg):
     print(msg, flush=True)
 
@@ -111,10 +123,10 @@ def run_case(a):
             w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
     os.replace(csv_path + ".tmp", csv_path)
     md = [f"# {case.name}", "", case.description + ".", "",
-          f"FDTD: meep {', '.join(f'{r:g}' for r in res)} px/m, PML {pml[0]:g} m, zero-thickness sheets; reference = "
+          f"FDTD: meep {', '.join(f'{r:g}' for r in res)} px/m, PML {pml[0]:g} m, {geometry_words(case)}; reference = "
           f"{('order-%d Richardson extrapolation of the two finest' % case.convergence_order) if len(res) > 1 and not a.no_richardson else f'{res[-1]:g} px/m'}. Errors are |h/h_ideal − E/E_free|, a fraction of the free-space field. "
           f"Spread = |E({res[-1]:g}) − E({res[-2] if len(res) > 1 else res[-1]:g})|/E_free; PML: {pml} m; "
-          f"thickness check: {a.thickness or 'not run'} m.", "",
+          f"thickness check: {f'{a.thickness:g} m' if a.thickness else 'not run'}.", "",
           "| observer | kρ | region | FDTD E/E₀ | spread | " + " | ".join(names) + " |",
           "|---|---|---|---|---|" + "---|" * len(names)]
     for r in rows:
