@@ -43,9 +43,9 @@ import tempfile
 
 import numpy as np
 from scipy.integrate import quad
-from scipy.special import fresnel
 
 import cases
+from corner_truncation import fresnel_phi
 from geometry import K_RAD_M, Box
 import rfidray_link
 from rfidray_link import link_json, write_obj
@@ -60,9 +60,8 @@ def fail(msg):
 
 
 def share_beyond(delta):
-    """∫_δ^∞ e^{−jt²} dt / ∫_{−∞}^∞ e^{−jt²} dt."""
-    s, c = fresnel(delta * math.sqrt(2.0 / math.pi))
-    return ((0.5 - c) - 1j * (0.5 - s)) / (1 - 1j)
+    """∫_δ^∞ e^{−jt²} dt / ∫_{−∞}^∞ e^{−jt²} dt = ½ − Φ(δ√(2/π))/(1 − j), Φ = C − jS."""
+    return 0.5 - fresnel_phi(delta * math.sqrt(2.0 / math.pi)) / (1 - 1j)
 
 
 def end_share(a, t, end, outward, k):
@@ -76,9 +75,8 @@ def end_share(a, t, end, outward, k):
     path = lambda z: np.linalg.norm(a - (end + z * d)) + np.linalg.norm(t - (end + z * d))
     lq = path(zq)
     u0 = math.copysign(math.sqrt(max(0.0, 2.0 * k / math.pi * (path(0.0) - lq))), 0.0 - zq)
-    # share of ∫ over z ≥ 0 = share beyond u0 in the Fresnel variable
-    s, c = fresnel(u0)
-    return ((0.5 - c) - 1j * (0.5 - s)) / (1 - 1j), zq
+    # the share of ∫ over z ≥ 0: beyond u0 in the Fresnel variable
+    return 0.5 - fresnel_phi(u0) / (1 - 1j), zq
 
 
 def oscillating(d, t0, t1):
