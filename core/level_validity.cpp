@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <tuple>
+#include <utility>
 
 #include "core/edge_near_field.h"
 #include "core/units.h"
@@ -10,6 +12,18 @@
 
 namespace rfidray {
 namespace {
+
+// Each end's nearest edge within reach, lit from the other end: the nearer one first (the tag's on a tie).
+std::pair<std::optional<EdgeSight>, std::optional<EdgeSight>> both_ends_edges(const Channel& channel,
+                                                                                const Endpoint& antenna,
+                                                                                const Endpoint& tag,
+                                                                                double frequency_hz) {
+  const double reach = level_validity_reach_m(frequency_hz);
+  std::optional<EdgeSight> at_tag = channel.nearest_edge(tag, antenna, reach);
+  std::optional<EdgeSight> at_antenna = channel.nearest_edge(antenna, tag, reach);
+  if (at_antenna && (!at_tag || at_antenna->distance_m < at_tag->distance_m)) return {at_antenna, at_tag};
+  return {at_tag, at_antenna};
+}
 
 constexpr double kReachKrho = 9.0;
 
@@ -187,14 +201,8 @@ LevelValidity level_validity(ChannelLevel level, const std::optional<EdgeSight>&
 }
 
 LinkSight link_sight(const Channel& channel, const Endpoint& antenna, const Endpoint& tag, double frequency_hz) {
-  const double reach = level_validity_reach_m(frequency_hz);
-  std::optional<EdgeSight> at_tag = channel.nearest_edge(tag, antenna, reach);
-  std::optional<EdgeSight> at_antenna = channel.nearest_edge(antenna, tag, reach);
   LinkSight sight;
-  // As link_edge_sight: the nearer one first.
-  if (at_antenna && (!at_tag || at_antenna->distance_m < at_tag->distance_m)) std::swap(at_tag, at_antenna);
-  sight.edge = at_tag;
-  sight.edge_other_end = at_antenna;
+  std::tie(sight.edge, sight.edge_other_end) = both_ends_edges(channel, antenna, tag, frequency_hz);
   sight.obstacles = channel.obstacle_sight(antenna, tag, frequency_hz);
   return sight;
 }
@@ -305,11 +313,7 @@ LevelValidity level_validity(ChannelLevel level, const LinkSight& sight, double 
 
 std::optional<EdgeSight> link_edge_sight(const Channel& channel, const Endpoint& antenna, const Endpoint& tag,
                                          double frequency_hz) {
-  const double reach = level_validity_reach_m(frequency_hz);
-  std::optional<EdgeSight> at_tag = channel.nearest_edge(tag, antenna, reach);
-  std::optional<EdgeSight> at_antenna = channel.nearest_edge(antenna, tag, reach);
-  if (at_tag && at_antenna) return at_antenna->distance_m < at_tag->distance_m ? at_antenna : at_tag;
-  return at_tag ? at_tag : at_antenna;
+  return both_ends_edges(channel, antenna, tag, frequency_hz).first;
 }
 
 std::optional<ChannelLevel> judged_level(const Channel& channel) {
