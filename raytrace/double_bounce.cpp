@@ -18,36 +18,36 @@
 
 namespace rfidray {
 
-void PathFinder::double_reflections(const Endpoint& ant, const Endpoint& tag, double f, const PoseCandidates& c,
-                                    double floor, const std::vector<PlanePair>* pairs,
-                                    std::vector<TracedPath>& out) const {
-  if (pairs) {  // the pairs plane_pairs_near kept for this link's block (trace_sum sorts the paths afterwards)
-    for (const PlanePair& p : *pairs) try_plane_pair(p.first, p.second, ant, tag, f, c, floor, out);
-    return;
-  }
-  const auto n = static_cast<uint32_t>(planes_.size());
-  for (uint32_t g2 = 0; g2 < n; ++g2)
-    for (uint32_t g1 = 0; g1 < n; ++g1)
-      if (g1 != g2) try_plane_pair(g1, g2, ant, tag, f, c, floor, out);
-}
-
-void PathFinder::try_plane_pair(uint32_t g1, uint32_t g2, const Endpoint& ant, const Endpoint& tag, double f,
-                                const PoseCandidates& c, double floor, std::vector<TracedPath>& out) const {
+// Defined before its callers (double_reflections) and inline: per link it runs n² times and most pairs end in it.
+inline void PathFinder::try_plane_pair(uint32_t g1, uint32_t g2, const Endpoint& ant, const Endpoint& tag, double f,
+                                       const PoseCandidates& c, double floor, const LinkImages& images,
+                                       std::vector<TracedPath>& out) const {
   ++tl_plane_pairs_tried;
   const PlaneGroup& a_plane = planes_[g1];
   const PlaneGroup& b_plane = planes_[g2];
   const Vec3& a = ant.pose.position;
   const Vec3& t = tag.pose.position;
   const double eps = options_.surface_epsilon_m;
-  // T2: the tag's image in plane 2. T21: T2's image in plane 1; P1 on plane 1 between A and T21.
-  const double dt2 = b_plane.normal.dot(t) - b_plane.offset_m;
+  // T2: the tag's image in plane 2. T21: T2's image in plane 1; P1 on plane 1 between A and T21. (image_point,
+  // written out with the link's table: the same expressions, so the same values.)
+  const double dt2 = images.tag_offset_m[g2];
   if (std::abs(dt2) < eps) return;
-  const Vec3 t2 = t - 2.0 * dt2 * b_plane.normal;
-  Vec3 t21, p1, t2_again, p2;
-  if (!image_point(a_plane.normal, a_plane.offset_m, a, t2, eps, t21, p1)) return;
+  const Vec3& t2 = images.tag_image[g2];
+  Vec3 t21, p1, p2;
+  {
+    const double da = images.antenna_offset_m[g1];
+    const double dt = a_plane.normal.dot(t2) - a_plane.offset_m;
+    if (da * dt <= 0.0 || std::abs(da) < eps || std::abs(dt) < eps) return;
+    t21 = t2 - 2.0 * dt * a_plane.normal;
+    p1 = a + (da / (da + dt)) * (t21 - a);
+  }
   if ((t21 - a).squaredNorm() > max_length2_) return;
-  // P2 on plane 2 between P1 and T2 (P1 and T strictly on one side of plane 2).
-  if (!image_point(b_plane.normal, b_plane.offset_m, p1, t, eps, t2_again, p2)) return;
+  // P2 on plane 2 between P1 and T2 (P1 and T strictly on one side of plane 2); T's image there is T2.
+  {
+    const double dp = b_plane.normal.dot(p1) - b_plane.offset_m;
+    if (dp * dt2 <= 0.0 || std::abs(dp) < eps) return;
+    p2 = p1 + (dp / (dp + dt2)) * (t2 - p1);
+  }
   const bool exhaustive = options_.candidates == CandidateMode::kExhaustive;
   // Cheap rejections first: no facet near P1 or P2 (the occupancy grids, conservative).
   const size_t bit1 = cell_bit(a_plane, p1), bit2 = cell_bit(b_plane, p2);
@@ -58,6 +58,46 @@ void PathFinder::try_plane_pair(uint32_t g1, uint32_t g2, const Endpoint& ant, c
   } else if (!((c.seen_cells[bit1 / 64] >> (bit1 % 64)) & 1u)) {
     return;  // P1 not seen from the antenna by the candidate rays
   }
+  trace_plane_pair(g1, g2, ant, tag, f, floor, t21, p1, p2, out);
+}
+
+void PathFinder::double_reflections(const Endpoint& ant, const Endpoint& tag, double f, const PoseCandidates& c,
+                                    double floor, const std::vector<PlanePair>* pairs,
+                                    std::vector<TracedPath>& out) const {
+  const auto n = static_cast<uint32_t>(planes_.size());
+  // Each plane's offsets of A and T and T's image, once per link instead of once per pair (n instead of n²).
+  thread_local LinkImages tl_images;  // per-thread scratch: no allocation once warm
+  LinkImages& images = tl_images;
+  images.antenna_offset_m.resize(n);
+  images.tag_offset_m.resize(n);
+  images.tag_image.resize(n);
+  const Vec3& a = ant.pose.position;
+  const Vec3& t = tag.pose.position;
+  for (uint32_t g = 0; g < n; ++g) {
+    const PlaneGroup& plane = planes_[g];
+    images.antenna_offset_m[g] = plane.normal.dot(a) - plane.offset_m;
+    const double dt = images.tag_offset_m[g] = plane.normal.dot(t) - plane.offset_m;
+    images.tag_image[g] = t - 2.0 * dt * plane.normal;
+  }
+  if (pairs) {  // the pairs plane_pairs_near kept for this link's block (trace_sum sorts the paths afterwards)
+    for (const PlanePair& p : *pairs) try_plane_pair(p.first, p.second, ant, tag, f, c, floor, images, out);
+    return;
+  }
+  for (uint32_t g2 = 0; g2 < n; ++g2)
+    for (uint32_t g1 = 0; g1 < n; ++g1)
+      if (g1 != g2) try_plane_pair(g1, g2, ant, tag, f, c, floor, images, out);
+}
+
+// A pair whose points P1, P2 passed try_plane_pair's rejections: the bound, the rays, the field.
+void PathFinder::trace_plane_pair(uint32_t g1, uint32_t g2, const Endpoint& ant, const Endpoint& tag, double f,
+                                  double floor, Vec3 t21, Vec3 p1, Vec3 p2, std::vector<TracedPath>& out) const {
+  const PlaneGroup& a_plane = planes_[g1];
+  const PlaneGroup& b_plane = planes_[g2];
+  const Vec3& a = ant.pose.position;
+  const Vec3& t = tag.pose.position;
+  const double eps = options_.surface_epsilon_m;
+  const bool exhaustive = options_.candidates == CandidateMode::kExhaustive;
+  Vec3 t2_again;
   const double length = (t21 - a).norm();
   const Vec3 dir1 = (p1 - a).normalized(), dir3 = (t - p2).normalized();
   const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, dir1) *

@@ -133,12 +133,6 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
   }
 }
 
-size_t PathFinder::cell_bit(const PlaneGroup& g, const Vec3& p) const {
-  const double fu = (p[g.axis_u] - g.u0) * g.inv_du, fv = (p[g.axis_v] - g.v0) * g.inv_dv;
-  if (!(fu >= 0.0 && fv >= 0.0 && fu < g.nu && fv < g.nv)) return SIZE_MAX;
-  return g.bit_offset + static_cast<size_t>(fv) * g.nu + static_cast<size_t>(fu);
-}
-
 void PathFinder::mark_seen(const PlaneGroup& g, const Vec3& p, const Vec3& dir, double radius_m,
                            PoseCandidates& out) const {
   // The footprint is an ellipse: radius across the ray, radius / cos θ along the ray's projection on the

@@ -209,7 +209,13 @@ class PathFinder {
                          std::vector<uint32_t>& out) const;
 
   // Bit index of p's cell in g's grid, or SIZE_MAX when p is outside the grid.
-  size_t cell_bit(const PlaneGroup& g, const Vec3& p) const;
+  // The occupancy bit of point p's cell on g's grid, or SIZE_MAX off the grid. Inline: the double-bounce pair
+  // loop calls it twice per pair.
+  size_t cell_bit(const PlaneGroup& g, const Vec3& p) const {
+    const double fu = (p[g.axis_u] - g.u0) * g.inv_du, fv = (p[g.axis_v] - g.v0) * g.inv_dv;
+    if (!(fu >= 0.0 && fv >= 0.0 && fu < g.nu && fv < g.nv)) return SIZE_MAX;
+    return g.bit_offset + static_cast<size_t>(fv) * g.nu + static_cast<size_t>(fu);
+  }
   // Marks the occupied cells of g under the footprint of a candidate ray (direction dir, footprint radius
   // radius_m across the ray) that hit at p as seen.
   void mark_seen(const PlaneGroup& g, const Vec3& p, const Vec3& dir, double radius_m, PoseCandidates& out) const;
@@ -252,8 +258,21 @@ class PathFinder {
   // Whether any occupancy bit of g under the (u, v) rectangle is set (true when the rectangle is too large to
   // scan cheaply); false when the rectangle is off g's grid.
   bool any_occupied(const PlaneGroup& g, const double region[2][2]) const;
+  // Per link and plane group, what every pair with that plane first (A's signed distance) or second (the tag's
+  // signed distance and its image) would compute alike: computed once per link, by the same expressions, so a pair
+  // reads the same values it would have computed (double_bounce.cpp).
+  struct LinkImages {
+    std::vector<double> antenna_offset_m;  // n·A − c
+    std::vector<double> tag_offset_m;      // n·T − c
+    std::vector<Vec3> tag_image;           // T − 2(n·T − c)n
+  };
+  // One ordered pair: the cheap rejections (signs, length, occupancy), then trace_plane_pair for what is left
+  // (most pairs of most links end here: inline in the loops, the rest out of line).
   void try_plane_pair(uint32_t g1, uint32_t g2, const Endpoint& a, const Endpoint& t, double f,
-                      const PoseCandidates& c, double floor, std::vector<TracedPath>& out) const;
+                      const PoseCandidates& c, double floor, const LinkImages& images,
+                      std::vector<TracedPath>& out) const;
+  void trace_plane_pair(uint32_t g1, uint32_t g2, const Endpoint& a, const Endpoint& t, double f, double floor,
+                        Vec3 t21, Vec3 p1, Vec3 p2, std::vector<TracedPath>& out) const;
   // Levels full-selective and full (post_scattering.cpp): the field scattered by each thin post.
   void post_scatterings(const Endpoint& a, const Endpoint& t, double f, double floor, std::vector<TracedPath>& out) const;
   // Whether a facet belongs to a thin post modelled as a cylinder (false for kNoFacet and below full-selective).
