@@ -30,24 +30,23 @@ inline void PathFinder::try_plane_pair(uint32_t g1, uint32_t g2, const Endpoint&
   const double eps = options_.surface_epsilon_m;
   // T2: the tag's image in plane 2. T21: T2's image in plane 1; P1 on plane 1 between A and T21. (image_point,
   // written out with the link's table: the same expressions, so the same values.)
+  //
+  // The sign and distance tests are combined without branching (most pairs fail one of them, unpredictably,
+  // and a mispredicted branch costs more than the divisions done for a pair that fails): each value is what the
+  // branching code would have computed for a pair that passes, and a pair that fails is dropped as before.
   const double dt2 = images.tag_offset_m[g2];
-  if (std::abs(dt2) < eps) return;
   const Vec3& t2 = images.tag_image[g2];
-  Vec3 t21, p1, p2;
-  {
-    const double da = images.antenna_offset_m[g1];
-    const double dt = a_plane.normal.dot(t2) - a_plane.offset_m;
-    if (da * dt <= 0.0 || std::abs(da) < eps || std::abs(dt) < eps) return;
-    t21 = t2 - 2.0 * dt * a_plane.normal;
-    p1 = a + (da / (da + dt)) * (t21 - a);
-  }
-  if ((t21 - a).squaredNorm() > max_length2_) return;
+  const double da = images.antenna_offset_m[g1];
+  const double dt = a_plane.normal.dot(t2) - a_plane.offset_m;
+  const Vec3 t21 = t2 - 2.0 * dt * a_plane.normal;
+  const Vec3 p1 = a + (da / (da + dt)) * (t21 - a);
   // P2 on plane 2 between P1 and T2 (P1 and T strictly on one side of plane 2); T's image there is T2.
-  {
-    const double dp = b_plane.normal.dot(p1) - b_plane.offset_m;
-    if (dp * dt2 <= 0.0 || std::abs(dp) < eps) return;
-    p2 = p1 + (dp / (dp + dt2)) * (t2 - p1);
-  }
+  const double dp = b_plane.normal.dot(p1) - b_plane.offset_m;
+  const Vec3 p2 = p1 + (dp / (dp + dt2)) * (t2 - p1);
+  // (Each test is the negation of image_point's and the length test's rejection, as written there.)
+  const bool pass = !(std::abs(dt2) < eps) & !(da * dt <= 0.0) & !(std::abs(da) < eps) & !(std::abs(dt) < eps) &
+                    !((t21 - a).squaredNorm() > max_length2_) & !(dp * dt2 <= 0.0) & !(std::abs(dp) < eps);
+  if (!pass) return;
   const bool exhaustive = options_.candidates == CandidateMode::kExhaustive;
   // Cheap rejections first: no facet near P1 or P2 (the occupancy grids, conservative).
   const size_t bit1 = cell_bit(a_plane, p1), bit2 = cell_bit(b_plane, p2);
