@@ -19,9 +19,11 @@ rfidray=$(realpath "$build/rfidray")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$rfidray" gen-warehouse --preset parametric --rows 20 --racks 60 --shelves 5 --tessellation 3 -o "$work/w1m.obj" >/dev/null
-cat > "$work/w1m.yaml" <<'YAML'
+# W1M_CHANNEL: the channel level (the benchmark: single-bounce; `full` on a small W1M_EXTENT measures that level's
+# time per cell and the 2-rank identity there).
+cat > "$work/w1m.yaml" <<YAML
 name: w1m coverage benchmark
-channel: single-bounce
+channel: ${W1M_CHANNEL:-single-bounce}
 model: physical
 scene:
   meshes:
@@ -30,8 +32,8 @@ antennas:
   # In the aisle between the rack rows at x = 24…25 and 28…29, 2 m high, facing +X.
   - {name: fixed, position: [26.5, 85.0, 2.0], yaw_deg: 0, pattern: {kind: patch, gain_dbi: 6, beamwidth_deg: 70}}
 YAML
-# W1M_EXTENT shrinks the map for a quick check of this script (the benchmark is the default).
-args=("$work/w1m.yaml" --plane z=1.2 --extent "${W1M_EXTENT:-0,60,50,110}" --step 0.05 --no-png)
+# W1M_EXTENT shrinks the map, W1M_STEP coarsens it (a sample of the same extent): quick checks and other levels.
+args=("$work/w1m.yaml" --plane z=1.2 --extent "${W1M_EXTENT:-0,60,50,110}" --step "${W1M_STEP:-0.05}" --no-png)
 median() { sort -g | awk '{a[NR]=$1} END{print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
 coverage_s() { sed -n 's/.*coverage \([0-9.]*\) s.*/\1/p'; }
 have_mpi=0
