@@ -82,9 +82,28 @@ void PathFinder::double_reflections(const Endpoint& ant, const Endpoint& tag, do
     for (const PlanePair& p : *pairs) try_plane_pair(p.first, p.second, ant, tag, f, c, floor, images, out);
     return;
   }
-  for (uint32_t g2 = 0; g2 < n; ++g2)
-    for (uint32_t g1 = 0; g1 < n; ++g1)
+  // Every ordered pair (g1, g2), except those whose first plane is axis-aligned with its coordinate between A's and
+  // T2's (T's image in plane 2) along its axis: there A and T2 are not strictly on one side of plane 1, which
+  // try_plane_pair rejects first (its test has the same sign: n·x − c = σ(x_k − σc) for n = σ·e_k, rounded alike).
+  // Those are counted as tried. The order of the pairs changes, not the paths (trace_impl sorts them).
+  for (uint32_t g2 = 0; g2 < n; ++g2) {
+    const Vec3& t2 = images.tag_image[g2];
+    for (int k = 0; k < 3; ++k) {
+      const std::vector<AxisPlane>& list = planes_by_axis_[k];
+      const double lo = std::min(a[k], t2[k]), hi = std::max(a[k], t2[k]);
+      const auto below = [](const AxisPlane& p, double x) { return p.coordinate_m < x; };
+      const auto above = [](double x, const AxisPlane& p) { return x < p.coordinate_m; };
+      const auto first_in = std::lower_bound(list.begin(), list.end(), lo, below);
+      const auto first_after = std::upper_bound(first_in, list.end(), hi, above);
+      for (auto it = list.begin(); it != first_in; ++it)
+        if (it->plane != g2) try_plane_pair(it->plane, g2, ant, tag, f, c, floor, images, out);
+      for (auto it = first_after; it != list.end(); ++it)
+        if (it->plane != g2) try_plane_pair(it->plane, g2, ant, tag, f, c, floor, images, out);
+      for (auto it = first_in; it != first_after; ++it) tl_plane_pairs_tried += it->plane != g2;
+    }
+    for (const uint32_t g1 : planes_off_axis_)
       if (g1 != g2) try_plane_pair(g1, g2, ant, tag, f, c, floor, images, out);
+  }
 }
 
 // A pair whose points P1, P2 passed try_plane_pair's rejections: the bound, the rays, the field.

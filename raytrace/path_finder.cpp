@@ -105,6 +105,17 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
         }
     }
   }
+  for (auto& list : planes_by_axis_) list.clear();
+  planes_off_axis_.clear();
+  for (uint32_t gi = 0; gi < planes_.size(); ++gi) {
+    const PlaneGroup& g = planes_[gi];
+    if (g.axis_sign == 0) planes_off_axis_.push_back(gi);
+    else planes_by_axis_[g.axis_k].push_back({g.axis_sign * g.offset_m, gi});
+  }
+  for (auto& list : planes_by_axis_)
+    std::sort(list.begin(), list.end(), [](const AxisPlane& x, const AxisPlane& y) {
+      return x.coordinate_m != y.coordinate_m ? x.coordinate_m < y.coordinate_m : x.plane < y.plane;
+    });
   build_exact_groups();
   if (options_.candidates == CandidateMode::kExact && includes(options_.level, ChannelLevel::kSingleBounce))
     build_full_rects();

@@ -42,6 +42,7 @@
 // contribution, or an upper bound of it, is already below that floor is not traced further: it would be
 // dropped). Order: direct path, reflections by length then facet, double reflections by length then facets,
 // posts by length then post, diffractions by length then edge.
+#include <array>
 #include <complex>
 #include <memory>
 #include <span>
@@ -290,6 +291,15 @@ class PathFinder {
   double drop_power_ratio_ = 0.0;  // db_to_linear(-drop_below_db)
   double max_length2_ = 0.0;       // max_path_length_m²
   std::vector<PlaneGroup> planes_;
+  // The axis-aligned planes per axis k, sorted by their coordinate x_k (axis_sign · offset_m), and the others:
+  // double-bounce skips, per link and second plane, the first planes whose coordinate lies between A's and T's
+  // image's (double_bounce.cpp).
+  struct AxisPlane {
+    double coordinate_m = 0.0;
+    uint32_t plane = 0;
+  };
+  std::array<std::vector<AxisPlane>, 3> planes_by_axis_;
+  std::vector<uint32_t> planes_off_axis_;
   std::vector<uint32_t> plane_of_facet_;
   std::vector<std::vector<uint32_t>> plane_members_;  // facets of each plane group
   std::vector<Edge> edges_;
