@@ -26,7 +26,6 @@ inline void PathFinder::try_plane_pair(uint32_t g1, uint32_t g2, const Endpoint&
   const PlaneGroup& a_plane = planes_[g1];
   const PlaneGroup& b_plane = planes_[g2];
   const Vec3& a = ant.pose.position;
-  const Vec3& t = tag.pose.position;
   const double eps = options_.surface_epsilon_m;
   // T2: the tag's image in plane 2. T21: T2's image in plane 1; P1 on plane 1 between A and T21. (image_point,
   // written out with the link's table: the same expressions, so the same values.)
@@ -82,24 +81,70 @@ void PathFinder::double_reflections(const Endpoint& ant, const Endpoint& tag, do
     for (const PlanePair& p : *pairs) try_plane_pair(p.first, p.second, ant, tag, f, c, floor, images, out);
     return;
   }
-  // Every ordered pair (g1, g2), except those whose first plane is axis-aligned with its coordinate between A's and
-  // T2's (T's image in plane 2) along its axis: there A and T2 are not strictly on one side of plane 1, which
-  // try_plane_pair rejects first (its test has the same sign: n·x − c = σ(x_k − σc) for n = σ·e_k, rounded alike).
-  // Those are counted as tried. The order of the pairs changes, not the paths (trace_impl sorts them).
+  // Every ordered pair (g1, g2), except pairs that try_plane_pair would reject by its sign tests, found per second
+  // plane without visiting them (they are counted as tried; the order of the pairs changes, not the paths: trace_impl
+  // sorts them). For an axis-aligned plane n = σ·e_k, n·x − c = σ(x_k − σc) has the sign of x_k − x_plane, rounded
+  // alike, so the tests read as comparisons of coordinates:
+  //  (1) A and T2 (T's image in plane 2) strictly on one side of plane 1: a first plane whose coordinate lies between
+  //      A's and T2's along its axis is rejected;
+  //  (2) P1 and T strictly on one side of plane 2, at least ε off it. P1 lies on plane 1; for a first plane
+  //      perpendicular to plane 2, P1's coordinate along plane 2's axis lies between A's and T2's (T2 is across plane 2
+  //      from T), so A and T strictly across plane 2 from each other reject every perpendicular first plane; for a
+  //      parallel one, P1's coordinate is plane 1's, which must lie strictly on T's side of plane 2. Rounding moves P1
+  //      by a few ulps of the coordinates, far below ε (guarded: scale_ok), so a P1 that rounding would carry across
+  //      is rejected by |n·P1 − c| < ε anyway.
+  const double eps = options_.surface_epsilon_m;
+  const double scale = std::max({a.cwiseAbs().maxCoeff(), t.cwiseAbs().maxCoeff(), max_plane_coordinate_m_});
+  const bool scale_ok = eps >= 1e-12 * scale;
+  const auto below = [](const AxisPlane& p, double x) { return p.coordinate_m < x; };
+  const auto above = [](double x, const AxisPlane& p) { return x < p.coordinate_m; };
+  // The first planes of a sorted run [begin, end) with plane 2: tries those whose coordinate lies outside [lo, hi],
+  // counts the others (rejected by (1)).
+  const auto try_outside = [&](uint32_t g2, const AxisPlane* begin, const AxisPlane* end, double lo, double hi) {
+    const AxisPlane* first_in = std::lower_bound(begin, end, lo, below);
+    const AxisPlane* first_after = std::upper_bound(first_in, end, hi, above);
+    for (const AxisPlane* it = begin; it != first_in; ++it)
+      if (it->plane != g2) try_plane_pair(it->plane, g2, ant, tag, f, c, floor, images, out);
+    for (const AxisPlane* it = first_after; it != end; ++it)
+      if (it->plane != g2) try_plane_pair(it->plane, g2, ant, tag, f, c, floor, images, out);
+    for (const AxisPlane* it = first_in; it != first_after; ++it) tl_plane_pairs_tried += it->plane != g2;
+  };
+  const auto count = [&](uint32_t g2, const AxisPlane* begin, const AxisPlane* end) {
+    for (const AxisPlane* it = begin; it != end; ++it) tl_plane_pairs_tried += it->plane != g2;
+  };
   for (uint32_t g2 = 0; g2 < n; ++g2) {
+    const PlaneGroup& second = planes_[g2];
     const Vec3& t2 = images.tag_image[g2];
+    const bool axis_aligned = second.axis_sign != 0 && scale_ok;
+    const int k2 = second.axis_k;
+    const double x2 = second.axis_sign * second.offset_m;
+    // T's side of plane 2 along its axis (+1 / −1; 0 on it: every pair is rejected by |dt2| < ε, left to the test).
+    const double t_off = axis_aligned ? t[k2] - x2 : 0.0, a_off = axis_aligned ? a[k2] - x2 : 0.0;
+    const bool across = axis_aligned && ((t_off > 0.0 && a_off < 0.0) || (t_off < 0.0 && a_off > 0.0));
     for (int k = 0; k < 3; ++k) {
       const std::vector<AxisPlane>& list = planes_by_axis_[k];
+      const AxisPlane* begin = list.data();
+      const AxisPlane* end = list.data() + list.size();
       const double lo = std::min(a[k], t2[k]), hi = std::max(a[k], t2[k]);
-      const auto below = [](const AxisPlane& p, double x) { return p.coordinate_m < x; };
-      const auto above = [](double x, const AxisPlane& p) { return x < p.coordinate_m; };
-      const auto first_in = std::lower_bound(list.begin(), list.end(), lo, below);
-      const auto first_after = std::upper_bound(first_in, list.end(), hi, above);
-      for (auto it = list.begin(); it != first_in; ++it)
-        if (it->plane != g2) try_plane_pair(it->plane, g2, ant, tag, f, c, floor, images, out);
-      for (auto it = first_after; it != list.end(); ++it)
-        if (it->plane != g2) try_plane_pair(it->plane, g2, ant, tag, f, c, floor, images, out);
-      for (auto it = first_in; it != first_after; ++it) tl_plane_pairs_tried += it->plane != g2;
+      if (!axis_aligned || (k != k2 && t_off == 0.0)) {
+        try_outside(g2, begin, end, lo, hi);  // (1) only
+      } else if (k != k2) {
+        if (across) count(g2, begin, end);  // (2): every perpendicular first plane
+        else try_outside(g2, begin, end, lo, hi);
+      } else if (t_off == 0.0) {
+        try_outside(g2, begin, end, lo, hi);
+      } else {
+        // (2) for parallel first planes: only those strictly on T's side of plane 2, then (1) among them.
+        const AxisPlane* split_lo = std::lower_bound(begin, end, x2, below);  // first with x ≥ x2
+        const AxisPlane* split_hi = std::upper_bound(split_lo, end, x2, above);  // first with x > x2
+        if (t_off > 0.0) {
+          count(g2, begin, split_hi);
+          try_outside(g2, split_hi, end, lo, hi);
+        } else {
+          try_outside(g2, begin, split_lo, lo, hi);
+          count(g2, split_lo, end);
+        }
+      }
     }
     for (const uint32_t g1 : planes_off_axis_)
       if (g1 != g2) try_plane_pair(g1, g2, ant, tag, f, c, floor, images, out);

@@ -112,6 +112,9 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     if (g.axis_sign == 0) planes_off_axis_.push_back(gi);
     else planes_by_axis_[g.axis_k].push_back({g.axis_sign * g.offset_m, gi});
   }
+  max_plane_coordinate_m_ = 0.0;
+  for (const auto& list : planes_by_axis_)
+    for (const AxisPlane& p : list) max_plane_coordinate_m_ = std::max(max_plane_coordinate_m_, std::abs(p.coordinate_m));
   for (auto& list : planes_by_axis_)
     std::sort(list.begin(), list.end(), [](const AxisPlane& x, const AxisPlane& y) {
       return x.coordinate_m != y.coordinate_m ? x.coordinate_m < y.coordinate_m : x.plane < y.plane;
