@@ -1,5 +1,6 @@
 // Level double-bounce: every specular path with two reflections, by the image of the image
-// (raytrace/path_finder.h has the physics). Both candidate modes walk every ordered pair of distinct planes:
+// (raytrace/path_finder.h has the physics). Both candidate modes walk every ordered pair of distinct planes (less
+// the pairs whose sign tests fail, skipped per second plane without a visit: double_reflections):
 //  - exact: the occupancy bitmaps reject points with no facet near them, then one closest-hit ray per leg says
 //    which facet is at P1 (the ray A→P1) and at P2 (the ray P1→P2) and that the leg is clear;
 //  - exhaustive: the points are tested against every facet of their plane (point in triangle) and every leg

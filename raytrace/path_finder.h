@@ -209,7 +209,6 @@ class PathFinder {
   void exact_groups_near(const Vec3& antenna, const Vec3& tags_lo, const Vec3& tags_hi,
                          std::vector<uint32_t>& out) const;
 
-  // Bit index of p's cell in g's grid, or SIZE_MAX when p is outside the grid.
   // The occupancy bit of point p's cell on g's grid, or SIZE_MAX off the grid. Inline: the double-bounce pair
   // loop calls it twice per pair.
   size_t cell_bit(const PlaneGroup& g, const Vec3& p) const {
