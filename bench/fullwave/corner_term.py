@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import argparse
 import cmath
-import csv
 import dataclasses
 import math
 import os
@@ -44,6 +43,7 @@ import tempfile
 import numpy as np
 from scipy.integrate import quad
 
+import case_table
 import cases
 from corner_truncation import fresnel_phi
 from geometry import K_RAD_M, Box
@@ -278,15 +278,10 @@ def main():
     scratch = tempfile.mkdtemp(prefix="corner-term-")
     out_rows = []
     for name in CASES:
-        fdtd_csv = os.path.join(a.out, name + ".csv")
-        if not os.path.isfile(fdtd_csv):
-            fail(fdtd_csv + ": not found")
-        rows = {r["observer"]: r for r in csv.DictReader(open(fdtd_csv))}
         case = getattr(cases, name)()
+        rows = case_table.rows_by_observer(a.out, name, "corner_term", [o.label for o in case.observers])
         model = PlateModel(a.rfidray, case, scratch)
         for o in case.observers:
-            if o.label not in rows:
-                fail(f"{fdtd_csv}: no row for observer {o.label}")
             r = rows[o.label]
             f = cmath.rect(float(r["fdtd_abs"]), float(r["fdtd_arg_rad"]))
             first, trunc, corner = model.evaluate(np.array(o.position, float))

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import cmath
-import csv
 import dataclasses
 import math
 import os
@@ -31,6 +30,7 @@ import tempfile
 import numpy as np
 from scipy.special import fresnel
 
+import case_table
 import cases
 from geometry import K_RAD_M, Box
 import rfidray_link
@@ -73,12 +73,10 @@ def main():
     a = ap.parse_args()
     if not os.path.isfile(a.rfidray):
         fail(a.rfidray + ": no rfidray binary")
-    fdtd_csv = os.path.join(a.out, "plate_corner.csv")
-    if not os.path.isfile(fdtd_csv):
-        fail(fdtd_csv + ": not found (run.py --case plate_corner first)")
-    fdtd = {r["observer"]: cmath.rect(float(r["fdtd_abs"]), float(r["fdtd_arg_rad"]))
-            for r in csv.DictReader(open(fdtd_csv))}
     case = cases.plate_corner()
+    fdtd = {label: cmath.rect(float(r["fdtd_abs"]), float(r["fdtd_arg_rad"])) for label, r in
+            case_table.rows_by_observer(a.out, "plate_corner", "corner_truncation",
+                                        [o.label for o in case.observers]).items()}
     scratch = tempfile.mkdtemp(prefix="corner-truncation-")
     plate = write_obj(case, os.path.join(scratch, "plate.obj"))
     # Each corner edge alone, as the edge of a 10 m half-plane on the same line (its term as if infinite).
@@ -94,8 +92,6 @@ def main():
     src = np.array(case.source)
     rows = []
     for o in case.observers:
-        if o.label not in fdtd:
-            fail(f"{fdtd_csv}: no row for observer {o.label}")
         tag = np.array(o.position, float)
         paths, h0 = weighted_paths(link_json(a.rfidray, plate, case, tag, "full", extra_args=FIRST_ORDER), case, tag)
         first = sum(c for _, _, c in paths) / h0

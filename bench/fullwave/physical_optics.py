@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import cmath
-import csv
 import dataclasses
 import math
 import os
@@ -30,6 +29,7 @@ import tempfile
 
 import numpy as np
 
+import case_table
 import cases
 from geometry import FREQUENCY_HZ, K_RAD_M, Box, axis_vector
 
@@ -152,18 +152,13 @@ def main():
     scratch = tempfile.mkdtemp(prefix="physical-optics-")
     summary = []
     for name in CASES:
-        path = os.path.join(a.out, name + ".csv")
-        if not os.path.isfile(path):
-            fail(path + ": not found")
-        rows = {r["observer"]: r for r in csv.DictReader(open(path))}
         case = cases.CASES[name]()
+        rows = case_table.rows_by_observer(a.out, name, "physical_optics", [o.label for o in case.observers])
         errs_full, errs_po, errs_ptd = [], [], []
         sheet = case.boxes[0].thin_axis == 2 and len(case.boxes) == 1
         ptd = fringe_model(a.rfidray, case, scratch) if sheet else None
         for o in case.observers:
-            r = rows.get(o.label)
-            if r is None:
-                fail(f"{path}: no row for observer {o.label}")
+            r = rows[o.label]
             f = cmath.rect(float(r["fdtd_abs"]), float(r["fdtd_arg_rad"]))
             full = cmath.rect(float(r["full_abs"]), float(r["full_arg_rad"]))
             tag = np.array(o.position, float)

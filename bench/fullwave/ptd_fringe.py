@@ -49,14 +49,13 @@ from __future__ import annotations
 
 import argparse
 import cmath
-import csv
 import math
 import os
-import sys
 
 import numpy as np
 from scipy import special
 
+import case_table
 import cases
 from geometry import K_RAD_M, axis_vector
 from physical_optics import C0, CASES, EPS0, dipole_fields, po_ratio
@@ -331,11 +330,7 @@ def main():
              "PO + uniform fringe (error) |", "|---|---|---|---|---|---|---|---|"]
     summary = []
     for name in CASES:
-        path = os.path.join(a.out, name + ".csv")
-        if not os.path.isfile(path):
-            print(f"ptd_fringe: error: {path}: not found", file=sys.stderr)
-            sys.exit(2)
-        rows_csv = {r["observer"]: r for r in csv.DictReader(open(path))}
+        rows_csv = case_table.rows_by_observer(a.out, name, "ptd_fringe")
         case = cases.CASES[name]()
         ef, ep, et, eu = [], [], [], []
         for o in case.observers:

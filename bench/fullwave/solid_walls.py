@@ -22,6 +22,7 @@ import tempfile
 
 import numpy as np
 
+import case_table
 import cases
 import rfidray_link
 from geometry import Box
@@ -58,12 +59,8 @@ def main() -> int:
           "from the cases' CSVs (the finest resolution's Richardson value; `spread` is the 30/60 px/m difference).",
           "Errors |h/h₀ − E/E₀| as a fraction of the free-space field.", ""]
     for name in CASES:
-        path = os.path.join(a.out, name + ".csv")
-        if not os.path.exists(path):
-            print(f"solid_walls: {path}: no such file (run.py --case {name} first)", file=sys.stderr)
-            return 2
-        ref = {r["observer"]: r for r in csv.DictReader(open(path))}
         case = getattr(cases, name)()
+        ref = case_table.rows_by_observer(a.out, name, "solid_walls", [o.label for o in case.observers])
         thickness = rfidray_link.case_thickness(case)
         with tempfile.TemporaryDirectory() as scratch:
             res = rfidray_link.all_levels(a.rfidray, solid_case(case), scratch, levels=LEVELS, thickness_m=thickness,
