@@ -2,6 +2,7 @@
 read back by the scripts that compare other models with the same reference."""
 from __future__ import annotations
 
+import cmath
 import csv
 import os
 import sys
@@ -21,3 +22,9 @@ def rows_by_observer(out_dir: str, name: str, program: str, labels=()) -> dict[s
             print(f"{program}: error: {path}: no row for observer {label} (run.py --case {name} again)", file=sys.stderr)
             sys.exit(2)
     return rows
+
+
+def ratio(row: dict[str, str], column: str) -> complex:
+    """A complex ratio of the table (`fdtd`: E/E_free; a level's name with `-` as `_`: h/h_ideal) from its
+    `COLUMN_abs` and `COLUMN_arg_rad` fields."""
+    return cmath.rect(float(row[column + "_abs"]), float(row[column + "_arg_rad"]))

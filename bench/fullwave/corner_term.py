@@ -283,7 +283,7 @@ def main():
         model = PlateModel(a.rfidray, case, scratch)
         for o in case.observers:
             r = rows[o.label]
-            f = cmath.rect(float(r["fdtd_abs"]), float(r["fdtd_arg_rad"]))
+            f = case_table.ratio(r, "fdtd")
             first, trunc, corner = model.evaluate(np.array(o.position, float))
             out_rows.append((name, o.label, o.krho, f, first, trunc, corner))
             print(name, o.label, f"fdtd {abs(f):.3f} first {abs(first - f):.3f} trunc {abs(trunc - f):.3f} "

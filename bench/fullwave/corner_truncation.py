@@ -20,7 +20,6 @@ Writes OUT/corner_truncation.md; exit 2 when the CSV or the binary is missing.
 from __future__ import annotations
 
 import argparse
-import cmath
 import dataclasses
 import math
 import os
@@ -74,7 +73,7 @@ def main():
     if not os.path.isfile(a.rfidray):
         fail(a.rfidray + ": no rfidray binary")
     case = cases.plate_corner()
-    fdtd = {label: cmath.rect(float(r["fdtd_abs"]), float(r["fdtd_arg_rad"])) for label, r in
+    fdtd = {label: case_table.ratio(r, "fdtd") for label, r in
             case_table.rows_by_observer(a.out, "plate_corner", "corner_truncation",
                                         [o.label for o in case.observers]).items()}
     scratch = tempfile.mkdtemp(prefix="corner-truncation-")

@@ -159,8 +159,7 @@ def main():
         ptd = fringe_model(a.rfidray, case, scratch) if sheet else None
         for o in case.observers:
             r = rows[o.label]
-            f = cmath.rect(float(r["fdtd_abs"]), float(r["fdtd_arg_rad"]))
-            full = cmath.rect(float(r["full_abs"]), float(r["full_arg_rad"]))
+            f, full = case_table.ratio(r, "fdtd"), case_table.ratio(r, "full")
             tag = np.array(o.position, float)
             po = po_ratio(case, tag, a.grid)
             po_coarse = po_ratio(case, tag, a.grid // 2)

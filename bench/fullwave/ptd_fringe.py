@@ -330,13 +330,12 @@ def main():
              "PO + uniform fringe (error) |", "|---|---|---|---|---|---|---|---|"]
     summary = []
     for name in CASES:
-        rows_csv = case_table.rows_by_observer(a.out, name, "ptd_fringe")
         case = cases.CASES[name]()
+        rows_csv = case_table.rows_by_observer(a.out, name, "ptd_fringe", [o.label for o in case.observers])
         ef, ep, et, eu = [], [], [], []
         for o in case.observers:
             r = rows_csv[o.label]
-            f = cmath.rect(float(r["fdtd_abs"]), float(r["fdtd_arg_rad"]))
-            full = cmath.rect(float(r["full_abs"]), float(r["full_arg_rad"]))
+            f, full = case_table.ratio(r, "fdtd"), case_table.ratio(r, "full")
             tag = np.array(o.position, float)
             po = po_ratio(case, tag, a.grid)
             ptd = po + fringe_ratio(case, tag)
