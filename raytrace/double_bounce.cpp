@@ -99,6 +99,13 @@ void PathFinder::double_reflections(const Endpoint& ant, const Endpoint& tag, do
   const bool scale_ok = eps >= 1e-12 * scale;
   const auto below = [](const AxisPlane& p, double x) { return p.coordinate_m < x; };
   const auto above = [](double x, const AxisPlane& p) { return x < p.coordinate_m; };
+  // Plane 2's own entry in the axis list being walked (nullptr when it is not in that list): the one plane of a run
+  // that makes no pair with it.
+  const AxisPlane* self = nullptr;
+  // The pairs of a skipped run [begin, end) of first planes, counted without walking it.
+  const auto count = [&](const AxisPlane* begin, const AxisPlane* end) {
+    tl_plane_pairs_tried += static_cast<uint64_t>(end - begin) - (self != nullptr && self >= begin && self < end);
+  };
   // The first planes of a sorted run [begin, end) with plane 2: tries those whose coordinate lies outside [lo, hi],
   // counts the others (rejected by (1)).
   const auto try_outside = [&](uint32_t g2, const AxisPlane* begin, const AxisPlane* end, double lo, double hi) {
@@ -108,10 +115,7 @@ void PathFinder::double_reflections(const Endpoint& ant, const Endpoint& tag, do
       if (it->plane != g2) try_plane_pair(it->plane, g2, ant, tag, f, c, floor, images, out);
     for (const AxisPlane* it = first_after; it != end; ++it)
       if (it->plane != g2) try_plane_pair(it->plane, g2, ant, tag, f, c, floor, images, out);
-    for (const AxisPlane* it = first_in; it != first_after; ++it) tl_plane_pairs_tried += it->plane != g2;
-  };
-  const auto count = [&](uint32_t g2, const AxisPlane* begin, const AxisPlane* end) {
-    for (const AxisPlane* it = begin; it != end; ++it) tl_plane_pairs_tried += it->plane != g2;
+    count(first_in, first_after);
   };
   for (uint32_t g2 = 0; g2 < n; ++g2) {
     const PlaneGroup& second = planes_[g2];
@@ -126,11 +130,12 @@ void PathFinder::double_reflections(const Endpoint& ant, const Endpoint& tag, do
       const std::vector<AxisPlane>& list = planes_by_axis_[k];
       const AxisPlane* begin = list.data();
       const AxisPlane* end = list.data() + list.size();
+      self = second.axis_sign != 0 && k == second.axis_k ? begin + axis_position_[g2] : nullptr;
       const double lo = std::min(a[k], t2[k]), hi = std::max(a[k], t2[k]);
       if (!axis_aligned || (k != k2 && t_off == 0.0)) {
         try_outside(g2, begin, end, lo, hi);  // (1) only
       } else if (k != k2) {
-        if (across) count(g2, begin, end);  // (2): every perpendicular first plane
+        if (across) count(begin, end);  // (2): every perpendicular first plane
         else try_outside(g2, begin, end, lo, hi);
       } else if (t_off == 0.0) {
         try_outside(g2, begin, end, lo, hi);
@@ -139,11 +144,11 @@ void PathFinder::double_reflections(const Endpoint& ant, const Endpoint& tag, do
         const AxisPlane* split_lo = std::lower_bound(begin, end, x2, below);  // first with x ≥ x2
         const AxisPlane* split_hi = std::upper_bound(split_lo, end, x2, above);  // first with x > x2
         if (t_off > 0.0) {
-          count(g2, begin, split_hi);
+          count(begin, split_hi);
           try_outside(g2, split_hi, end, lo, hi);
         } else {
           try_outside(g2, begin, split_lo, lo, hi);
-          count(g2, split_lo, end);
+          count(split_lo, end);
         }
       }
     }

@@ -119,6 +119,9 @@ PathFinder::PathFinder(std::shared_ptr<const Scene> scene, const TraceOptions& o
     std::sort(list.begin(), list.end(), [](const AxisPlane& x, const AxisPlane& y) {
       return x.coordinate_m != y.coordinate_m ? x.coordinate_m < y.coordinate_m : x.plane < y.plane;
     });
+  axis_position_.assign(planes_.size(), 0);
+  for (const auto& list : planes_by_axis_)
+    for (uint32_t i = 0; i < list.size(); ++i) axis_position_[list[i].plane] = i;
   build_exact_groups();
   if (options_.candidates == CandidateMode::kExact && includes(options_.level, ChannelLevel::kSingleBounce))
     build_full_rects();

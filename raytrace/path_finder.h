@@ -299,6 +299,7 @@ class PathFinder {
   };
   std::array<std::vector<AxisPlane>, 3> planes_by_axis_;
   std::vector<uint32_t> planes_off_axis_;
+  std::vector<uint32_t> axis_position_;  // an axis-aligned plane's index in its planes_by_axis_ list
   double max_plane_coordinate_m_ = 0.0;  // the largest |coordinate_m| of planes_by_axis_
   std::vector<uint32_t> plane_of_facet_;
   std::vector<std::vector<uint32_t>> plane_members_;  // facets of each plane group
