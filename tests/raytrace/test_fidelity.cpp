@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "core/level_validity.h"
 #include "core/reader_model.h"
 #include "core/simulation.h"
 #include "raytrace/fidelity.h"
@@ -167,6 +168,61 @@ TEST(Fidelity, CachedAndRecomputedRaytracedLinksGiveIdenticalReadings) {
     }
   }
   EXPECT_GT(reads, 500u);
+}
+
+// simulate judges every tag's links at the start poses (core/simulation.cpp, in parallel since 2026-12-06): the
+// count and the note naming the worst tag are those of a serial pass over the tags, at one thread and at two.
+TEST(Fidelity, SimulateCountsTagsOutsideValidityAsASerialPassDoesAtAnyThreadCount) {
+  Scenario s;
+  s.duration_s = 0.2;
+  AntennaSpec fixed;
+  fixed.reader.name = "fixed";
+  fixed.reader.model = ReaderModelKind::kPhysical;
+  fixed.motion.pose.position = Vec3(3.5, -4.0, 2.0);
+  s.antennas.push_back(fixed);
+  AntennaSpec aisle = fixed;
+  aisle.reader.name = "aisle";
+  aisle.motion.pose.position = Vec3(-1.0, -5.0, 1.68);
+  s.antennas.push_back(aisle);
+  std::vector<Vec3> tags = paper_tags();
+  tags.push_back({-1.0, -2.0, 1.0});  // in the open
+  tags.push_back({-1.0, -6.0, 1.1});
+  for (size_t i = 0; i < tags.size(); ++i) {
+    TagSpec t;
+    t.tag.name = "tag" + std::to_string(i + 1);
+    t.motion.pose.position = tags[i];
+    s.tags.push_back(t);
+  }
+  const auto scene = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
+  TraceOptions o;
+  o.level = ChannelLevel::kFull;
+  const RaytracedChannel full(scene, o);
+  size_t expected = 0, worst = 0;
+  double worst_error = -1.0;
+  for (size_t i = 0; i < tags.size(); ++i) {
+    LevelValidity v;
+    for (size_t a = 0; a < s.antennas.size(); ++a) {
+      // The ends as simulate makes them: the reader's and the tag's pattern and polarization at the start poses.
+      const ReaderParams& r = s.antennas[a].reader;
+      const Endpoint antenna{s.antennas[a].motion.pose, r.pattern, r.polarization};
+      const Endpoint tag{s.tags[i].motion.pose, s.tags[i].tag.pattern, s.tags[i].tag.polarization};
+      const double f = r.frequencies_hz.front();
+      const LevelValidity va = level_validity(ChannelLevel::kFull, link_sight(full, antenna, tag, f), f);
+      if (a == 0 || (!va.level_ok && (v.level_ok || va.estimated_error > v.estimated_error))) v = va;
+    }
+    if (v.level_ok) continue;
+    if (expected++ == 0 || v.estimated_error > worst_error) worst = i, worst_error = v.estimated_error;
+  }
+  ASSERT_GT(expected, 0u);
+  EXPECT_LT(expected, tags.size());  // the open tags pass
+  const SimulationResult one = simulate(s, full, {1, 16});
+  const SimulationResult two = simulate(s, full, {2, 16});
+  EXPECT_EQ(one.tags_outside_validity, expected);
+  EXPECT_EQ(two.tags_outside_validity, expected);
+  EXPECT_EQ(one.notes, two.notes);
+  const std::string named = "the worst, tag '" + s.tags[worst].tag.name + "'";
+  ASSERT_FALSE(two.notes.empty());
+  EXPECT_NE(two.notes.back().find(named), std::string::npos) << two.notes.back();
 }
 
 // A rung whose links flip readability has an unbounded p95 (core/channel_error.h): the table says "flips" and why,
