@@ -249,6 +249,10 @@ def main():
     ap.add_argument("--peers", action="store_true",
                     help="also run the set's own Tagoram, MobiTagbot, RF-Scanner and STPP (codes/, imported from "
                          "--adarf at run time) on the same runs; real_vs_peers.md")
+    ap.add_argument("--peer-results",
+                    help="take the peers' per-tag results from an earlier --peers run's --keep folder (D<d>_peers.json, "
+                         "same split and runs) instead of running them again (~15 min): their code and the data are "
+                         "the same, so are their results")
     ap.add_argument("--peer-every", type=int, default=1,
                     help="run Tagoram and MobiTagbot (0.5-2 s of CPU per tag) on every K-th run only")
     ap.add_argument("--jobs", type=int, default=2, help="processes for the peers")
@@ -313,9 +317,11 @@ def main():
     write_floor(os.path.join(work, "floor.obj"))
     peer_table = []
     code = None
-    if args.peers:
+    with_peers = args.peers or bool(args.peer_results)
+    if with_peers:
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
         import real_peers
+    if args.peers:
         code = real_peers.PeerCode(args.adarf)
     for d in datasets:
         tests = runs(d, args.split, args.every, 0, args.offset)
@@ -323,6 +329,11 @@ def main():
         if args.peers:
             peer_rows = run_peers(args, real_peers, d, tests, tag_orders)
             json.dump(peer_rows, open(os.path.join(work, "D%d_peers.json" % d), "w"), indent=1)
+        elif args.peer_results:
+            stored = os.path.join(args.peer_results, "D%d_peers.json" % d)
+            if not os.path.isfile(stored):
+                fail("--peer-results: %s: no such file (run once with --peers --keep %s)" % (stored, args.peer_results))
+            peer_rows = json.load(open(stored))
         for name, readings, truth_csv, truth, _ in tests:
             j = localize(args, readings, truth_csv, antenna_file)
             # Per-run results name the set's tags: they stay with the converted data, outside the repository.
@@ -347,7 +358,7 @@ def main():
         for label, results in rows:
             for m, s in stats(results).items():
                 table.append(dict(dataset="D%d" % d, data=label, method=m, **s))
-        if args.peers:
+        if with_peers:
             for label, results in rows[:2]:
                 for m, s in stats(results).items():
                     peer_table.append(dict(dataset="D%d" % d, method="rfidray %s, %s" % (m, label.split(", ")[1]),
@@ -359,7 +370,7 @@ def main():
                 peer_table.append(dict(dataset="D%d" % d, method=m, ok=None, covered=None,
                                        median_radius_mm=float("nan"), **s))
 
-    if args.peers:
+    if with_peers:
         write_peer_table(args.output, peer_table, args)
     fields = ["dataset", "data", "method", "tags", "ok", "mean_mm", "median_mm", "p90_mm", "max_mm",
               "ok_outside_uncertainty", "residual_rms_rad", "positioned", "pos_mean_mm", "pos_median_mm",

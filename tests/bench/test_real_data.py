@@ -118,8 +118,9 @@ def main():
         write_run(os.path.join(ds, "1", "test", "181218-%02d-50-8" % i), tags, carriers, 2, rng)
     write_stand_in_peers(os.path.join(root, "codes"))
     out = os.path.join(root, "out")
+    keep = os.path.join(root, "keep")
     r = subprocess.run([sys.executable, os.path.join(source, "bench", "real_data.py"), "--adarf", root, "--rfidray",
-                        rfidray, "-o", out, "--datasets", "1", "--no-sim", "--peers", "--jobs", "1"],
+                        rfidray, "-o", out, "--datasets", "1", "--no-sim", "--peers", "--jobs", "1", "--keep", keep],
                        capture_output=True, text=True)
     print(r.stdout[-3000:], r.stderr[-3000:])
     if r.returncode != 0:
@@ -154,6 +155,22 @@ def main():
     for m in ("rfidray nlls, calibrated", "rfidray nlls, uncalibrated"):
         if m not in peers or int(peers[m]["positioned"]) != 6:
             failures.append("real_vs_peers.csv: no full row for %s" % m)
+    # --peer-results: the peers' rows from the kept results of the run above, not run again: the same rows.
+    again = os.path.join(root, "again")
+    base = [sys.executable, os.path.join(source, "bench", "real_data.py"), "--adarf", root, "--rfidray", rfidray,
+            "--datasets", "1", "--no-sim", "--calibration", os.path.join(out, "antenna.yaml")]
+    r = subprocess.run(base + ["-o", again, "--keep", keep, "--peer-results", keep], capture_output=True, text=True)
+    if r.returncode != 0:
+        failures.append("--peer-results: exited %d: %s" % (r.returncode, r.stderr[-500:]))
+    else:
+        reread = {row["method"]: row for row in csv.DictReader(open(os.path.join(again, "real_vs_peers.csv")))}
+        for m in ("Tagoram", "MobiTagbot", "RF-Scanner", "STPP (x only)"):
+            if m in peers and reread.get(m) != peers[m]:
+                failures.append("--peer-results: %s row %s, was %s" % (m, reread.get(m), peers[m]))
+    missing = os.path.join(root, "no-such-keep")
+    r = subprocess.run(base + ["-o", again, "--peer-results", missing], capture_output=True, text=True)
+    if r.returncode != 2 or "D1_peers.json" not in r.stderr:
+        failures.append("--peer-results without the file: exit %d, %r (expected 2 naming the file)" % (r.returncode, r.stderr[-300:]))
     for f in failures:
         print("FAIL: " + f)
     print("real_data pipeline: " + ("FAILED" if failures else "ok"))
