@@ -31,7 +31,11 @@ void gate_uncertainty(LocalizeResult& result, const PreparedTag& prep, const Ran
 void apply_soft_gate(LocalizeResult& result, const SoftGate& soft) {
   // The unwrapped fit's own finding (cycle slips, a weak geometry) names the cause better than a radius the
   // joint judgement found too large: it takes precedence whenever a position is reported.
-  if (soft.failed && result.status() != Status::kFailed) result.mark_not_ok(soft.reason, soft.detail);
+  // A near rival optimum the joint judgement found stays named in the detail.
+  if (soft.failed && result.status() != Status::kFailed) {
+    const bool rival = result.reason == FailReason::kAmbiguousPeak || result.reason == FailReason::kUndersampled;
+    result.mark_not_ok(soft.reason, rival ? soft.detail + "; " + result.detail : soft.detail);
+  }
 }
 
 void finish_unwrapped(LocalizeResult& result, const PreparedTag& prep, const RangeCost& cost,

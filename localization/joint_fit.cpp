@@ -286,6 +286,32 @@ JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOpt
   return fit;
 }
 
+RivalVerdict weigh_rivals(std::vector<RivalOptimum> rivals, const Vec3& position, double radius_m,
+                          double optimum_radius_m, double residual_rad, double outlier_fraction,
+                          const LocalizeOptions& options) {
+  RivalVerdict v;
+  std::stable_sort(rivals.begin(), rivals.end(),
+                   [](const RivalOptimum& a, const RivalOptimum& b) { return a.delta_chi2 < b.delta_chi2; });
+  v.rivals = std::move(rivals);
+  v.radius_m = radius_m;
+  // Δχ² is −2 log of the likelihood ratio only while the wrapped residuals are the Gaussian the cost assumes:
+  // the fit keeps residuals out to outlier_sigmas·σ̂ as data, and that band must not reach ±π, where a residual
+  // and its 2π alias are the same read. And the rivals are costed on the stops the best fit kept: it must not
+  // have discarded more of them than (a) allows, or the comparison is made on data chosen to fit it.
+  v.trusted = residual_rad <= kPi / options.outlier_sigmas && outlier_fraction <= options.max_outlier_fraction;
+  double odds = 0.0;
+  for (const RivalOptimum& r : v.rivals) odds += std::exp(-0.5 * r.delta_chi2);
+  v.rival_mass = odds / (1.0 + odds);
+  double left = odds;
+  for (const RivalOptimum& r : v.rivals) {
+    if (left / (1.0 + odds) <= 0.05) break;
+    v.radius_m = std::max(v.radius_m, (r.position - position).norm() + optimum_radius_m);
+    left -= std::exp(-0.5 * r.delta_chi2);
+    ++v.enclosed;
+  }
+  return v;
+}
+
 constexpr const char* kNoPathDetail =
     "no path of the scene reaches the estimate from some of the antenna positions: its phase there is unknown";
 
@@ -410,8 +436,11 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
     why << fit.outliers << " of " << n << " stops are > " << options.outlier_sigmas << " sigma outliers";
     not_ok(FailReason::kInconsistentResiduals, why.str());
   }
+  // Other optima within unique_chi2 (each re-converged; the same optimum reached from two starts counted once),
+  // weighed by weigh_rivals (judgement (b) in the header).
+  std::vector<RivalOptimum> found;
+  const double sep = std::max(fit.radius_m, lambda4);
   for (const Vec3& start : rivals) {
-    const double sep = std::max(fit.radius_m, lambda4);
     if ((start - fit.position).norm() <= sep) continue;
     const JointLm c = joint_lm(model, start, options.lm_max_iterations, &fit.mask);
     if (!in_region(c.position, prep)) continue;
@@ -419,13 +448,41 @@ void judge_joint(LocalizeResult& result, const JointModel& model, JointFit fit, 
     if (mirror_at.allFinite() && (c.position - mirror_at).norm() <= sep) continue;
     const double dchi2 = delta_chi2(fit, c.position);
     if (dchi2 >= options.unique_chi2) continue;
+    auto same = std::find_if(found.begin(), found.end(),
+                             [&](const RivalOptimum& f) { return (f.position - c.position).norm() <= sep; });
+    if (same == found.end())
+      found.push_back({c.position, dchi2});
+    else if (dchi2 < same->delta_chi2)
+      *same = {c.position, dchi2};
+  }
+  if (!found.empty()) {
+    const RivalVerdict v = weigh_rivals(found, result.position, result.uncertainty_m, fit.radius_m, fit.residual_rad,
+                                        static_cast<double>(fit.outliers) / std::max(1, n), options);
+    const RivalOptimum& near = v.rivals.front();
     std::ostringstream why;
-    why << "another optimum at (" << c.position.x() << ", " << c.position.y() << ", " << c.position.z()
-        << "), " << (c.position - fit.position).norm() << " m away, fits within " << dchi2 << " chi2 units";
+    why << "another optimum at (" << near.position.x() << ", " << near.position.y() << ", " << near.position.z()
+        << "), " << (near.position - fit.position).norm() << " m away, fits within " << near.delta_chi2
+        << " chi2 units";
     const bool under = prep.median_step_m > lambda4;
     if (under) why << "; median read spacing " << prep.median_step_m << " m > lambda/4 (grating lobes)";
-    fail(under ? FailReason::kUndersampled : FailReason::kAmbiguousPeak, why.str());
-    return;
+    const FailReason reason = under ? FailReason::kUndersampled : FailReason::kAmbiguousPeak;
+    if (!v.trusted) {
+      why << "; the fit cannot weigh them (wrapped residual sigma " << fit.residual_rad << " rad";
+      if (fit.residual_rad > kPi / options.outlier_sigmas) why << " > pi/" << options.outlier_sigmas;
+      why << ", " << fit.outliers << " of " << n << " stops trimmed)";
+      fail(reason, why.str());
+      return;
+    }
+    why << "; optima within " << options.unique_chi2 << " chi2 units: " << v.rivals.size()
+        << ", their share of the posterior " << 100.0 * v.rival_mass << " %";
+    if (v.enclosed > 0)
+      why << ": the 95% radius is grown to enclose " << v.enclosed << " (" << v.radius_m << " m)";
+    else
+      why << " (<= 5 %): the radius is the best optimum's";
+    result.uncertainty_m = v.radius_m;
+    // The rival is what the user must know first; a misfit found by (a) follows in the detail.
+    if (soft_reason != FailReason::kNone) why << "; " << soft_detail;
+    soft_reason = reason, soft_detail = why.str();
   }
   // A 95 % region wider than the search region (every candidate lies within max_range_m of the antenna path)
   // tells the user nothing the search region did not: on held-out AdaRF training runs such fits had radii of

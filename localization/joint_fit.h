@@ -33,8 +33,20 @@
 //       other candidates) outside the region (farther than max(radius, λ/4)) has
 //       Δχ² = (C(c) − C(p̂)) / (s² ρ) ≥ unique_chi2 — a likelihood-ratio test with the inflated variance, so
 //       correlated residuals do not make a rival look worse than it is. A rival mirror is settled by the
-//       mirror prior when one is given (then the fit is redone there), else ambiguous mirror; another rival
-//       is undersampled (median antenna step > λ/4: grating lobes) or ambiguous peak;
+//       mirror prior when one is given (then the fit is redone there), else ambiguous mirror. Other rivals
+//       (reason undersampled when the median antenna step is > λ/4: grating lobes, else ambiguous peak) are
+//       weighed (weigh_rivals) when the fit can be trusted to weigh them:
+//         trusted: robust σ̂ of the wrapped residuals ≤ π / outlier_sigmas and trimmed fraction ≤
+//           max_outlier_fraction. Δχ² is −2 log of the likelihood ratio only while the residuals are the
+//           Gaussian the cost assumes; the fit keeps residuals out to outlier_sigmas·σ̂ as data, and that band
+//           must not reach ±π, where a residual and its 2π alias are the same read (at σ̂ = 1.7 rad, 1 rad of
+//           read noise with cycle slips, the truth was at neither optimum). The rivals are costed on the stops
+//           the best fit kept, so it must not have discarded more than (a) allows.
+//         then uncertain, never failed: with Laplace's odds o_c = exp(−Δχ²_c/2) (equal curvature and prior),
+//           the rivals hold Σo / (1 + Σo) of the posterior; the region grows to enclose the most probable
+//           rivals, each with the optimum's own radius, until the mass left outside is ≤ 5 % (one rival:
+//           enclosed when Δχ² < 2 ln 19 ≈ 5.89), and the detail names the nearest rival and that mass;
+//         else failed (no position);
 //   (c) radius ≤ max_uncertainty_m (else multipath when the known scene's allowance set σ_sys, else aperture
 //       too short when the path is seen under < 60°, else phase too noisy).
 #include <limits>
@@ -74,6 +86,24 @@ double focus_min_step_m(const JointModel& model);
 
 JointModel make_joint_model(const TagReads& tag, const LocalizeOptions& options);
 JointFit fit_joint(const JointModel& model, const Vec3& start, const LocalizeOptions& options);
+
+// Another local optimum of the joint cost (not the mirror) outside the region, within unique_chi2.
+struct RivalOptimum {
+  Vec3 position = Vec3::Zero();
+  double delta_chi2 = 0.0;  // (C(rival) − C(p̂)) / (s² ρ) on the best fit's inlier stops
+};
+struct RivalVerdict {
+  bool trusted = false;             // the fit's residuals allow Δχ² to be read as log odds (judgement (b))
+  double rival_mass = 0.0;          // Σ o / (1 + Σ o), o = exp(−Δχ²/2): the rivals' share of the posterior
+  int enclosed = 0;                 // rivals (most probable first) the region grew to enclose
+  double radius_m = 0.0;            // the region's radius after that
+  std::vector<RivalOptimum> rivals;  // by increasing Δχ²
+};
+// Judgement (b) for rivals within unique_chi2 of the reported `position` (radius `radius_m`; the joint
+// optimum's own radius `optimum_radius_m` is given to each enclosed rival).
+RivalVerdict weigh_rivals(std::vector<RivalOptimum> rivals, const Vec3& position, double radius_m,
+                          double optimum_radius_m, double residual_rad, double outlier_fraction,
+                          const LocalizeOptions& options);
 
 // Sets uncertainty_m / residual_rad / outliers / predicted_std_m and judges result (already ok, with a
 // position) against (a)–(c). `rivals`: starts of other local optima to test (re-converged here).

@@ -74,7 +74,8 @@ struct LocalizeOptions {
   double outlier_sigmas = 3.0;
   double max_uncertainty_m = 0.15; // a larger 95 % radius → failed (aperture too short / phase too noisy)
   // Uniqueness: another local optimum outside the confidence region whose cost is within unique_chi2 of the
-  // best (in units of the inflated residual variance) makes the solution ambiguous.
+  // best (in units of the inflated residual variance) makes the solution ambiguous: uncertain, its region grown
+  // to enclose rivals holding > 5 % of the posterior, or failed when the fit cannot weigh them (joint_fit.h (b)).
   double unique_chi2 = 25.0;
 
   // SAR / holographic grid.

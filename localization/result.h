@@ -3,7 +3,7 @@
 //   ok        — a position whose 95 % radius uncertainty_m meets the request (max_uncertainty_m) and every gate;
 //   uncertain — a position and its 95 % radius, with the reason it is not ok (radius above the request, a misfit
 //               larger than the phase model allows, a short aperture): the answer, but not the accuracy asked for;
-//   failed    — no position (too few reads, separated optima that fit equally, no convergence, a fit the prior
+//   failed    — no position (too few reads, separated optima a misfitting fit cannot weigh, no convergence, a fit the prior
 //               excludes, a 95 % radius wider than the search region), with the reason.
 // Never a silent wrong point: an uncertain position is reported with its radius and its reason.
 #include <cmath>
@@ -28,6 +28,7 @@ enum class FailReason {
   kNoisyPhase,        // cycle slips in the unwrapped phase, or noise too large for the geometry
   kInconsistentResiduals,  // residuals do not fit the model (wrapped-phase σ too large, too many outliers)
   kAmbiguousPeak,     // another optimum (not the mirror) outside the confidence region fits nearly as well
+                      // (uncertain when the fit can weigh it: joint_fit.h (b); else failed)
   kBehindAntenna,     // --mirror-prior boresight, yet the best fit lies behind the antenna (prior and data disagree)
   kMultipath,         // the known scene's extra paths bend the phase at the estimate by more than it can be trusted
   kNotLocated,        // the 95 % region is wider than the search region (max_range_m): the reads do not place the tag

@@ -264,6 +264,55 @@ TEST(LocalizeSarHonesty, ReadsMoreThanQuarterWavelengthApart) {
   }
 }
 
+// Judgement (b) for a rival optimum (joint_fit.h): a trusted fit weighs it by Laplace's odds exp(−Δχ²/2) and
+// reports the best optimum, its region grown to enclose the rivals until ≤ 5 % of the posterior is left out;
+// a fit whose residuals cannot be read as Gaussian gives no position.
+TEST(LocalizeRivals, NearRivalOfATrustedFitIsEnclosedSoTheRegionHoldsEitherOptimum) {
+  const LocalizeOptions o;
+  const Vec3 best(1.0, 0.5, 0.0), rival(1.0, 1.3, 0.0);  // the truth may be at either
+  const double own = 0.12;
+  const RivalVerdict v = weigh_rivals({{rival, 2.0}}, best, own, own, 0.5, 0.0, o);
+  ASSERT_TRUE(v.trusted);  // σ̂ = 0.5 rad: 3σ̂ < π
+  EXPECT_NEAR(v.rival_mass, std::exp(-1.0) / (1.0 + std::exp(-1.0)), 1e-12);
+  EXPECT_EQ(v.enclosed, 1);
+  EXPECT_NEAR(v.radius_m, 0.8 + own, 1e-12);
+  // The truth anywhere in the rival's own region is inside the reported one.
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 truth = rival + 0.999 * own * Vec3(std::cos(kPi * k / 4), std::sin(kPi * k / 4), 0.0);
+    EXPECT_LE((truth - best).norm(), v.radius_m);
+  }
+}
+
+TEST(LocalizeRivals, RivalsHoldingAtMostFivePercentLeaveTheRegionAsItIs) {
+  const LocalizeOptions o;
+  const Vec3 best(1.0, 0.5, 0.0);
+  // One rival at Δχ² = 2 ln 19 + 0.1: just under 5 % of the posterior.
+  const RivalVerdict one = weigh_rivals({{Vec3(1, 2, 0), 2.0 * std::log(19.0) + 0.1}}, best, 0.1, 0.1, 0.5, 0.0, o);
+  EXPECT_TRUE(one.trusted);
+  EXPECT_LT(one.rival_mass, 0.05);
+  EXPECT_EQ(one.enclosed, 0);
+  EXPECT_DOUBLE_EQ(one.radius_m, 0.1);
+  // Two rivals at Δχ² = 6.5 and 6.6 (3.6 and 3.4 %, 7.0 % together): the more probable is enclosed, the other left out.
+  const RivalVerdict two =
+      weigh_rivals({{Vec3(1, 2, 0), 6.6}, {Vec3(1, -0.5, 0), 6.5}}, best, 0.1, 0.1, 0.5, 0.0, o);
+  EXPECT_GT(two.rival_mass, 0.05);
+  EXPECT_EQ(two.enclosed, 1);
+  EXPECT_NEAR(two.radius_m, 1.0 + 0.1, 1e-12);  // the Δχ² = 6.5 one, 1 m away
+  EXPECT_DOUBLE_EQ(two.rivals.front().delta_chi2, 6.5);
+}
+
+TEST(LocalizeRivals, UntrustedFitCannotWeighItsRivals) {
+  const LocalizeOptions o;
+  const Vec3 best(1.0, 0.5, 0.0);
+  // Wrapped residual σ̂ above π/3 (1 rad of read noise with cycle slips left 1.66 rad): the ±3σ̂ band the fit
+  // keeps as data reaches ±π, Δχ² is no log-odds and the truth may be at neither optimum.
+  EXPECT_FALSE(weigh_rivals({{Vec3(1, 2, 0), 15.0}}, best, 0.6, 0.6, 1.66, 0.0, o).trusted);
+  EXPECT_FALSE(weigh_rivals({{Vec3(1, 2, 0), 15.0}}, best, 0.6, 0.6, kPi / o.outlier_sigmas + 1e-9, 0.0, o).trusted);
+  EXPECT_TRUE(weigh_rivals({{Vec3(1, 2, 0), 15.0}}, best, 0.6, 0.6, kPi / o.outlier_sigmas, 0.0, o).trusted);
+  // More stops trimmed than (a) allows: the rival is costed on stops chosen to fit the best.
+  EXPECT_FALSE(weigh_rivals({{Vec3(1, 2, 0), 15.0}}, best, 0.1, 0.1, 0.3, 0.25, o).trusted);
+}
+
 TEST(LocalizeSarHonesty, StrongReflectionFromAWallBehindTheTag) {
   Hardware hw;
   hw.truth.frequencies_hz = testing::adarf_carriers_hz();
