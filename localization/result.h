@@ -69,7 +69,7 @@ struct LocalizeResult {
     return position.allFinite() && std::isfinite(uncertainty_m) ? Status::kUncertain : Status::kFailed;
   }
   bool has_position() const { return status() != Status::kFailed; }
-  // Turns the result into failed: no position, no radius (e.g. two optima that fit equally).
+  // Turns the result into failed: no position, no radius (e.g. two optima a misfitting fit cannot weigh).
   void fail_without_position(FailReason r, std::string why) {
     ok = false;
     reason = r;
