@@ -128,26 +128,34 @@ class Uncached final : public Channel {
   const Channel& inner_;
 };
 
-TEST(Fidelity, CachedAndRecomputedRaytracedLinksGiveIdenticalReadings) {
+// The paper warehouse's fixed antenna (physical reader model) and tags "tag1"… at `tags`; a test adds its second
+// antenna (a copy of the first, renamed and moved).
+Scenario fixed_antenna_scenario(double duration_s, const std::vector<Vec3>& tags) {
   Scenario s;
-  s.duration_s = 6.0;  // the mover stops at t = 2 s and rests: its links hit the cache from then on
+  s.duration_s = duration_s;
   AntennaSpec fixed;
   fixed.reader.name = "fixed";
   fixed.reader.model = ReaderModelKind::kPhysical;
   fixed.motion.pose.position = Vec3(3.5, -4.0, 2.0);
   s.antennas.push_back(fixed);
-  AntennaSpec mover = fixed;
+  for (size_t i = 0; i < tags.size(); ++i) {
+    TagSpec t;
+    t.tag.name = "tag" + std::to_string(i + 1);
+    t.motion.pose.position = tags[i];
+    s.tags.push_back(t);
+  }
+  return s;
+}
+
+TEST(Fidelity, CachedAndRecomputedRaytracedLinksGiveIdenticalReadings) {
+  // The mover stops at t = 2 s and rests: its links hit the cache from then on.
+  Scenario s = fixed_antenna_scenario(6.0, paper_tags());
+  AntennaSpec mover = s.antennas[0];
   mover.reader.name = "mover";
   mover.motion.kind = MotionSpec::Kind::kWaypoints;
   mover.motion.waypoints = {Vec3(-1, -5, 1.68), Vec3(-1, -4, 1.68)};
   mover.motion.speed_m_s = 0.5;
   s.antennas.push_back(mover);
-  for (size_t i = 0; i < paper_tags().size(); ++i) {
-    TagSpec t;
-    t.tag.name = "tag" + std::to_string(i + 1);
-    t.motion.pose.position = paper_tags()[i];
-    s.tags.push_back(t);
-  }
   const auto scene = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
   const RaytracedChannel traced(scene);
   const Uncached uncached(traced);
@@ -173,26 +181,14 @@ TEST(Fidelity, CachedAndRecomputedRaytracedLinksGiveIdenticalReadings) {
 // simulate judges every tag's links at the start poses (core/simulation.cpp, in parallel since 2026-12-06): the
 // count and the note naming the worst tag are those of a serial pass over the tags, at one thread and at two.
 TEST(Fidelity, SimulateCountsTagsOutsideValidityAsASerialPassDoesAtAnyThreadCount) {
-  Scenario s;
-  s.duration_s = 0.2;
-  AntennaSpec fixed;
-  fixed.reader.name = "fixed";
-  fixed.reader.model = ReaderModelKind::kPhysical;
-  fixed.motion.pose.position = Vec3(3.5, -4.0, 2.0);
-  s.antennas.push_back(fixed);
-  AntennaSpec aisle = fixed;
-  aisle.reader.name = "aisle";
-  aisle.motion.pose.position = Vec3(-1.0, -5.0, 1.68);
-  s.antennas.push_back(aisle);
   std::vector<Vec3> tags = paper_tags();
   tags.push_back({-1.0, -2.0, 1.0});  // in the open
   tags.push_back({-1.0, -6.0, 1.1});
-  for (size_t i = 0; i < tags.size(); ++i) {
-    TagSpec t;
-    t.tag.name = "tag" + std::to_string(i + 1);
-    t.motion.pose.position = tags[i];
-    s.tags.push_back(t);
-  }
+  Scenario s = fixed_antenna_scenario(0.2, tags);
+  AntennaSpec aisle = s.antennas[0];
+  aisle.reader.name = "aisle";
+  aisle.motion.pose.position = Vec3(-1.0, -5.0, 1.68);
+  s.antennas.push_back(aisle);
   const auto scene = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
   TraceOptions o;
   o.level = ChannelLevel::kFull;
