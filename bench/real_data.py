@@ -316,13 +316,13 @@ def main():
     table = []
     write_floor(os.path.join(work, "floor.obj"))
     peer_table = []
-    code = None
     with_peers = args.peers or bool(args.peer_results)
     if with_peers:
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
         import real_peers
     if args.peers:
-        code = real_peers.PeerCode(args.adarf)
+        # Imported once here only to fail before any run when codes/ is missing or broken; each worker imports its own.
+        real_peers.PeerCode(args.adarf)
     for d in datasets:
         tests = runs(d, args.split, args.every, 0, args.offset)
         real, uncal, sim_ideal, sim_traced, sim_ripple = [], [], [], [], []
