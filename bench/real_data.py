@@ -316,6 +316,7 @@ def main():
     table = []
     write_floor(os.path.join(work, "floor.obj"))
     peer_table = []
+    paired_table = []
     with_peers = args.peers or bool(args.peer_results)
     if with_peers:
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -338,8 +339,9 @@ def main():
             j = localize(args, readings, truth_csv, antenna_file)
             # Per-run results name the set's tags: they stay with the converted data, outside the repository.
             json.dump(j, open(os.path.join(work, "D%d_%s.json" % (d, name)), "w"), indent=1)
-            real += j["results"]
-            uncal += localize(args, readings, truth_csv, None)["results"]
+            # A tag's EPC repeats in every run of a split: (run, name) is what pairs a result with a peer's.
+            real += [dict(r, run=name) for r in j["results"]]
+            uncal += [dict(r, run=name) for r in localize(args, readings, truth_csv, None)["results"]]
             if args.no_sim or d != 1:
                 continue
             for label, channel, bucket, hw, ripple in (("ideal", "ideal", sim_ideal, None, None),
@@ -369,9 +371,11 @@ def main():
             for m, s in real_peers.peer_stats(peer_rows).items():
                 peer_table.append(dict(dataset="D%d" % d, method=m, ok=None, covered=None,
                                        median_radius_mm=float("nan"), **s))
+            paired_table += paired_rows("D%d" % d, rows[:2], peer_rows)
 
     if with_peers:
         write_peer_table(args.output, peer_table, args)
+        write_paired_table(args.output, paired_table, args)
     fields = ["dataset", "data", "method", "tags", "ok", "mean_mm", "median_mm", "p90_mm", "max_mm",
               "ok_outside_uncertainty", "residual_rms_rad", "positioned", "pos_mean_mm", "pos_median_mm",
               "covered", "median_radius_mm"]
@@ -409,7 +413,7 @@ def run_peers(args, real_peers, d, tests, tag_orders):
         jobs.append((args.adarf, run_dir, epcs, {t[0]: (t[1], t[2]) for t in truth}, methods, args.split))
     with multiprocessing.Pool(max(1, args.jobs)) as pool:
         parts = pool.starmap(peer_job, jobs)
-    return [r for part in parts for r in part]
+    return [dict(r, run=test[0]) for test, part in zip(tests, parts) for r in part]
 
 
 _PEER_CODE = {}
@@ -441,6 +445,55 @@ def write_peer_table(out_dir, rows, args):
                 r["mean_mm"], r["median_mm"], r["p90_mm"], r["max_mm"],
                 "-" if r["covered"] is None else percent(r["covered"], r["positioned"]),
                 "-" if r["median_radius_mm"] != r["median_radius_mm"] else "%.0f" % r["median_radius_mm"], r["cpu_ms"]))
+
+
+def paired_rows(dataset, rfidray_rows, peer_rows):
+    """Each rfidray method (calibrated and not) against each peer on the tags both place: the means of
+    real_vs_peers.md are over different tags (rfidray's over those it answers; Tagoram's and MobiTagbot's over the
+    runs they were run on, --peer-every)."""
+    if any("run" not in r for r in peer_rows):
+        print("real_data: note: %s: the stored peer results have no run names (made before they were kept); "
+              "no paired table: run once with --peers" % dataset, file=sys.stderr)
+        return []
+    out = []
+    for peer in dict.fromkeys(r["method"] for r in peer_rows):  # in the order they were run
+        theirs = {(r["run"], r["name"]): r["error_m"] for r in peer_rows
+                  if r["method"] == peer and r["error_m"] is not None}
+        if not theirs:
+            continue
+        for label, results in rfidray_rows:
+            for m in METHODS:
+                mine = {(r["run"], r["name"]): r["error_m"] for r in results
+                        if r["method"] == m and r["status"] in ("ok", "uncertain") and r.get("error_m") is not None}
+                both = sorted(set(mine) & set(theirs))
+                if not both:
+                    continue
+                a = [1e3 * mine[k] for k in both]
+                b = [1e3 * theirs[k] for k in both]
+                out.append(dict(dataset=dataset, method="rfidray %s, %s" % (m, label.split(", ")[1]), peer=peer,
+                                tags=len(both), peer_tags=len(theirs), mean_mm=statistics.fmean(a),
+                                peer_mean_mm=statistics.fmean(b), median_mm=statistics.median(a),
+                                peer_median_mm=statistics.median(b),
+                                closer=sum(1 for x, y in zip(a, b) if x < y)))
+    return out
+
+
+def write_paired_table(out_dir, rows, args):
+    """real_vs_peers_paired.md / .csv: rfidray and each peer on the same tags."""
+    fields = ["dataset", "method", "peer", "tags", "peer_tags", "mean_mm", "peer_mean_mm", "median_mm",
+              "peer_median_mm", "closer"]
+    with open(os.path.join(out_dir, "real_vs_peers_paired.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(fields)
+        for r in rows:
+            w.writerow([("%.4f" % r[k]) if isinstance(r[k], float) else r[k] for k in fields])
+    with open(os.path.join(out_dir, "real_vs_peers_paired.md"), "w") as f:
+        f.write("| split | rfidray method | peer | tags both place / the peer places | mean mm, rfidray / peer "
+                "| median mm, rfidray / peer | rfidray closer on |\n|---|---|---|---|---|---|---|\n")
+        for r in rows:
+            f.write("| %s %s | %s | %s | %d / %d | %.0f / %.0f | %.0f / %.0f | %d |\n" % (
+                r["dataset"], args.split, r["method"], r["peer"], r["tags"], r["peer_tags"], r["mean_mm"],
+                r["peer_mean_mm"], r["median_mm"], r["peer_median_mm"], r["closer"]))
 
 
 def plot(out_dir, table):

@@ -155,6 +155,19 @@ def main():
     for m in ("rfidray nlls, calibrated", "rfidray nlls, uncalibrated"):
         if m not in peers or int(peers[m]["positioned"]) != 6:
             failures.append("real_vs_peers.csv: no full row for %s" % m)
+    # Paired by (run, tag): both runs carry the same three EPCs, so pairing by name alone would find 3 tags, not 6;
+    # with every tag placed by both, each side's paired mean is its own mean over all six.
+    paired = list(csv.DictReader(open(os.path.join(out, "real_vs_peers_paired.csv"))))
+    for m in ("rfidray nlls, calibrated", "rfidray nlls, uncalibrated"):
+        for peer in ("Tagoram", "MobiTagbot", "RF-Scanner", "STPP (x only)"):
+            row = [x for x in paired if x["method"] == m and x["peer"] == peer]
+            if len(row) != 1 or int(row[0]["tags"]) != 6:
+                failures.append("real_vs_peers_paired.csv: %s against %s: %s" % (m, peer, row))
+            elif m in peers and peer in peers and not (
+                    abs(float(row[0]["mean_mm"]) - float(peers[m]["mean_mm"])) < 1e-3 and
+                    abs(float(row[0]["peer_mean_mm"]) - float(peers[peer]["mean_mm"])) < 1e-3):
+                failures.append("paired means %s / %s, unpaired %s / %s" % (row[0]["mean_mm"], row[0]["peer_mean_mm"],
+                                                                             peers[m]["mean_mm"], peers[peer]["mean_mm"]))
     # --peer-results: the peers' rows from the kept results of the run above, not run again: the same rows.
     again = os.path.join(root, "again")
     base = [sys.executable, os.path.join(source, "bench", "real_data.py"), "--adarf", root, "--rfidray", rfidray,
