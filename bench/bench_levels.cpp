@@ -3,7 +3,7 @@
 // rays per link, and the errors of what a reader reports against `full` with the exhaustive candidate search
 // (core/channel_error.h: p95 round-trip phase and RSSI errors over links readable in either, read flips).
 //
-//   bench_levels [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes paper,w10k,w1m] [--reference LEVEL]
+//   bench_levels [--out DIR] [--runs N] [--tags N] [--poses N] [--scenes paper,w10k,w100k,w1m] [--reference LEVEL]
 //                [--reference-candidates exhaustive|exact] [--skipped-fractions 0.02,0.1] [--posts-as-faces] [--first-order-too]
 // (--reference double-bounce: what double reflections alone add, without diffraction. --reference-candidates
 // fast: the same paths, for scenes where the exhaustive search is too slow (w1m: ~1 s per link at full).
@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
   app.add_option("--runs", runs, "runs per measurement (median reported)")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--tags", tags, "tags per antenna pose")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--poses", poses, "antenna poses")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--scenes", scene_list, "comma-separated subset of paper,w10k,w100k")->capture_default_str();
+  app.add_option("--scenes", scene_list, "comma-separated subset of paper,w10k,w100k,w1m")->capture_default_str();
   app.add_option("--reference", reference_level, "reference level (exhaustive candidates)")->capture_default_str();
   app.add_option("--reference-candidates", reference_candidates, "candidate search of the reference: exhaustive | exact")
       ->capture_default_str();

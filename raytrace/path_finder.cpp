@@ -226,8 +226,10 @@ void PathFinder::decide_plane_pair_sharing(const Vec3& a, std::span<const Endpoi
     return;
   }
   // The probe costs one block's pairs: worth it only when many blocks follow. Sharing pays while fewer than
-  // 2/3 of the pairs are kept: a block's pairs cost ~60 ns per pair against ~12 ns per pair and link without
-  // sharing (bench_levels on w100k), i.e. five links' worth, saved 16 times per pair pruned.
+  // 0.42 of the pairs are kept: a block's pairs cost ~72 ns per pair against ~7.8 ns per pair and link without
+  // sharing since the pair loop was made cheaper (bench_levels on the paper warehouse, 2026-12-07: 75.4 µs per
+  // link unshared, 77.9 shared with 46 % of the pairs kept), i.e. 9.2 links' worth, saved 16 times per pair
+  // pruned: 16·(1 − kept) > 9.2. (It was 2/3 when a pair cost ~12 ns per link, five links' worth.)
   constexpr size_t kBlock = 16, kMinTags = 64;
   if (order.size() < kMinTags) return;
   Vec3 lo, hi;
@@ -236,7 +238,8 @@ void PathFinder::decide_plane_pair_sharing(const Vec3& a, std::span<const Endpoi
   thread_local std::vector<PlanePair> tl_probe;
   plane_pairs_near(a, lo, hi, tl_probe);
   const double all_pairs = static_cast<double>(planes_.size()) * static_cast<double>(planes_.size() - 1);
-  out.share_plane_pairs = static_cast<double>(tl_probe.size()) < (2.0 / 3.0) * all_pairs;
+  constexpr double kMaxKeptShare = 0.42;
+  out.share_plane_pairs = static_cast<double>(tl_probe.size()) < kMaxKeptShare * all_pairs;
 }
 
 void PathFinder::check_link(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) {

@@ -126,8 +126,8 @@ class PathFinder {
   // Per-pose candidate search (shoots options().candidate_rays rays when > 0 in exact mode).
   void prepare_pose(const Vec3& antenna_position, PoseCandidates& out) const;
   // Sets out.share_plane_pairs for the links from `antenna_position` to tags[order[…]] traced together
-  // (TraceOptions::plane_pair_sharing; kAuto: finds the first block's pairs and shares when fewer than 2/3
-  // of all ordered pairs are kept, with ≥ 64 tags: a block's pairs cost about five per-link pair tests per
+  // (TraceOptions::plane_pair_sharing; kAuto: finds the first block's pairs and shares when fewer than 0.42
+  // of all ordered pairs are kept, with ≥ 64 tags: a block's pairs cost about nine per-link pair tests per
   // pair, saved on its 16 links for each pair pruned).
   void decide_plane_pair_sharing(const Vec3& antenna_position, std::span<const Endpoint> tags,
                                  std::span<const uint32_t> order, PoseCandidates& out) const;

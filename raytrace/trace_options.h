@@ -71,7 +71,7 @@ struct TraceOptions {
   bool cull_covered = false;
   // Level double-bounce, links traced together (one_way): the plane pairs each block of 16 nearby tags can
   // use are found once and shared by its links (PathFinder::plane_pairs_near). Changes the work, never a
-  // path. kAuto shares where a probe of the pose's first block says it pays (fewer than 2/3 of all pairs
+  // path. kAuto shares where a probe of the pose's first block says it pays (fewer than 0.42 of all pairs
   // kept; ≥ 64 tags); kAlways and kNever are for tests and benchmarks.
   enum class Sharing { kAuto, kAlways, kNever };
   Sharing plane_pair_sharing = Sharing::kAuto;
