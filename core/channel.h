@@ -2,6 +2,7 @@
 // The channel interface: everything between the reader antenna's port and the tag's port.
 // The ideal channel (free space, paper) and the ray-traced channels (raytrace/) implement it.
 #include <complex>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -50,6 +51,10 @@ class Channel {
                        std::span<std::complex<double>> h) const {
     for (size_t i = 0; i < tags.size(); ++i) h[i] = sum_paths(paths(antenna, tags[i], frequency_hz));
   }
+
+  // The fewest tags for which one_way, called outside a parallel region, splits the batch over every thread;
+  // SIZE_MAX: never (the caller then spreads its batches over the threads instead).
+  virtual size_t threaded_batch_min_tags() const { return std::numeric_limits<size_t>::max(); }
 
   // True when the channel depends on nothing but the two endpoints (no moving scene objects), so
   // a link whose endpoints did not move can reuse its last value.

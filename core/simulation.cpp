@@ -333,12 +333,13 @@ SimulationResult simulate(const Scenario& scenario, const SceneMotion& motion, c
   };
   // One job per (antenna, carrier): with fewer jobs than threads, or a number that does not divide among them
   // (3 antennas on 2 threads), a parallel loop over jobs leaves threads idle. one_way splits its own tags over
-  // every thread from 64 tags on (raytrace/raytraced_channel.cpp), so with that many static tags and the default
-  // thread count the jobs run one after another, each on all threads; otherwise the jobs are spread over the
-  // threads. The same h either way (every link is computed on its own).
+  // every thread from Channel::threaded_batch_min_tags() on (64 tags up to single-bounce, 17 from double-bounce
+  // up: raytrace/raytraced_channel.cpp), so with that many static tags and the default thread count the jobs run
+  // one after another, each on all threads; otherwise the jobs are spread over the threads. The same h either
+  // way (every link is computed on its own).
   size_t static_tags = 0;
   for (size_t i = 0; i < n_tags; ++i) static_tags += motion.tags[i]->is_static();
-  if (static_tags >= 64 && threads == omp_get_max_threads()) {
+  if (static_tags >= channel.threaded_batch_min_tags() && threads == omp_get_max_threads()) {
     for (size_t j = 0; j < static_jobs.size(); ++j) static_job(j);
   } else {
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)

@@ -79,6 +79,16 @@ int fastest_los_packet_width(const PathFinder& finder, const Endpoint& antenna, 
   return best[packet] * 1.25 < best[0] ? kWidths[packet] : 1;
 }
 
+// one_way's chunk of tags: 16, the exact search's and double-bounce's block (path_finder.h).
+constexpr size_t kOneWayChunk = 16;
+
+// Threads pay from 64 tags up to single-bounce, where a link costs 0.2–16 µs: a few chunks are less work than
+// starting the lanes. From double-bounce up a link costs ≥ ~75 µs (the paper warehouse; 43 ms at full on w1m:
+// bench_levels, 2026-12-07), so two chunks already pay.
+size_t RaytracedChannel::threaded_batch_min_tags() const {
+  return includes(finder_.options().level, ChannelLevel::kDoubleBounce) ? kOneWayChunk + 1 : 64;
+}
+
 void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint> tags, double frequency_hz,
                                std::span<std::complex<double>> h) const {
   // The caller's scratch, reused across calls. Bound to plain references: inside a parallel loop a
@@ -118,7 +128,7 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
     width = std::max(width, 1);
   }
   const int threads = omp_in_parallel() ? 1 : std::max(1, omp_get_max_threads());
-  if (threads < 2 || n < 64) {
+  if (threads < 2 || n < threaded_batch_min_tags()) {
     finder_.trace_sum(antenna, tags, order, frequency_hz, candidates, width, h);
     return;
   }
@@ -135,15 +145,14 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
   // worker woken from sleep, or descheduled) finds fewer chunks or none, and the caller waits at most for
   // the chunks already taken: a work-stealing split of the range itself would hand the first thief half of
   // it, and the caller would wait for that half however late the thief started.
-  constexpr size_t kChunk = 16;
-  const size_t chunks = (n + kChunk - 1) / kChunk;
+  const size_t chunks = (n + kOneWayChunk - 1) / kOneWayChunk;
   std::atomic<size_t> next{0};
   const auto lane = [&] {
     const std::array<uint64_t*, kCounters> counters = thread_counters();
     std::array<uint64_t, kCounters> before;
     for (size_t k = 0; k < kCounters; ++k) before[k] = *counters[k];
     for (size_t c; (c = next.fetch_add(1, std::memory_order_relaxed)) < chunks;) {
-      const size_t first = c * kChunk, last = std::min(n, first + kChunk);
+      const size_t first = c * kOneWayChunk, last = std::min(n, first + kOneWayChunk);
       try {
         finder_.trace_sum(antenna, tags, all.subspan(first, last - first), frequency_hz, candidates, width, h);
       } catch (...) {

@@ -45,6 +45,8 @@ class RaytracedChannel final : public Channel {
   // an OpenMP parallel region.
   void one_way(const Endpoint& antenna, std::span<const Endpoint> tags, double frequency_hz,
                std::span<std::complex<double>> h) const override;
+  // 64 up to single-bounce, 17 (two chunks of 16 tags) from double-bounce up (raytraced_channel.cpp).
+  size_t threaded_batch_min_tags() const override;
 
   // The nearest facet of the scene (Scene::nearest_surface) with its radio material.
   std::optional<NearbySurface> nearest_surface(const Vec3& point, double max_distance_m) const override;

@@ -273,6 +273,36 @@ TEST(Packets, NoStateLeaksBetweenPoses) {
   omp_set_num_threads(2);
 }
 
+TEST(Packets, FewTagsAboveSingleBounceAreSplitOverThreadsWithTheSameResults) {
+  // From double-bounce up, one_way splits as few as 17 tags over the threads (two chunks of 16); below that
+  // level only from 64. Each h must stay bitwise the per-link one and the rays credited what a serial loop counts,
+  // for batch sizes on both sides of the chunk boundaries.
+  const auto scene = small_warehouse(5);
+  std::mt19937_64 rng(17);
+  const std::vector<Endpoint> all = random_tags(*scene, rng, 63);
+  const Endpoint a = testing::endpoint_at(Vec3(1.0, 1.0, 1.2));
+  for (ChannelLevel level : {ChannelLevel::kDoubleBounce, ChannelLevel::kFull}) {
+    TraceOptions o;
+    o.level = level;
+    const RaytracedChannel ch(scene, o);
+    for (size_t n : {size_t(16), size_t(17), size_t(33), size_t(63)}) {
+      const std::vector<Endpoint> tags(all.begin(), all.begin() + n);
+      omp_set_num_threads(2);
+      std::vector<std::complex<double>> h(n);
+      const uint64_t rays = rays_of_call(ch, a, tags, h);
+      const std::vector<std::complex<double>> want = per_link(ch, a, tags);
+      for (size_t i = 0; i < n; ++i) ASSERT_EQ(h[i], want[i]) << to_string(level) << " n " << n << " tag " << i;
+      PoseCandidates c;
+      ch.finder().prepare_pose(a.pose.position, c);
+      std::vector<TracedPath> out;
+      const uint64_t before = tl_rays_traced;
+      for (const Endpoint& t : tags) ch.finder().trace(a, t, kF, c, out);
+      EXPECT_EQ(rays, tl_rays_traced - before) << to_string(level) << " n " << n;
+    }
+  }
+  omp_set_num_threads(2);
+}
+
 TEST(Packets, BadLinkInThreadedBatchThrows) {
   const auto scene = small_warehouse(5);
   std::mt19937_64 rng(55);
