@@ -363,7 +363,7 @@ def main():
         if with_peers:
             for label, results in rows[:2]:
                 for m, s in stats(results).items():
-                    peer_table.append(dict(dataset="D%d" % d, method="rfidray %s, %s" % (m, label.split(", ")[1]),
+                    peer_table.append(dict(dataset="D%d" % d, method=rfidray_method(m, label),
                                            tags=s["tags"], positioned=s["positioned"], ok=s["ok"],
                                            mean_mm=s["pos_mean_mm"], median_mm=s["pos_median_mm"],
                                            p90_mm=s["pos_p90_mm"], max_mm=s["pos_max_mm"], covered=s["covered"],
@@ -447,6 +447,11 @@ def write_peer_table(out_dir, rows, args):
                 "-" if r["median_radius_mm"] != r["median_radius_mm"] else "%.0f" % r["median_radius_mm"], r["cpu_ms"]))
 
 
+def rfidray_method(method, data_label):
+    """'rfidray nlls, calibrated' for method nlls and rows labelled 'real, calibrated'."""
+    return "rfidray %s, %s" % (method, data_label.split(", ")[1])
+
+
 def paired_rows(dataset, rfidray_rows, peer_rows):
     """Each rfidray method (calibrated and not) against each peer on the tags both place: the means of
     real_vs_peers.md are over different tags (rfidray's over those it answers; Tagoram's and MobiTagbot's over the
@@ -470,7 +475,7 @@ def paired_rows(dataset, rfidray_rows, peer_rows):
                     continue
                 a = [1e3 * mine[k] for k in both]
                 b = [1e3 * theirs[k] for k in both]
-                out.append(dict(dataset=dataset, method="rfidray %s, %s" % (m, label.split(", ")[1]), peer=peer,
+                out.append(dict(dataset=dataset, method=rfidray_method(m, label), peer=peer,
                                 tags=len(both), peer_tags=len(theirs), mean_mm=statistics.fmean(a),
                                 peer_mean_mm=statistics.fmean(b), median_mm=statistics.median(a),
                                 peer_median_mm=statistics.median(b),
