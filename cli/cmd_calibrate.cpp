@@ -1,6 +1,7 @@
 // `rfidray calibrate`: an antenna file (phase centre, carrier offsets, phase pattern) from reference tags at
 // known positions (localization/calibration.h, io/antenna_file.h).
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -27,6 +28,7 @@ struct CalibrateState {
   bool fold_pi = false;
   bool json = false;
   int held_out_folds = 5;
+  bool all_terms = false;
 };
 
 nlohmann::json notes(const std::vector<loc::AntennaCalibration::TermNote>& list) {
@@ -44,10 +46,17 @@ nlohmann::json references_localized(const loc::AntennaCalibration& c) {
 }
 
 // Each fold of runs localized with the calibration of the other folds and without any (cross-validation over runs).
+nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+// With the models tried when the terms were chosen by it (CalibrationOptions::select_terms).
 nlohmann::json held_out(const loc::AntennaCalibration& c) {
   if (c.held_out_tags == 0) return nullptr;
+  nlohmann::json models = nlohmann::json::array();
+  for (const auto& m : c.held_out_models)
+    models.push_back({{"terms", m.terms}, {"median_error_m", finite_or_null(m.median_error_m)}, {"kept", m.kept}});
   return {{"runs", c.held_out_runs}, {"folds", c.held_out_folds}, {"tags", c.held_out_tags}, {"median_error_m", c.held_out_median_error_m},
-          {"median_error_uncalibrated_m", c.held_out_median_error_uncalibrated_m}, {"helps", c.helps_held_out()}};
+          {"median_error_uncalibrated_m", c.held_out_median_error_uncalibrated_m}, {"helps", c.helps_held_out()},
+          {"models", models}};
 }
 
 void warn_if_no_help(const loc::AntennaCalibration& c) {
@@ -103,6 +112,7 @@ int run_calibrate(const CalibrateState& s) {
                                               std::to_string(s.held_out_folds) + ")");
   o.held_out_check = s.held_out_folds >= 2;
   o.held_out_folds = s.held_out_folds;
+  o.select_terms = !s.all_terms;
   const loc::AntennaCalibration c = loc::calibrate_antenna(samples, antenna, o);
   io::check_output_path(s.output, "antenna file");
   io::write_file_atomic(s.output, [&](std::ostream& out) { io::write_antenna_file(out, c); }, "antenna file");
@@ -149,11 +159,15 @@ int run_calibrate(const CalibrateState& s) {
       std::cout << "  its own " << c.reference_error_tags << " reference tags localized (NLLS, side known): median error "
                 << 1e3 * c.reference_median_error_m << " mm with this calibration, "
                 << 1e3 * c.reference_median_error_uncalibrated_m << " mm without\n";
-    if (c.held_out_tags > 0)
+    if (c.held_out_tags > 0) {
       std::cout << "  held out (" << c.held_out_runs << " runs in " << c.held_out_folds
                 << " folds, each fold localized with the calibration of the others, " << c.held_out_tags
                 << " tags): median error " << 1e3 * c.held_out_median_error_m << " mm with it, "
                 << 1e3 * c.held_out_median_error_uncalibrated_m << " mm without\n";
+      for (const auto& m : c.held_out_models)
+        std::cout << "    terms tried: " << m.terms << ": held-out median error " << 1e3 * m.median_error_m << " mm"
+                  << (m.kept ? " (kept: the lowest, the simpler on a tie)" : "") << "\n";
+    }
     else
       std::cout << "  held out: not measured (needs reference tags from at least 2 --pair runs, and --held-out-folds not 0)\n";
   }
@@ -188,6 +202,11 @@ std::function<int()> setup_calibrate(CLI::App& app) {
                   "cross-validate over the --pair runs in this many folds: each fold's reference tags localized with "
                   "the calibration of the others and without (0: skip; costs one calibration per fold)")
       ->capture_default_str();
+  sub->add_flag("--all-terms", state->all_terms,
+                "fit every term the reference geometry determines. Without it, with a held-out check, calibrate also "
+                "cross-validates the antenna without its phase pattern, and with carrier offsets only, keeps the model "
+                "with the lowest held-out median error (the simpler on a tie) and lists the terms it dropped under "
+                "not_fitted with the medians");
   return [state] { return run_calibrate(*state); };
 }
 

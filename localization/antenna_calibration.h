@@ -92,6 +92,14 @@ struct AntennaCalibration {
   bool helps_held_out() const {
     return !(held_out_median_error_m >= held_out_median_error_uncalibrated_m);  // true when not measured
   }
+  // The models calibrate tried when it chose its terms by the held-out check (CalibrationOptions::select_terms),
+  // richest first; empty when it did not choose. Not written to the antenna file.
+  struct HeldOutModel {
+    std::string terms;               // e.g. "carrier offsets + phase-centre offset + pattern"
+    double median_error_m = 0.0;     // held-out median error with it (NaN: not measured)
+    bool kept = false;
+  };
+  std::vector<HeldOutModel> held_out_models;
   double residual_rms_rad = 0.0;  // RMS wrapped residual of the fit (per stop mean)
   int reads_used = 0;
   int tags_used = 0;              // tag × run pairs (each with its own nuisance offset)

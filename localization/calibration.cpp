@@ -74,10 +74,10 @@ class CalProblem {
   double fold_;
 };
 
-}  // namespace
-
-AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& samples, const std::string& antenna,
-                                     const CalibrationOptions& options) {
+// calibrate_antenna without the choice of terms. `uncalibrated`: each sample's error localized without any
+// calibration (allowance.h, uncalibrated_errors), computed here when empty and kept for the next call.
+AntennaCalibration fit_calibration(const std::vector<CalibrationSample>& samples, const std::string& antenna,
+                                   const CalibrationOptions& options, std::vector<double>& uncalibrated) {
   AntennaCalibration out;
   out.antenna = antenna;
   // Carriers present (1 kHz bins), ascending.
@@ -136,6 +136,7 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
     out.not_fitted.push_back({term, why});
   };
   bool horizontal_plane = options.planar;  // every tag at the antennas' height: the allowance localizes in 2-D
+  if (!options.fit_offset) fix_offset = {true, true, true};  // notes: calibrate_antenna's choice of terms
   if (options.planar) {
     const std::string why = "--height-known: antenna and tags in one horizontal plane";
     fix_offset[2] = true, note_fixed("dz", why);
@@ -363,11 +364,90 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   if (options.measure_allowance || options.held_out_check) {
     CalibrationOptions measured = options;
     measured.planar = horizontal_plane;
-    // Each reference localized without calibration once, for both checks.
-    const std::vector<double> uncalibrated = uncalibrated_errors(samples, antenna, measured);
+    // Each reference localized without calibration once, for both checks (and every model calibrate_antenna tries).
+    if (uncalibrated.empty()) uncalibrated = uncalibrated_errors(samples, antenna, measured);
     if (options.measure_allowance) measure_allowance(samples, measured, uncalibrated, out);
     if (options.held_out_check) measure_held_out(samples, measured, uncalibrated, out);
   }
+  return out;
+}
+
+}  // namespace
+
+AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& samples, const std::string& antenna,
+                                     const CalibrationOptions& options) {
+  std::vector<double> uncalibrated;
+  AntennaCalibration full = fit_calibration(samples, antenna, options, uncalibrated);
+  if (!options.select_terms || full.held_out_tags == 0) return full;  // no held-out evidence to choose by
+  auto is_free = [&](const char* term) {
+    return std::none_of(full.not_fitted.begin(), full.not_fitted.end(), [&](const auto& n) { return n.term == term; });
+  };
+  std::vector<std::string> pattern_terms, offset_terms;
+  if (options.fit_pattern)
+    for (const char* t : kPatternTermNames)
+      if (is_free(t)) pattern_terms.push_back(t);
+  if (options.fit_offset)
+    for (int a = 0; a < 3; ++a)
+      if (is_free(kGeometryTermNames[a])) offset_terms.push_back(kGeometryTermNames[a]);
+  // The nested models, richest first: what `options` fits, then without the pattern, then without the offset too.
+  struct Model {
+    std::string name;
+    CalibrationOptions options;
+    double held_out_median_error_m;
+    AntennaCalibration fitted;
+  };
+  std::vector<Model> models;
+  const std::string carriers = full.has_carrier_offsets() ? "carrier offsets" : "(no carrier offsets: one carrier)";
+  std::string name = carriers;
+  if (!offset_terms.empty()) name += " + phase-centre offset";
+  if (!pattern_terms.empty()) name += " + pattern";
+  models.push_back({name, options, full.held_out_median_error_m, full});
+  CalibrationOptions variant = options;
+  variant.measure_allowance = false;  // measured once, on the model kept
+  if (!pattern_terms.empty() && !offset_terms.empty()) {
+    variant.fit_pattern = false;
+    const AntennaCalibration c = fit_calibration(samples, antenna, variant, uncalibrated);
+    models.push_back({carriers + " + phase-centre offset", variant, c.held_out_median_error_m, c});
+  }
+  if (!pattern_terms.empty() || !offset_terms.empty()) {
+    variant.fit_pattern = false, variant.fit_offset = false;
+    const AntennaCalibration c = fit_calibration(samples, antenna, variant, uncalibrated);
+    models.push_back({carriers, variant, c.held_out_median_error_m, c});
+  }
+  // The model with the lowest held-out median error; the simpler one on a tie (and wherever a richer one could
+  // not be measured).
+  size_t chosen = 0;
+  for (size_t m = 1; m < models.size(); ++m)
+    if (!(models[m].held_out_median_error_m > models[chosen].held_out_median_error_m)) chosen = m;
+  std::vector<AntennaCalibration::HeldOutModel> tried;
+  for (size_t m = 0; m < models.size(); ++m)
+    tried.push_back({models[m].name, models[m].held_out_median_error_m, m == chosen});
+  if (chosen == 0) {
+    full.held_out_models = tried;
+    return full;
+  }
+  // Refitted with the allowance measured (the held-out figures are those of the model's own cross-validation).
+  CalibrationOptions kept = models[chosen].options;
+  kept.measure_allowance = options.measure_allowance;
+  kept.held_out_check = false;
+  AntennaCalibration out = fit_calibration(samples, antenna, kept, uncalibrated);
+  const AntennaCalibration& measured = models[chosen].fitted;
+  out.held_out_median_error_m = measured.held_out_median_error_m;
+  out.held_out_median_error_uncalibrated_m = measured.held_out_median_error_uncalibrated_m;
+  out.held_out_tags = measured.held_out_tags;
+  out.held_out_runs = measured.held_out_runs;
+  out.held_out_folds = measured.held_out_folds;
+  out.held_out_models = tried;
+  std::ostringstream why;
+  why << "cross-validated over " << full.held_out_runs << " runs in " << full.held_out_folds
+      << " folds, the held-out reference tags' median error is " << 1e3 * models[0].held_out_median_error_m
+      << " mm with " << models[0].name;
+  for (size_t m = 1; m <= chosen; ++m) why << ", " << 1e3 * models[m].held_out_median_error_m << " mm with " << models[m].name;
+  why << ": the simpler model localizes the tags of runs it was not fitted on at least as well (what the term fits "
+         "in some runs does not carry to the others)";
+  std::vector<std::string> dropped = pattern_terms;
+  if (!models[chosen].options.fit_offset) dropped.insert(dropped.end(), offset_terms.begin(), offset_terms.end());
+  for (const std::string& t : dropped) out.not_fitted.push_back({t, why.str()});
   return out;
 }
 

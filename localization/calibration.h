@@ -55,7 +55,17 @@ struct CalibrationOptions {
   // one more calibration per fold (2 runs: leave one out; 5 or more: each fold a fifth of the runs).
   bool held_out_check = true;
   int held_out_folds = 5;
+  // Which geometry terms to fit. false: held at 0 (with fit_offset, all three offsets).
   bool fit_pattern = true;
+  bool fit_offset = true;
+  // Choose the terms by the held-out check (needs held_out_check and reference tags from ≥ 2 runs): the nested
+  // models — what fit_pattern / fit_offset allow, then the pattern held at 0, then the phase-centre offset too
+  // (carrier offsets only) — are each cross-validated, and the one with the lowest held-out median error is
+  // kept (the simpler on a tie). The offset and the pattern are nearly aliased (both curve the wavefront; on the
+  // AdaRF D1 runs dx and az² correlate at −0.995), so together they fit each run's own range bias — the tag
+  // row's, the room's — which the next run does not share. Terms dropped are listed in not_fitted with the
+  // held-out medians; every model tried in held_out_models. Costs a cross-validation per model (≤ 3).
+  bool select_terms = true;
   double prior_offset_sd_m = 0.05;
   double prior_pattern_sd_rad = 1.0;
   int max_iterations = 100;

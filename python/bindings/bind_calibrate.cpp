@@ -99,6 +99,15 @@ pyb::dict run_calibrate(const pyb::list& references, const std::string& antenna_
   if (!d["held_out"].is_none()) {
     d["held_out"]["runs"] = c.held_out_runs;
     d["held_out"]["folds"] = c.held_out_folds;
+    pyb::list models;
+    for (const auto& m : c.held_out_models) {
+      pyb::dict e;
+      e["terms"] = m.terms;
+      e["median_error_m"] = std::isfinite(m.median_error_m) ? pyb::object(pyb::float_(m.median_error_m)) : pyb::none();
+      e["kept"] = m.kept;
+      models.append(e);
+    }
+    d["held_out"]["models"] = models;
   }
   d["residual_rms_rad"] = c.residual_rms_rad;
   d["reads_used"] = c.reads_used;

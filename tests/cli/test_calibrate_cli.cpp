@@ -14,10 +14,12 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <set>
 #include <sstream>
 
 #include "io/antenna_file.h"
 #include "tests/localization/hardware_reads.h"
+#include "tests/support/files.h"
 #include "tests/support/scratch_dir.h"
 
 namespace rfidray::io {
@@ -120,8 +122,9 @@ TEST(CalibrateCli, WritesAnAntennaFileThatLocalizeUses) {
     write_run(r, t, 40 + run_index, 0.5 + 0.05 * run_index, run_index % 2 ? 0.06 : -0.06);
     remounted += " --pair " + r + "," + t;
   }
+  // --all-terms: every term fitted, as the geometry allows (without it calibrate chooses, below).
   const std::string moved = run("calibrate" + remounted + " -o " + (d / "antenna_moved.yaml").string() +
-                                    " --height-known --held-out-folds 2 --json", code);
+                                    " --height-known --held-out-folds 2 --all-terms --json", code);
   ASSERT_EQ(code, 0) << moved;
   const nlohmann::json jm = nlohmann::json::parse(moved.substr(moved.find('{'), moved.rfind('}') - moved.find('{') + 1));
   const auto& held = jm["held_out"];
@@ -134,6 +137,28 @@ TEST(CalibrateCli, WritesAnAntennaFileThatLocalizeUses) {
   EXPECT_FALSE(held["helps"].get<bool>()) << held.dump();
   EXPECT_NE(moved.find("worse than without calibration"), std::string::npos) << moved;
   EXPECT_EQ(moved.find("does not localize its own"), std::string::npos) << moved;  // the held-out verdict suffices
+  EXPECT_TRUE(held["models"].empty()) << held.dump();
+  // Without --all-terms calibrate cross-validates the simpler models too and keeps the one with the lowest
+  // held-out error: here the carrier offsets alone; the offset and the pattern are listed as not fitted, with why.
+  const std::string chosen = run("calibrate" + remounted + " -o " + (d / "antenna_chosen.yaml").string() +
+                                     " --height-known --held-out-folds 2 --json", code);
+  ASSERT_EQ(code, 0) << chosen;
+  const nlohmann::json jc = nlohmann::json::parse(chosen.substr(chosen.find('{'), chosen.rfind('}') - chosen.find('{') + 1));
+  const auto& models = jc["held_out"]["models"];
+  ASSERT_EQ(models.size(), 3u) << jc.dump();
+  EXPECT_EQ(models[0]["median_error_m"].get<double>(), held["median_error_m"].get<double>());  // the full model, as above
+  EXPECT_TRUE(models[2]["kept"].get<bool>()) << models.dump();
+  EXPECT_EQ(models[2]["terms"].get<std::string>(), "carrier offsets");
+  EXPECT_LT(models[2]["median_error_m"].get<double>(), models[0]["median_error_m"].get<double>());
+  EXPECT_EQ(jc["held_out"]["median_error_m"].get<double>(), models[2]["median_error_m"].get<double>());
+  std::set<std::string> dropped;
+  for (const auto& n : jc["not_fitted"])
+    if (n["why"].get<std::string>().find("cross-validated over 4 runs in 2 folds") != std::string::npos)
+      dropped.insert(n["term"].get<std::string>());
+  EXPECT_EQ(dropped, (std::set<std::string>{"dx", "dy", "az", "az2"}));
+  EXPECT_EQ(jc["phase_centre_offset_m"][0].get<double>(), 0.0);
+  const std::string chosen_file = testing::slurp(d / "antenna_chosen.yaml");
+  EXPECT_NE(chosen_file.find("cross-validated"), std::string::npos) << chosen_file;  // the why is in the file too
   EXPECT_EQ(out.find("worse than without calibration"), std::string::npos) << out;
 
   // Localize another run with and without the antenna file.
