@@ -132,6 +132,7 @@ int run_calibrate(const CalibrateState& s) {
                      {"references_localized", references_localized(c)},
                      {"held_out", held_out(c)},
                      {"prior_bounded", notes(c.prior_bounded)},
+                     {"aliased", notes(c.aliased)},
                      {"reads_used", c.reads_used},
                      {"tags_used", c.tags_used}};
     nlohmann::json cov = nlohmann::json::array();
@@ -149,6 +150,7 @@ int run_calibrate(const CalibrateState& s) {
               << s.output << "\n";
     for (const auto& n : c.not_fitted) std::cout << "  not fitted (held at 0): " << n.term << ": " << n.why << "\n";
     for (const auto& n : c.prior_bounded) std::cout << "  bounded by the prior: " << n.term << ": " << n.why << "\n";
+    for (const auto& n : c.aliased) std::cout << "  aliased: " << n.term << ": " << n.why << "\n";
     if (c.has_allowance())
       std::cout << "  radius allowance (measured on the " << c.allowance_samples << " reference tags, "
                 << 100.0 * c.allowance_coverage << " % inside their 95 % radius): max(" << c.allowance_base_rad

@@ -63,6 +63,10 @@ struct AntennaCalibration {
   };
   std::vector<TermNote> not_fitted;
   std::vector<TermNote> prior_bounded;
+  // Pairs of fitted geometry terms whose estimates are correlated beyond ±0.98 (term "dx/az2"): the references
+  // tell only a combination of the two (e.g. a phase centre along boresight and the az² curvature, which both
+  // curve the wavefront). Not written to the antenna file (its geometry_covariance holds the correlation).
+  std::vector<TermNote> aliased;
   // The radius allowance measured on the reference tags (calibration.h): σ_sys = max(allowance_base_rad,
   // allowance_smooth_factor × a fit's smooth misfit) is the smallest pair (in median radius) whose 95 % radius
   // covers ≥ 95 % of the reference tags, each localized with this calibration. NaN: not measured.

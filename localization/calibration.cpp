@@ -361,6 +361,19 @@ AntennaCalibration fit_calibration(const std::vector<CalibrationSample>& samples
       out.prior_bounded.push_back({kGeometryTermNames[g], why.str()});
     }
   }
+  // Fitted, but only as a combination with another term (their estimates nearly one line).
+  for (int a = 0; a < kGeometryTerms; ++a)
+    for (int b = a + 1; b < kGeometryTerms; ++b) {
+      const double var = out.geometry_covariance(a, a) * out.geometry_covariance(b, b);
+      if (!(var > 0.0)) continue;
+      const double correlation = out.geometry_covariance(a, b) / std::sqrt(var);
+      if (!(std::abs(correlation) > options.aliased_correlation)) continue;
+      std::ostringstream why;
+      why << "correlated at " << correlation << ": the reference tags tell only a combination of the two (both "
+          << "bend the phase along the aperture alike), so each alone means little; the held-out check says whether "
+          << "the pair carries to other runs";
+      out.aliased.push_back({std::string(kGeometryTermNames[a]) + "/" + kGeometryTermNames[b], why.str()});
+    }
   if (options.measure_allowance || options.held_out_check) {
     CalibrationOptions measured = options;
     measured.planar = horizontal_plane;

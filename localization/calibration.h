@@ -46,6 +46,8 @@ struct CalibrationOptions {
   double min_relative_information = 1e-3;
   // A fitted parameter whose sd exceeds this fraction of its prior sd is listed in prior_bounded.
   double prior_bounded_fraction = 0.7;
+  // Two fitted geometry terms whose correlation exceeds this in magnitude are listed in aliased.
+  double aliased_correlation = 0.98;
   // Radius evidence: localize every reference tag (NLLS, joint fit, gates open) with the fitted calibration and
   // measure the allowance (AntennaCalibration::allowance_*). Needs `planar` or tags off the path's plane.
   bool measure_allowance = true;

@@ -73,6 +73,7 @@ pyb::dict run_calibrate(const pyb::list& references, const std::string& antenna_
   };
   d["not_fitted"] = notes(c.not_fitted);
   d["prior_bounded"] = notes(c.prior_bounded);
+  d["aliased"] = notes(c.aliased);
   if (c.has_allowance()) {
     pyb::dict a;
     a["base_rad"] = c.allowance_base_rad;
