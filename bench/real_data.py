@@ -32,6 +32,7 @@ import csv
 import json
 import math
 import os
+import random
 import re
 import shutil
 import statistics
@@ -475,18 +476,41 @@ def paired_rows(dataset, rfidray_rows, peer_rows):
                     continue
                 a = [1e3 * mine[k] for k in both]
                 b = [1e3 * theirs[k] for k in both]
+                lo, hi = paired_difference_interval({k: 1e3 * (mine[k] - theirs[k]) for k in both})
                 out.append(dict(dataset=dataset, method=rfidray_method(m, label), peer=peer,
                                 tags=len(both), peer_tags=len(theirs), mean_mm=statistics.fmean(a),
                                 peer_mean_mm=statistics.fmean(b), median_mm=statistics.median(a),
                                 peer_median_mm=statistics.median(b),
-                                closer=sum(1 for x, y in zip(a, b) if x < y)))
+                                closer=sum(1 for x, y in zip(a, b) if x < y),
+                                difference_mm=statistics.fmean(a) - statistics.fmean(b),
+                                difference_low_mm=lo, difference_high_mm=hi))
     return out
+
+
+def paired_difference_interval(difference_mm, resamples=2000, seed=1):
+    """95 % interval of the mean of rfidray's error minus the peer's over the tags both place, by resampling whole
+    runs with replacement (the tags of one run share its row and its day: their differences are not independent,
+    and resampling tags alone would make the interval too narrow). difference_mm: {(run, tag): mm}. Seeded:
+    the same interval every time. One run only: (nan, nan)."""
+    by_run = {}
+    for (run_name, _), d in sorted(difference_mm.items()):
+        by_run.setdefault(run_name, []).append(d)
+    runs = [by_run[r] for r in sorted(by_run)]
+    if len(runs) < 2:
+        return float("nan"), float("nan")
+    rng = random.Random(seed)
+    means = []
+    for _ in range(resamples):
+        pick = [runs[rng.randrange(len(runs))] for _ in runs]
+        means.append(statistics.fmean(d for run in pick for d in run))
+    means.sort()
+    return means[int(0.025 * (resamples - 1))], means[int(round(0.975 * (resamples - 1)))]
 
 
 def write_paired_table(out_dir, rows, args):
     """real_vs_peers_paired.md / .csv: rfidray and each peer on the same tags."""
     fields = ["dataset", "method", "peer", "tags", "peer_tags", "mean_mm", "peer_mean_mm", "median_mm",
-              "peer_median_mm", "closer"]
+              "peer_median_mm", "closer", "difference_mm", "difference_low_mm", "difference_high_mm"]
     with open(os.path.join(out_dir, "real_vs_peers_paired.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(fields)
@@ -494,11 +518,13 @@ def write_paired_table(out_dir, rows, args):
             w.writerow([("%.4f" % r[k]) if isinstance(r[k], float) else r[k] for k in fields])
     with open(os.path.join(out_dir, "real_vs_peers_paired.md"), "w") as f:
         f.write("| split | rfidray method | peer | tags both place / the peer places | mean mm, rfidray / peer "
-                "| median mm, rfidray / peer | rfidray closer on |\n|---|---|---|---|---|---|---|\n")
+                "| median mm, rfidray / peer | rfidray closer on | mean difference mm (95 % interval, runs "
+                "resampled) |\n|---|---|---|---|---|---|---|---|\n")
         for r in rows:
-            f.write("| %s %s | %s | %s | %d / %d | %.0f / %.0f | %.0f / %.0f | %d |\n" % (
+            f.write("| %s %s | %s | %s | %d / %d | %.0f / %.0f | %.0f / %.0f | %d | %+.0f (%+.0f … %+.0f) |\n" % (
                 r["dataset"], args.split, r["method"], r["peer"], r["tags"], r["peer_tags"], r["mean_mm"],
-                r["peer_mean_mm"], r["median_mm"], r["peer_median_mm"], r["closer"]))
+                r["peer_mean_mm"], r["median_mm"], r["peer_median_mm"], r["closer"], r["difference_mm"],
+                r["difference_low_mm"], r["difference_high_mm"]))
 
 
 def plot(out_dir, table):

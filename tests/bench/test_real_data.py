@@ -168,6 +168,23 @@ def main():
                     abs(float(row[0]["peer_mean_mm"]) - float(peers[peer]["mean_mm"])) < 1e-3):
                 failures.append("paired means %s / %s, unpaired %s / %s" % (row[0]["mean_mm"], row[0]["peer_mean_mm"],
                                                                              peers[m]["mean_mm"], peers[peer]["mean_mm"]))
+            if len(row) == 1:
+                d, lo, hi = (float(row[0][k]) for k in ("difference_mm", "difference_low_mm", "difference_high_mm"))
+                if not (abs(d - (float(row[0]["mean_mm"]) - float(row[0]["peer_mean_mm"]))) < 1e-3 and lo <= d <= hi):
+                    failures.append("paired difference %s not the difference of the means or outside (%s, %s)" % (d, lo, hi))
+    # The interval resamples whole runs: two runs whose tags differ by +10 and -10 mm give -10 ... +10 (run means
+    # picked twice), where resampling the six tags one by one would rarely reach the ends; equal differences give
+    # a point; one run, no interval.
+    sys.path.insert(0, os.path.join(source, "bench"))
+    import real_data
+    lo, hi = real_data.paired_difference_interval({("a", t): 10.0 for t in "xyz"} | {("b", t): -10.0 for t in "xyz"})
+    if (lo, hi) != (-10.0, 10.0):
+        failures.append("interval over runs: (%s, %s), expected (-10, 10)" % (lo, hi))
+    lo, hi = real_data.paired_difference_interval({("a", "x"): 3.0, ("b", "x"): 3.0, ("c", "y"): 3.0})
+    if (lo, hi) != (3.0, 3.0):
+        failures.append("interval of equal differences: (%s, %s)" % (lo, hi))
+    if not all(math.isnan(v) for v in real_data.paired_difference_interval({("a", "x"): 1.0, ("a", "y"): 2.0})):
+        failures.append("one run gave an interval")
     # --peer-results: the peers' rows from the kept results of the run above, not run again: the same rows.
     again = os.path.join(root, "again")
     base = [sys.executable, os.path.join(source, "bench", "real_data.py"), "--adarf", root, "--rfidray", rfidray,
