@@ -387,6 +387,16 @@ AntennaCalibration fit_calibration(const std::vector<CalibrationSample>& samples
 
 }  // namespace
 
+size_t model_with_lowest_held_out_error(const std::vector<double>& held_out_median_error_m) {
+  size_t chosen = 0;
+  for (size_t m = 1; m < held_out_median_error_m.size(); ++m) {
+    const double e = held_out_median_error_m[m];
+    // An unmeasured model is never chosen over a measured one; an unmeasured richer one gives way to a measured one.
+    if (std::isfinite(e) && !(e > held_out_median_error_m[chosen])) chosen = m;
+  }
+  return chosen;
+}
+
 AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& samples, const std::string& antenna,
                                      const CalibrationOptions& options) {
   std::vector<double> uncalibrated;
@@ -427,11 +437,9 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
     const AntennaCalibration c = fit_calibration(samples, antenna, variant, uncalibrated);
     models.push_back({carriers, variant, c.held_out_median_error_m, c});
   }
-  // The model with the lowest held-out median error; the simpler one on a tie (and wherever a richer one could
-  // not be measured).
-  size_t chosen = 0;
-  for (size_t m = 1; m < models.size(); ++m)
-    if (!(models[m].held_out_median_error_m > models[chosen].held_out_median_error_m)) chosen = m;
+  std::vector<double> medians;
+  for (const Model& m : models) medians.push_back(m.held_out_median_error_m);
+  const size_t chosen = model_with_lowest_held_out_error(medians);
   std::vector<AntennaCalibration::HeldOutModel> tried;
   for (size_t m = 0; m < models.size(); ++m)
     tried.push_back({models[m].name, models[m].held_out_median_error_m, m == chosen});

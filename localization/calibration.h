@@ -76,4 +76,8 @@ struct CalibrationOptions {
 AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& samples, const std::string& antenna,
                                      const CalibrationOptions& options = {});
 
+// The choice of select_terms: of nested models' held-out median errors, richest first (NaN: not measured), the index
+// of the lowest — the later (simpler) one on a tie; an unmeasured model is never chosen unless all are (then 0).
+size_t model_with_lowest_held_out_error(const std::vector<double>& held_out_median_error_m);
+
 }  // namespace rfidray::loc

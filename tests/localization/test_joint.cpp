@@ -10,6 +10,7 @@
 #include <complex>
 #include <iostream>
 #include <map>
+#include <limits>
 #include <random>
 
 #include "core/error.h"
@@ -723,6 +724,19 @@ TEST(Calibration, TermsFittedOnlyAsACombinationAreListedAsAliased) {
   consistent(offset_only);
   EXPECT_TRUE(offset_only.aliased.empty()) << offset_only.aliased.front().term;
   EXPECT_GT(offset_only.geometry_covariance(0, 0), 0.0);  // the offset is fitted, with its own uncertainty
+}
+
+// The choice among nested models (richest first): the lowest held-out median, the simpler on a tie, never one that
+// could not be measured.
+TEST(Calibration, TheModelKeptHasTheLowestMeasuredHeldOutError) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(model_with_lowest_held_out_error({0.12, 0.11, 0.13}), 1u);
+  EXPECT_EQ(model_with_lowest_held_out_error({0.10, 0.11, 0.12}), 0u);
+  EXPECT_EQ(model_with_lowest_held_out_error({0.12, 0.11, 0.11}), 2u);  // a tie: the simpler
+  EXPECT_EQ(model_with_lowest_held_out_error({0.12, nan, 0.13}), 0u);   // unmeasured: never chosen
+  EXPECT_EQ(model_with_lowest_held_out_error({0.12, nan, 0.11}), 2u);
+  EXPECT_EQ(model_with_lowest_held_out_error({nan, 0.2, nan}), 1u);
+  EXPECT_EQ(model_with_lowest_held_out_error({0.12}), 0u);
 }
 
 // The terms chosen by the held-out check (CalibrationOptions::select_terms). The same mounting in every run: the
