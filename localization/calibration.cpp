@@ -416,33 +416,30 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   struct Model {
     std::string name;
     CalibrationOptions options;
-    double held_out_median_error_m;
-    AntennaCalibration fitted;
+    AntennaCalibration fitted;  // its held_out_* are the model's cross-validation
   };
   std::vector<Model> models;
   const std::string carriers = full.has_carrier_offsets() ? "carrier offsets" : "(no carrier offsets: one carrier)";
   std::string name = carriers;
   if (!offset_terms.empty()) name += " + phase-centre offset";
   if (!pattern_terms.empty()) name += " + pattern";
-  models.push_back({name, options, full.held_out_median_error_m, full});
+  models.push_back({name, options, full});
   CalibrationOptions variant = options;
   variant.measure_allowance = false;  // measured once, on the model kept
   if (!pattern_terms.empty() && !offset_terms.empty()) {
     variant.fit_pattern = false;
-    const AntennaCalibration c = fit_calibration(samples, antenna, variant, uncalibrated);
-    models.push_back({carriers + " + phase-centre offset", variant, c.held_out_median_error_m, c});
+    models.push_back({carriers + " + phase-centre offset", variant, fit_calibration(samples, antenna, variant, uncalibrated)});
   }
   if (!pattern_terms.empty() || !offset_terms.empty()) {
     variant.fit_pattern = false, variant.fit_offset = false;
-    const AntennaCalibration c = fit_calibration(samples, antenna, variant, uncalibrated);
-    models.push_back({carriers, variant, c.held_out_median_error_m, c});
+    models.push_back({carriers, variant, fit_calibration(samples, antenna, variant, uncalibrated)});
   }
   std::vector<double> medians;
-  for (const Model& m : models) medians.push_back(m.held_out_median_error_m);
+  for (const Model& m : models) medians.push_back(m.fitted.held_out_median_error_m);
   const size_t chosen = model_with_lowest_held_out_error(medians);
   std::vector<AntennaCalibration::HeldOutModel> tried;
   for (size_t m = 0; m < models.size(); ++m)
-    tried.push_back({models[m].name, models[m].held_out_median_error_m, m == chosen});
+    tried.push_back({models[m].name, medians[m], m == chosen});
   if (chosen == 0) {
     full.held_out_models = tried;
     return full;
@@ -461,9 +458,8 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   out.held_out_models = tried;
   std::ostringstream why;
   why << "cross-validated over " << full.held_out_runs << " runs in " << full.held_out_folds
-      << " folds, the held-out reference tags' median error is " << 1e3 * models[0].held_out_median_error_m
-      << " mm with " << models[0].name;
-  for (size_t m = 1; m <= chosen; ++m) why << ", " << 1e3 * models[m].held_out_median_error_m << " mm with " << models[m].name;
+      << " folds, the held-out reference tags' median error is " << 1e3 * medians[0] << " mm with " << models[0].name;
+  for (size_t m = 1; m <= chosen; ++m) why << ", " << 1e3 * medians[m] << " mm with " << models[m].name;
   why << ": the simpler model localizes the tags of runs it was not fitted on at least as well (what the term fits "
          "in some runs does not carry to the others)";
   std::vector<std::string> dropped = pattern_terms;
