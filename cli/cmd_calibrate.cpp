@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "cli/json_number.h"
 #include "core/error.h"
 #include "io/antenna_file.h"
 #include "io/atomic_file.h"
@@ -45,15 +46,13 @@ nlohmann::json references_localized(const loc::AntennaCalibration& c) {
           {"helps", c.helps_its_references()}};
 }
 
-// Each fold of runs localized with the calibration of the other folds and without any (cross-validation over runs).
-nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
-
-// With the models tried when the terms were chosen by it (CalibrationOptions::select_terms).
+// Each fold of runs localized with the calibration of the other folds and without any (cross-validation over runs),
+// with the models tried when the terms were chosen by it (CalibrationOptions::select_terms).
 nlohmann::json held_out(const loc::AntennaCalibration& c) {
   if (c.held_out_tags == 0) return nullptr;
   nlohmann::json models = nlohmann::json::array();
   for (const auto& m : c.held_out_models)
-    models.push_back({{"terms", m.terms}, {"median_error_m", finite_or_null(m.median_error_m)}, {"kept", m.kept}});
+    models.push_back({{"terms", m.terms}, {"median_error_m", number_or_null(m.median_error_m)}, {"kept", m.kept}});
   return {{"runs", c.held_out_runs}, {"folds", c.held_out_folds}, {"tags", c.held_out_tags}, {"median_error_m", c.held_out_median_error_m},
           {"median_error_uncalibrated_m", c.held_out_median_error_uncalibrated_m}, {"helps", c.helps_held_out()},
           {"models", models}};
@@ -166,12 +165,17 @@ int run_calibrate(const CalibrateState& s) {
                 << " folds, each fold localized with the calibration of the others, " << c.held_out_tags
                 << " tags): median error " << 1e3 * c.held_out_median_error_m << " mm with it, "
                 << 1e3 * c.held_out_median_error_uncalibrated_m << " mm without\n";
-      for (const auto& m : c.held_out_models)
-        std::cout << "    terms tried: " << m.terms << ": held-out median error " << 1e3 * m.median_error_m << " mm"
-                  << (m.kept ? " (kept: the lowest, the simpler on a tie)" : "") << "\n";
-    }
-    else
+      for (const auto& m : c.held_out_models) {
+        std::cout << "    terms tried: " << m.terms << ": held-out median error ";
+        if (std::isfinite(m.median_error_m))
+          std::cout << 1e3 * m.median_error_m << " mm";
+        else
+          std::cout << "not measured";
+        std::cout << (m.kept ? " (kept: the lowest, the simpler on a tie)" : "") << "\n";
+      }
+    } else {
       std::cout << "  held out: not measured (needs reference tags from at least 2 --pair runs, and --held-out-folds not 0)\n";
+    }
   }
   warn_if_no_help(c);
   return 0;

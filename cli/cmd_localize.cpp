@@ -10,6 +10,7 @@
 #include <optional>
 #include <nlohmann/json.hpp>
 
+#include "cli/json_number.h"
 #include "io/antenna_file.h"
 #include "io/readings_csv.h"
 #include "io/scene_multipath.h"
@@ -30,7 +31,6 @@ struct LocalizeState {
   bool json = false;
 };
 
-nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 int run_localize(LocalizeState s) {
   s.request.has_truth = !s.truth.empty();
