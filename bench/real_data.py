@@ -16,7 +16,7 @@ What it does, with rfidray's own commands only:
     the D2-D4 training runs as --allowance-pair (they measure the radius allowance, not the antenna);
  3. for each test run of D1-D4, exactly the acceptance command:
     `rfidray localize R.csv --truth T.csv --method all --height-known --mirror-prior boresight --max-range 3
-     --antenna-file antenna.yaml --json`;
+     --antenna-file antenna.yaml --tag-spacing-m S --json` (S: the row's spacing as laid out, config.txt);
  4. the same stage, tags and carriers simulated by rfidray (ideal channel; single-bounce over a floor with the
     calibrated antenna's hardware effects; and the same with each tag's phase ripple, TAG_RIPPLE below),
     localized the same way;
@@ -155,11 +155,23 @@ def convert(args, d, split, run_dir, truth, work):
     return readings, truth_csv
 
 
+def layout_spacing_m(truth_csv):
+    """The run's tag spacing as laid out (the row's S in config.txt): the median over its tags of the distance to
+    the nearest other tag; None for a single tag."""
+    with open(truth_csv) as f:
+        tags = [(float(r["x"]), float(r["y"]), float(r["z"])) for r in csv.DictReader(f)]
+    nearest = [min(math.dist(a, b) for j, b in enumerate(tags) if j != i) for i, a in enumerate(tags)] if len(tags) > 1 else []
+    return statistics.median(nearest) if nearest else None
+
+
 def localize(args, readings, truth_csv, antenna_file):
     cmd = [args.rfidray, "localize", readings, "--truth", truth_csv, "--method", "all", "--height-known",
            "--mirror-prior", "boresight", "--max-range", str(args.max_range), "--json"]
     if antenna_file:
         cmd += ["--antenna-file", antenna_file]
+        spacing = layout_spacing_m(truth_csv)
+        if spacing:  # the radius allowance the antenna file measured on reference tags that far apart
+            cmd += ["--tag-spacing-m", "%.4f" % spacing]
     return json.loads(run(cmd))
 
 

@@ -79,8 +79,14 @@ void warn_if_no_help(const loc::AntennaCalibration& c) {
 
 nlohmann::json allowance(const loc::AntennaCalibration& c) {
   if (!c.has_allowance()) return nullptr;
+  nlohmann::json bands = nlohmann::json::array();
+  for (const auto& b : c.allowance_bands)
+    bands.push_back({{"spacing_from_m", b.spacing_from_m},
+                     {"spacing_below_m", std::isfinite(b.spacing_below_m) ? nlohmann::json(b.spacing_below_m) : nullptr},
+                     {"base_rad", b.base_rad}, {"smooth_factor", b.smooth_factor}, {"samples", b.samples},
+                     {"coverage", number_or_null(b.coverage)}});
   return {{"base_rad", c.allowance_base_rad}, {"smooth_factor", c.allowance_smooth_factor},
-          {"samples", c.allowance_samples}, {"coverage", c.allowance_coverage}};
+          {"samples", c.allowance_samples}, {"coverage", c.allowance_coverage}, {"bands", bands}};
 }
 
 int run_calibrate(const CalibrateState& s) {
@@ -154,7 +160,14 @@ int run_calibrate(const CalibrateState& s) {
       std::cout << "  radius allowance (measured on the " << c.allowance_samples << " reference tags, "
                 << 100.0 * c.allowance_coverage << " % inside their 95 % radius): max(" << c.allowance_base_rad
                 << " rad, " << c.allowance_smooth_factor << " x the fit's smooth misfit)\n";
-    else
+    for (const auto& b : c.allowance_bands) {
+      std::cout << "    on the " << b.samples << " tags " << 100.0 * b.spacing_from_m << " cm";
+      if (std::isfinite(b.spacing_below_m)) std::cout << " to " << 100.0 * b.spacing_below_m << " cm";
+      else std::cout << " or more";
+      std::cout << " from their nearest neighbour (" << 100.0 * b.coverage << " % inside): max(" << b.base_rad << " rad, "
+                << b.smooth_factor << " x the smooth misfit); localize --tag-spacing-m uses it\n";
+    }
+    if (!c.has_allowance())
       std::cout << "  radius allowance: not measured (fewer than 10 reference tags localized)\n";
     if (c.reference_error_tags > 0)
       std::cout << "  its own " << c.reference_error_tags << " reference tags localized (NLLS, side known): median error "

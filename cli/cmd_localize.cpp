@@ -132,7 +132,9 @@ int run_localize(LocalizeState s) {
                                   {"mean_time_ms", number_or_null(sum.mean_time_ms)}};
   }
   if (s.json) {
-    std::cout << nlohmann::json{{"results", results}, {"summary", summary}}.dump(2) << "\n";
+    // allowance: where the radius's σ_sys came from (the user, the antenna file's band or pooled, the default).
+    std::cout << nlohmann::json{{"results", results}, {"summary", summary}, {"allowance", plan.allowance_source}}.dump(2)
+              << "\n";
     return 0;
   }
   // The tag column fits the longest name (EPCs are 24 hex digits), so the columns stay aligned.
@@ -182,6 +184,7 @@ int run_localize(LocalizeState s) {
     }
     std::cout << "\n";
   }
+  std::cout << "radius allowance: " << plan.allowance_source << "\n";
   return 0;
 }
 
@@ -209,10 +212,15 @@ std::function<int()> setup_localize(CLI::App& app) {
                   "how to settle a detected mirror ambiguity (straight path): none (report failed), boresight "
                   "(the side the antenna +X axis faces), truth (the side of the --truth position: an oracle)")
       ->capture_default_str()->get_name();
-  sub->add_option("--antenna-file", state->antenna_file,
+  n.antenna_file = sub->add_option("--antenna-file", state->antenna_file,
                   "antenna calibration (YAML, from `rfidray calibrate`): phase centre, carrier offsets and phase "
                   "pattern applied by the joint model of nlls and sar and by the uncertainty of all methods")
-      ->check(CLI::ExistingFile);
+      ->check(CLI::ExistingFile)->get_name();
+  n.tag_spacing_m = sub->add_option("--tag-spacing-m", state->request.tag_spacing_m,
+                  "with --antenna-file: the tags' spacing as laid out (m, each tag to its nearest neighbour); the "
+                  "radius then uses the allowance the file measured on reference tags that far apart (denser rows "
+                  "need more: their neighbours' coupling), else the one pooled over all its reference tags")
+      ->get_name();
   n.scenario = sub->add_option("--scenario", state->scenario,
                   "the scenario the readings come from (or a survey of the site): its scene's extra paths at each "
                   "estimate, over the tag's antenna positions, bound the bias a fit cannot see in its residuals "
@@ -235,8 +243,8 @@ std::function<int()> setup_localize(CLI::App& app) {
   n.systematic_phase_rad = sub->add_option(
       "--systematic-phase-rad", state->request.systematic_phase_rad,
       "model-error allowance (rad RMS of an unmodelled smooth phase error) in uncertainty_m; default: the "
-      "allowance the antenna file measured on its reference tags (allowance_base_rad and "
-      "allowance_smooth_factor), else 0.1 with --antenna-file, 0.2 without (an uncalibrated antenna's phase "
+      "allowance the antenna file measured on its reference tags (of --tag-spacing-m's band when given and "
+      "measured), else 0.1 with --antenna-file, 0.2 without (an uncalibrated antenna's phase "
       "pattern is model error too)")->get_name();
   n.frequency_hz = sub->add_option("--frequency-hz", state->request.frequency_hz, "carrier when the CSV has no frequency column")
       ->capture_default_str()->get_name();
@@ -246,8 +254,9 @@ std::function<int()> setup_localize(CLI::App& app) {
       ->capture_default_str()->get_name();
   sub->add_flag("--json", state->json, "print JSON: results[] {name, method, status (ok | uncertain | failed), "
                                        "reason?, x, y, z (null when failed), error_m?, uncertainty_m (95 % radius, "
-                                       "null when failed), time_ms} and summary per method (ok, uncertain, failed; "
-                                       "with ok_outside_uncertainty and with_position when --truth is given)");
+                                       "null when failed), time_ms}, summary per method (ok, uncertain, failed; "
+                                       "with ok_outside_uncertainty and with_position when --truth is given) and "
+                                       "allowance (where the radius's model-error allowance came from)");
   n.mirror_prior_truth = n.mirror_prior + " truth";
   return [state] { return run_localize(*state); };
 }

@@ -112,6 +112,35 @@ loc::AntennaCalibration parse_node(const YAML::Node& root, const std::string& so
       c.allowance_samples = static_cast<int>(v);
     }
     if (auto k = a.get("coverage")) c.allowance_coverage = a.non_negative({"coverage"}, 0.0);
+    // Per band of tag spacing (optional): [{spacing_from_m, spacing_below_m (absent: no upper end), base_rad,
+    // smooth_factor, samples, coverage}], ascending and disjoint.
+    if (auto bands = a.get("bands")) {
+      const std::string key = a.field("bands");
+      if (!bands->IsSequence()) throw src.error(*bands, key, "must be a list of {spacing_from_m, spacing_below_m, base_rad, smooth_factor}");
+      for (size_t i = 0; i < bands->size(); ++i) {
+        const std::string item = key + "[" + std::to_string(i) + "]";
+        YamlMap e(src, (*bands)[i], item);
+        loc::AntennaCalibration::AllowanceBand b;
+        b.spacing_from_m = e.non_negative({"spacing_from_m"}, 0.0);
+        if (e.has("spacing_below_m")) b.spacing_below_m = e.non_negative({"spacing_below_m"}, 0.0);
+        if (!(b.spacing_below_m > b.spacing_from_m))
+          throw src.error((*bands)[i], e.field("spacing_below_m"), "must be above spacing_from_m (" + num(b.spacing_from_m) + ")");
+        if (!c.allowance_bands.empty() && b.spacing_from_m < c.allowance_bands.back().spacing_below_m)
+          throw src.error((*bands)[i], e.field("spacing_from_m"),
+                          "bands must be ascending and disjoint (the band before ends at " +
+                              num(c.allowance_bands.back().spacing_below_m) + ")");
+        b.base_rad = e.non_negative({"base_rad"}, 0.0);
+        b.smooth_factor = e.non_negative({"smooth_factor"}, 0.0);
+        if (auto k = e.get("samples")) {
+          const long long v = src.integer(*k, e.field("samples"));
+          if (v < 0 || v > 2000000000LL) throw src.error(*k, e.field("samples"), "must be a count >= 0");
+          b.samples = static_cast<int>(v);
+        }
+        if (e.has("coverage")) b.coverage = e.non_negative({"coverage"}, 0.0);
+        e.finish();
+        c.allowance_bands.push_back(b);
+      }
+    }
     a.finish();
   }
   notes("prior_bounded", c.prior_bounded);
@@ -183,6 +212,16 @@ void write_antenna_file(std::ostream& out, const loc::AntennaCalibration& c) {
     out << "  smooth_factor: " << num(c.allowance_smooth_factor) << "\n";
     out << "  samples: " << c.allowance_samples << "\n";
     if (std::isfinite(c.allowance_coverage)) out << "  coverage: " << num(c.allowance_coverage) << "\n";
+    if (!c.allowance_bands.empty()) {
+      out << "  bands:   # the same measured per band of tag spacing (nearest neighbour, m); localize --tag-spacing-m picks one\n";
+      for (const auto& b : c.allowance_bands) {
+        out << "    - {spacing_from_m: " << num(b.spacing_from_m);
+        if (std::isfinite(b.spacing_below_m)) out << ", spacing_below_m: " << num(b.spacing_below_m);
+        out << ", base_rad: " << num(b.base_rad) << ", smooth_factor: " << num(b.smooth_factor) << ", samples: " << b.samples;
+        if (std::isfinite(b.coverage)) out << ", coverage: " << num(b.coverage);
+        out << "}\n";
+      }
+    }
   }
   if (!c.prior_bounded.empty()) {
     out << "prior_bounded:   # fitted, but their sd is nearly the prior's: the data hardly determine them\n";

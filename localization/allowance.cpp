@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "core/units.h"
 #include "localization/calibration.h"
 #include "localization/methods.h"
 #include "localization/summary.h"
@@ -30,8 +31,11 @@ Allowance choose_allowance(const std::vector<AllowanceSample>& samples, double c
     }
     std::vector<double> sorted = need_base;
     std::sort(sorted.begin(), sorted.end());
-    const double base = sorted[std::min(n, std::max<size_t>(need, 1)) - 1];
+    double base = sorted[std::min(n, std::max<size_t>(need, 1)) - 1];
     if (!std::isfinite(base)) continue;
+    // stat + ((error − stat) / bias) · bias can round below error: the sample that sets the base would then
+    // fall outside its own radius by an ulp. 1e-12 rad (< 1e-12 m of radius) keeps it inside.
+    if (base > 0.0) base += 1e-12;
     std::vector<double> radius(n);
     size_t covered = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -138,6 +142,39 @@ void measure_allowance(const std::vector<CalibrationSample>& references, const C
   calibration.allowance_smooth_factor = a.smooth_factor;
   calibration.allowance_samples = a.samples;
   calibration.allowance_coverage = a.coverage;
+
+  // The same per band of tag spacing (AntennaCalibration::allowance_bands), split at half the first carrier's
+  // wavelength (865.7 MHz without carriers).
+  const std::vector<double> spacing = nearest_neighbour_spacing_m(references);
+  const double half_wavelength_m =
+      0.5 * wavelength_m(calibration.frequencies_hz.empty() ? 865.7e6 : calibration.frequencies_hz.front());
+  calibration.allowance_bands.clear();
+  for (const auto& [from_m, below_m] : {std::pair{0.0, half_wavelength_m},
+                                        std::pair{half_wavelength_m, std::numeric_limits<double>::infinity()}}) {
+    AntennaCalibration::AllowanceBand band;
+    band.spacing_from_m = from_m;
+    band.spacing_below_m = below_m;
+    std::vector<AllowanceSample> in_band;
+    for (size_t i = 0; i < found.size(); ++i)
+      if (usable[i] && band.contains(spacing[i])) in_band.push_back(found[i]);
+    if (in_band.size() < 10) continue;
+    const Allowance b = choose_allowance(in_band, options.allowance_coverage);
+    if (!std::isfinite(b.median_radius_m)) continue;
+    band.base_rad = b.base_rad;
+    band.smooth_factor = b.smooth_factor;
+    band.samples = b.samples;
+    band.coverage = b.coverage;
+    calibration.allowance_bands.push_back(band);
+  }
+}
+
+std::vector<double> nearest_neighbour_spacing_m(const std::vector<CalibrationSample>& references) {
+  std::vector<double> spacing(references.size(), std::numeric_limits<double>::infinity());
+  for (size_t i = 0; i < references.size(); ++i)
+    for (size_t j = 0; j < references.size(); ++j)
+      if (j != i && references[j].run == references[i].run && references[j].reads.tag != references[i].reads.tag)
+        spacing[i] = std::min(spacing[i], (references[j].tag_m - references[i].tag_m).norm());
+  return spacing;
 }
 
 void measure_held_out(const std::vector<CalibrationSample>& samples, const CalibrationOptions& options,

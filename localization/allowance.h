@@ -47,10 +47,14 @@ std::vector<double> uncalibrated_errors(const std::vector<CalibrationSample>& re
                                         const CalibrationOptions& options);
 
 // Localizes every reference tag of `antenna` with `calibration` and fills its allowance_* fields (left NaN when
-// fewer than 10 tags could be localized), and reference_median_error_* from those also in `uncalibrated_error_m`
+// fewer than 10 tags could be localized) and allowance_bands (choose_allowance on each band's tags), and reference_median_error_* from those also in `uncalibrated_error_m`
 // (uncalibrated_errors of the same references and options).
 void measure_allowance(const std::vector<CalibrationSample>& references, const CalibrationOptions& options,
                        const std::vector<double>& uncalibrated_error_m, AntennaCalibration& calibration);
+
+// Each reference's distance to the nearest other tag of its run (CalibrationSample::run, any tag, fitting or
+// not); infinity for a tag alone in its run. O(n²) in the references (a few hundred).
+std::vector<double> nearest_neighbour_spacing_m(const std::vector<CalibrationSample>& references);
 
 // Cross-validation over runs: the runs of the fitting references (CalibrationSample::run, fit_geometry) dealt to
 // k = min(options.held_out_folds, runs) folds; for each fold, the antenna calibrated from the other folds' runs

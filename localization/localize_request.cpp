@@ -47,6 +47,11 @@ LocalizePlan validate(const LocalizeRequest& r, const LocalizeFieldNames& names)
   if (r.height_known && !r.has_truth)
     throw field_error(names.height_known, "needs " + names.truth + " (the tag z comes from it)");
   if (o.mirror_prior == MirrorPrior::kPoint && !r.has_truth) throw field_error(names.mirror_prior_truth, "needs " + names.truth);
+  if (r.tag_spacing_m) {
+    check_positive(*r.tag_spacing_m, names.tag_spacing_m);
+    if (!r.has_antenna_file)
+      throw field_error(names.tag_spacing_m, "needs " + names.antenna_file + " (it picks that file's allowance for the spacing)");
+  }
 
   o.max_range_m = r.max_range_m;
   o.stride_m = r.stride_m;
@@ -54,6 +59,9 @@ LocalizePlan validate(const LocalizeRequest& r, const LocalizeFieldNames& names)
   o.max_residual_rad = r.max_residual_rad;
   o.max_uncertainty_m = r.max_uncertainty_m;
   o.systematic_phase_rad = systematic;
+  plan.allowance_source = r.systematic_phase_rad ? names.systematic_phase_rad
+                          : r.has_antenna_file   ? "the default with an antenna file (" + num(systematic) + " rad)"
+                                                 : "the default without an antenna file (" + num(systematic) + " rad)";
   o.height_known = r.height_known;
   plan.needs_truth_per_tag = r.height_known || o.mirror_prior == MirrorPrior::kPoint;
   return plan;
@@ -61,8 +69,27 @@ LocalizePlan validate(const LocalizeRequest& r, const LocalizeFieldNames& names)
 
 void apply_calibration_allowance(LocalizePlan& plan, const LocalizeRequest& request) {
   if (request.systematic_phase_rad || !plan.options.calibration || !plan.options.calibration->has_allowance()) return;
-  plan.options.systematic_phase_rad = plan.options.calibration->allowance_base_rad;
-  plan.options.smooth_misfit_factor = plan.options.calibration->allowance_smooth_factor;
+  const AntennaCalibration& c = *plan.options.calibration;
+  const AntennaCalibration::AllowanceBand* band =
+      request.tag_spacing_m ? c.allowance_band_for(*request.tag_spacing_m) : nullptr;
+  if (band) {
+    plan.options.systematic_phase_rad = band->base_rad;
+    plan.options.smooth_misfit_factor = band->smooth_factor;
+    plan.allowance_source = "the antenna file's, measured on " + std::to_string(band->samples) + " reference tags " +
+                            num(band->spacing_from_m) + (std::isfinite(band->spacing_below_m) ? " to " + num(band->spacing_below_m) : " m or more") +
+                            (std::isfinite(band->spacing_below_m) ? " m" : "") + " apart";
+    return;
+  }
+  plan.options.systematic_phase_rad = c.allowance_base_rad;
+  plan.options.smooth_misfit_factor = c.allowance_smooth_factor;
+  plan.allowance_source = "the antenna file's, measured on all its " + std::to_string(c.allowance_samples) +
+                          " reference tags";
+  if (request.tag_spacing_m && !c.allowance_bands.empty())
+    plan.allowance_source += " (it has none measured on tags " + num(*request.tag_spacing_m) + " m apart)";
+  else if (request.tag_spacing_m)
+    plan.allowance_source += " (it measured none per tag spacing)";
+  else if (!c.allowance_bands.empty())
+    plan.allowance_source += " (it has one per tag spacing: give the tags' spacing to use it)";
 }
 
 LocalizeOptions tag_options(const LocalizePlan& plan, const std::string& tag, const std::map<std::string, Vec3>& truth,

@@ -80,6 +80,18 @@ pyb::dict run_calibrate(const pyb::list& references, const std::string& antenna_
     a["smooth_factor"] = c.allowance_smooth_factor;
     a["samples"] = c.allowance_samples;
     a["coverage"] = c.allowance_coverage;
+    pyb::list bands;  // per band of tag spacing (AntennaCalibration::allowance_bands)
+    for (const auto& b : c.allowance_bands) {
+      pyb::dict e;
+      e["spacing_from_m"] = b.spacing_from_m;
+      e["spacing_below_m"] = std::isfinite(b.spacing_below_m) ? pyb::object(pyb::float_(b.spacing_below_m)) : pyb::none();
+      e["base_rad"] = b.base_rad;
+      e["smooth_factor"] = b.smooth_factor;
+      e["samples"] = b.samples;
+      e["coverage"] = b.coverage;
+      bands.append(e);
+    }
+    a["bands"] = bands;
     d["allowance"] = a;
   } else {
     d["allowance"] = pyb::none();

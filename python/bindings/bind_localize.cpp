@@ -26,19 +26,21 @@ const loc::LocalizeFieldNames kKeywordNames{
     .frequency_hz = "frequency_hz", .max_range_m = "max_range_m", .stride_m = "stride_m",
     .max_residual_rad = "max_residual_rad", .max_uncertainty_m = "max_uncertainty_m",
     .systematic_phase_rad = "systematic_phase_rad", .height_known = "height_known", .truth = "truth",
-    .scenario = "scenario", .channel = "channel"};
+    .scenario = "scenario", .channel = "channel", .tag_spacing_m = "tag_spacing_m", .antenna_file = "antenna_file"};
 
 pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std::string& method,
                        bool height_known, const std::string& mirror_prior, double frequency_hz, double max_range_m,
                        double stride_m, std::optional<std::string> antenna_file, bool fold_pi,
                        double max_residual_rad, double max_uncertainty_m,
                        std::optional<double> systematic_phase_rad,
-                       std::optional<std::string> scenario_file, std::optional<std::string> channel) {
+                       std::optional<std::string> scenario_file, std::optional<std::string> channel,
+                       std::optional<double> tag_spacing_m) {
   // The request of `rfidray localize` (localization/localize_request.h), with the keyword names of this API.
   const loc::LocalizeRequest request{.method = method, .mirror_prior = mirror_prior, .frequency_hz = frequency_hz,
                                      .max_range_m = max_range_m, .stride_m = stride_m,
                                      .max_residual_rad = max_residual_rad, .max_uncertainty_m = max_uncertainty_m,
                                      .systematic_phase_rad = systematic_phase_rad, .height_known = height_known,
+                                     .tag_spacing_m = tag_spacing_m,
                                      .fold_pi = fold_pi, .has_truth = !truth_arg.is_none(),
                                      .has_antenna_file = antenna_file.has_value(),
                                      .has_scenario = scenario_file.has_value(), .has_channel = channel.has_value()};
@@ -95,6 +97,7 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
     d["error_m"] = it.error_m ? pyb::object(pyb::float_(*it.error_m)) : pyb::none();
     d["uncertainty_m"] = positioned ? number(r.uncertainty_m) : pyb::none();
     d["residual_rad"] = number(r.residual_rad);
+    d["systematic_rad"] = positioned ? number(r.radius_systematic_rad) : pyb::none();  // σ_sys of the radius
     d["multipath_phase_rad"] = scene ? number(r.multipath_phase_rad) : pyb::none();
     d["mirror_resolved_by"] = positioned && !r.mirror_resolved_by.empty() ? pyb::object(pyb::str(r.mirror_resolved_by)) : pyb::none();
     d["reads"] = it.reads;
@@ -109,7 +112,8 @@ void bind_localize(pyb::module_& m) {
   m.def("_localize", &run_localize, pyb::arg("files"), pyb::arg("truth"), pyb::arg("method"),
         pyb::arg("height_known"), pyb::arg("mirror_prior"), pyb::arg("frequency_hz"), pyb::arg("max_range_m"),
         pyb::arg("stride_m"), pyb::arg("antenna_file"), pyb::arg("fold_pi"), pyb::arg("max_residual_rad"),
-        pyb::arg("max_uncertainty_m"), pyb::arg("systematic_phase_rad"), pyb::arg("scenario"), pyb::arg("channel"));
+        pyb::arg("max_uncertainty_m"), pyb::arg("systematic_phase_rad"), pyb::arg("scenario"), pyb::arg("channel"),
+        pyb::arg("tag_spacing_m"));
 }
 
 }  // namespace rfidray::py

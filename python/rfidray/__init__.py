@@ -169,25 +169,29 @@ def localize(readings: ReadingsLike, *, method: str = "all",
              antenna_file: Union[None, str, os.PathLike] = None, fold_pi: bool = False,
              max_residual_rad: float = 0.25, max_uncertainty_m: float = 0.15,
              systematic_phase_rad: Optional[float] = None,
-             scenario: Union[None, str, os.PathLike] = None, channel: Optional[str] = None) -> List[Dict[str, Any]]:
+             scenario: Union[None, str, os.PathLike] = None, channel: Optional[str] = None,
+             tag_spacing_m: Optional[float] = None) -> List[Dict[str, Any]]:
     """Locates every tag as ``rfidray localize`` does.
 
     ``readings``: a CSV path, a readings array, a :class:`Simulation`, or a list of these (one phase history
     per file, antenna and carrier). ``method``: 'hyperbolic' | 'nlls' | 'sar' | 'all'. ``truth``: a tags CSV,
     a dict name → (x, y, z) or a tags array (``Simulation.tags``); it adds ``error_m`` and is needed by
     ``height_known`` and ``mirror_prior='truth'``. ``systematic_phase_rad``: None takes the command's default
-    (0.1 rad with ``antenna_file``, 0.2 without). ``max_residual_rad`` and ``max_uncertainty_m``: the gates of
+    (0.1 rad with ``antenna_file``, 0.2 without; with an ``antenna_file`` that measured its allowance, that one,
+    of the band of ``tag_spacing_m`` — the tags' spacing as laid out, ``--tag-spacing-m`` — when given and
+    measured), reported per result as ``systematic_rad``. ``max_residual_rad`` and ``max_uncertainty_m``: the gates of
     status 'ok' (``--max-residual-rad``, ``--max-uncertainty-m``). ``scenario`` (a scenario file) and ``channel`` (a level): the
     known scene whose extra paths bound the bias (``localize --scenario --channel``; README "Known scene"),
     reported as ``multipath_phase_rad``. Returns one dict per (tag, method) with the keys of
     ``localize --json``: name, method, status ('ok' | 'uncertain' | 'failed'), reason, detail, x, y, z, error_m,
-    uncertainty_m (95 % radius), residual_rad, multipath_phase_rad, mirror_resolved_by, reads; None where the JSON
+    uncertainty_m (95 % radius), residual_rad, systematic_rad, multipath_phase_rad, mirror_resolved_by, reads; None where the JSON
     has null. 'uncertain': a position and its radius that do not meet the gates (the reason says which);
     'failed': no position.
     """
     return _localize(_reading_files(readings), _truth_arg(truth), method, height_known, mirror_prior, frequency_hz,
                      max_range_m, stride_m, None if antenna_file is None else os.fspath(antenna_file), fold_pi,
-                     max_residual_rad, max_uncertainty_m, systematic_phase_rad, None if scenario is None else os.fspath(scenario), channel)
+                     max_residual_rad, max_uncertainty_m, systematic_phase_rad, None if scenario is None else os.fspath(scenario), channel,
+                     tag_spacing_m)
 
 
 TruthLike = Union[str, os.PathLike, Mapping[str, Iterable[float]], np.ndarray]

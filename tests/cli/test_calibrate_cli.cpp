@@ -186,6 +186,25 @@ TEST(CalibrateCli, WritesAnAntennaFileThatLocalizeUses) {
       EXPECT_TRUE(r["uncertainty_m"].is_null()) << r.dump();
     }
   }
+  // The allowance per band of tag spacing: these rows are 25 cm apart (above half a wavelength), so the file has
+  // that band only; localize says which allowance it used, and --tag-spacing-m picks the band when it has one.
+  const auto& bands = j["allowance"]["bands"];
+  ASSERT_EQ(bands.size(), 1u) << j["allowance"].dump();
+  EXPECT_NEAR(bands[0]["spacing_from_m"].get<double>(), 0.5 * 299792458.0 / c.frequencies_hz.front(), 1e-12);
+  EXPECT_TRUE(bands[0]["spacing_below_m"].is_null());
+  EXPECT_EQ(bands[0]["samples"].get<int>(), j["allowance"]["samples"].get<int>());
+  ASSERT_EQ(c.allowance_bands.size(), 1u);  // in the file too
+  EXPECT_NE(jw["allowance"].get<std::string>().find("give the tags' spacing"), std::string::npos) << jw["allowance"];
+  const nlohmann::json j25 = nlohmann::json::parse(run(base + " --antenna-file " + antenna.string() + " --tag-spacing-m 0.25", code));
+  EXPECT_NE(j25["allowance"].get<std::string>().find("m or more apart"), std::string::npos) << j25["allowance"];
+  for (const auto& r : j25["results"])
+    EXPECT_NEAR(r["radius_parts"]["systematic_rad"].get<double>(), bands[0]["base_rad"].get<double>(), 1e-9) << r.dump();
+  const nlohmann::json j8 = nlohmann::json::parse(run(base + " --antenna-file " + antenna.string() + " --tag-spacing-m 0.08", code));
+  EXPECT_NE(j8["allowance"].get<std::string>().find("none measured on tags 0.08 m apart"), std::string::npos) << j8["allowance"];
+  const std::string no_file = run(base + " --tag-spacing-m 0.08", code);
+  EXPECT_EQ(code, 2) << no_file;
+  EXPECT_NE(no_file.find("--tag-spacing-m"), std::string::npos) << no_file;
+  EXPECT_NE(no_file.find("needs --antenna-file"), std::string::npos) << no_file;
 }
 
 // Coverage on the ray-traced path (the unit test CoversTruthOnHardwareLikeReads is the synthetic one): the

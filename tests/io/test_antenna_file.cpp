@@ -1,6 +1,8 @@
 // The antenna file (io/antenna_file.h): round trip, and every malformed file named by file, line and field.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "core/error.h"
@@ -149,6 +151,47 @@ TEST(AntennaFile, NotFittedTermsRoundTripAndAreChecked) {
   const std::string msg = error_of(bad);
   EXPECT_NE(msg.find("not_fitted[1].term"), std::string::npos) << msg;
   EXPECT_NE(msg.find("must be one of"), std::string::npos) << msg;
+}
+
+// The allowance per band of tag spacing travels with the file (the last band open above), and bands that
+// overlap, run backwards or have a negative value are refused with their item named.
+TEST(AntennaFile, AllowanceBandsRoundTripAndAreChecked) {
+  loc::AntennaCalibration e = example();
+  e.allowance_base_rad = 0.24;
+  e.allowance_smooth_factor = 0.0;
+  e.allowance_samples = 460;
+  e.allowance_coverage = 0.95;
+  e.allowance_bands = {{0.0, 0.1628, 0.34, 0.5, 211, 0.953}, {0.1628, std::numeric_limits<double>::infinity(), 0.09, 0.0, 249, 0.952}};
+  std::ostringstream out;
+  write_antenna_file(out, e);
+  const loc::AntennaCalibration c = parse_antenna_yaml(out.str(), "a.yaml");
+  ASSERT_EQ(c.allowance_bands.size(), 2u);
+  EXPECT_DOUBLE_EQ(c.allowance_bands[0].spacing_below_m, 0.1628);
+  EXPECT_DOUBLE_EQ(c.allowance_bands[0].base_rad, 0.34);
+  EXPECT_DOUBLE_EQ(c.allowance_bands[0].smooth_factor, 0.5);
+  EXPECT_EQ(c.allowance_bands[0].samples, 211);
+  EXPECT_TRUE(std::isinf(c.allowance_bands[1].spacing_below_m));
+  EXPECT_EQ(c.allowance_band_for(0.08), &c.allowance_bands[0]);
+  EXPECT_EQ(c.allowance_band_for(0.1628), &c.allowance_bands[1]);  // from inclusive, below exclusive
+  EXPECT_EQ(c.allowance_band_for(std::numeric_limits<double>::quiet_NaN()), nullptr);
+  std::ostringstream again;
+  write_antenna_file(again, c);
+  EXPECT_EQ(again.str(), out.str());
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string t = out.str();
+    const size_t at = t.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return error_of(t.replace(at, from.size(), to));
+  };
+  const std::string overlap = with("{spacing_from_m: 0.1628, base_rad", "{spacing_from_m: 0.1, base_rad");
+  EXPECT_NE(overlap.find("allowance.bands[1].spacing_from_m"), std::string::npos) << overlap;
+  EXPECT_NE(overlap.find("ascending and disjoint"), std::string::npos) << overlap;
+  const std::string empty = with("spacing_below_m: 0.1628", "spacing_below_m: 0");
+  EXPECT_NE(empty.find("allowance.bands[0].spacing_below_m"), std::string::npos) << empty;
+  const std::string negative = with("base_rad: 0.34", "base_rad: -0.34");
+  EXPECT_NE(negative.find("allowance.bands[0].base_rad"), std::string::npos) << negative;
+  const std::string unknown = with("samples: 211", "tags: 211");
+  EXPECT_NE(unknown.find("unknown key 'tags'"), std::string::npos) << unknown;
 }
 
 TEST(AntennaFile, MalformedFilesNameFileLineAndField) {

@@ -25,6 +25,7 @@
 #include "localization/methods.h"
 #include "localization/synthetic.h"
 #include "tests/localization/hardware_reads.h"
+#include "tests/support/input_error.h"
 
 namespace rfidray::loc {
 namespace {
@@ -957,6 +958,89 @@ TEST(Allowance, MeasuredOnReferencesCoversTagsOfTheSameRoom) {
   apply_calibration_allowance(own, request);
   EXPECT_EQ(own.options.systematic_phase_rad, 0.05);
   EXPECT_EQ(own.options.smooth_misfit_factor, 1.0);
+}
+
+// Denser rows need a larger allowance, and calibrate measures it apart: reference runs of tags 25 cm apart with a
+// weak reflection behind them, and runs of tags 8 cm apart with a strong one (standing in for what a dense row
+// adds that the model lacks: its neighbours' coupling). The band below half a wavelength gets the larger base;
+// each band covers ≥ 95 % of its own tags; the front ends' path picks the band of the spacing the user gives and
+// says which it used. (The pooled allowance alone would cover the sparse tags with a radius larger than they need
+// and the dense ones less often: that is what the bands are for.)
+TEST(Allowance, MeasuredPerBandOfTagSpacing) {
+  Hardware hw;
+  hw.truth = testing::example_hardware();
+  hw.noise_rad = 0.1;
+  hw.reads_per_stop = 2;
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<CalibrationSample> refs;
+  auto add_run = [&](int run, double spacing_m, int tags, double gamma) {
+    const double y = 0.55 + 0.25 * u(rng);
+    Hardware h = hw;
+    h.wall_gamma = gamma;
+    h.wall_y_m = y + 0.15 + 0.3 * u(rng);
+    for (int k = 0; k < tags; ++k) {
+      const Vec3 tag(0.2 + spacing_m * k, y, 0.0);
+      h.tag_offset_rad = kTwoPi * u(rng);
+      const std::string name = "r" + std::to_string(run) + "t" + std::to_string(k);
+      refs.push_back({testing::hardware_reads(name, tag, kStage, h, 1000 + 10 * run + k), tag, spacing_m > 0.2, run});
+    }
+  };
+  for (int run = 0; run < 6; ++run) add_run(run, 0.25, 3, -0.05);
+  for (int run = 6; run < 12; ++run) add_run(run, 0.08, 5, -0.45);
+  // The spacing each reference is filed under: its nearest neighbour in its own run, by position.
+  const std::vector<double> spacing = nearest_neighbour_spacing_m(refs);
+  EXPECT_NEAR(spacing[0], 0.25, 1e-12);
+  EXPECT_NEAR(spacing[20], 0.08, 1e-12);
+  std::vector<CalibrationSample> alone = {refs[0], refs[3]};  // two runs, one tag each
+  EXPECT_TRUE(std::isinf(nearest_neighbour_spacing_m(alone)[0]));
+
+  CalibrationOptions co;
+  co.planar = true;
+  co.held_out_check = false;
+  const AntennaCalibration cal = calibrate_antenna(refs, "a0", co);
+  ASSERT_TRUE(cal.has_allowance());
+  ASSERT_EQ(cal.allowance_bands.size(), 2u);
+  const auto& dense = cal.allowance_bands[0];
+  const auto& sparse = cal.allowance_bands[1];
+  const double half_wavelength_m = 0.5 * wavelength_m(hw.truth.frequencies_hz.front());
+  EXPECT_EQ(dense.spacing_from_m, 0.0);
+  EXPECT_DOUBLE_EQ(dense.spacing_below_m, half_wavelength_m);
+  EXPECT_DOUBLE_EQ(sparse.spacing_from_m, half_wavelength_m);
+  EXPECT_TRUE(std::isinf(sparse.spacing_below_m));
+  EXPECT_GE(dense.samples, 25);
+  EXPECT_GE(sparse.samples, 15);
+  EXPECT_EQ(dense.samples + sparse.samples, cal.allowance_samples);
+  EXPECT_GE(dense.coverage, 0.95);
+  EXPECT_GE(sparse.coverage, 0.95);
+  // σ_sys at the bands' median smooth misfit: the dense rows need clearly more.
+  auto sigma = [](const AntennaCalibration::AllowanceBand& b, double smooth) { return std::max(b.base_rad, b.smooth_factor * smooth); };
+  EXPECT_GT(sigma(dense, 0.3), 1.5 * sigma(sparse, 0.3)) << dense.base_rad << " " << dense.smooth_factor << " vs "
+                                                          << sparse.base_rad << " " << sparse.smooth_factor;
+
+  LocalizeRequest request;
+  request.has_antenna_file = true;
+  auto plan_for = [&](std::optional<double> spacing_m) {
+    request.tag_spacing_m = spacing_m;
+    LocalizePlan plan = validate(request, LocalizeFieldNames{});
+    plan.options.calibration = cal;
+    apply_calibration_allowance(plan, request);
+    return plan;
+  };
+  const LocalizePlan at_8cm = plan_for(0.08), at_25cm = plan_for(0.25), unsaid = plan_for(std::nullopt);
+  EXPECT_EQ(at_8cm.options.systematic_phase_rad, dense.base_rad);
+  EXPECT_EQ(at_8cm.options.smooth_misfit_factor, dense.smooth_factor);
+  EXPECT_NE(at_8cm.allowance_source.find("reference tags 0 to 0.16"), std::string::npos) << at_8cm.allowance_source;
+  EXPECT_EQ(at_25cm.options.systematic_phase_rad, sparse.base_rad);
+  EXPECT_NE(at_25cm.allowance_source.find("m or more apart"), std::string::npos) << at_25cm.allowance_source;
+  EXPECT_EQ(unsaid.options.systematic_phase_rad, cal.allowance_base_rad);
+  EXPECT_NE(unsaid.allowance_source.find("give the tags' spacing"), std::string::npos) << unsaid.allowance_source;
+  // A spacing without an antenna file would do nothing: refused, naming the field.
+  request.has_antenna_file = false;
+  request.tag_spacing_m = 0.08;
+  const LocalizeFieldNames named{.tag_spacing_m = "--tag-spacing-m", .antenna_file = "--antenna-file"};
+  const std::string msg = rfidray::testing::input_error_of([&] { validate(request, named); });
+  EXPECT_NE(msg.find("field '--tag-spacing-m': needs --antenna-file"), std::string::npos) << msg;
 }
 
 TEST(Calibration, NeedsReadsOfTheAntenna) {

@@ -17,10 +17,11 @@ namespace {
 LocalizeFieldNames names_with_prefix(const std::string& p) {
   const char* fields[] = {"method", "mirror_prior", "mirror_prior=truth", "frequency_hz", "max_range_m", "stride_m",
                           "max_residual_rad", "max_uncertainty_m", "systematic_phase_rad", "height_known", "truth",
-                          "scenario", "channel"};
-  std::string name[13];
-  for (int i = 0; i < 13; ++i) name[i] = p + fields[i];
-  return {name[0], name[1], name[2], name[3], name[4], name[5], name[6], name[7], name[8], name[9], name[10], name[11], name[12]};
+                          "scenario", "channel", "tag_spacing_m", "antenna_file"};
+  std::string name[15];
+  for (int i = 0; i < 15; ++i) name[i] = p + fields[i];
+  return {name[0], name[1], name[2],  name[3],  name[4],  name[5],  name[6], name[7],
+          name[8], name[9], name[10], name[11], name[12], name[13], name[14]};
 }
 
 std::string error_of(const LocalizeRequest& r, const LocalizeFieldNames& n) {

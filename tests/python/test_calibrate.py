@@ -76,3 +76,31 @@ def test_calibrate_errors_name_the_argument(runs, tmp_path):
     with pytest.raises(rfidray.InputError):
         rfidray.calibrate([(a / "stage.csv", {"tag1": (0.3, 0.88, 0.0)})], output=target)
     assert not target.exists()
+
+
+def test_localize_takes_the_allowance_of_the_tag_spacing(runs, tmp_path):
+    """An antenna file with an allowance per band of tag spacing (as calibrate writes it from reference rows of
+    different spacings): tag_spacing_m picks the band, whose σ_sys each result reports as systematic_rad; without
+    it the pooled allowance; without an antenna file it is refused, naming the keyword."""
+    a, b = runs
+    cli_file = tmp_path / "cli.yaml"
+    run_cli("calibrate", "--pair", f"{a / 'stage.csv'},{a / 'tags.csv'}", "--pair", f"{b / 'stage.csv'},{b / 'tags.csv'}",
+            "--height-known", "-o", cli_file)
+    text = cli_file.read_text() + (
+        "allowance:\n  base_rad: 0.2\n  smooth_factor: 0\n  samples: 40\n  bands:\n"
+        "    - {spacing_from_m: 0, spacing_below_m: 0.17, base_rad: 0.35, smooth_factor: 0, samples: 20}\n"
+        "    - {spacing_from_m: 0.17, base_rad: 0.05, smooth_factor: 0, samples: 20}\n")
+    banded = tmp_path / "banded.yaml"
+    banded.write_text(text)
+    common = dict(method="nlls", truth=b / "tags.csv", height_known=True, mirror_prior="boresight", max_range_m=3,
+                  antenna_file=banded)
+    for spacing, sigma in ((0.08, 0.35), (0.3, 0.05), (None, 0.2)):
+        results = rfidray.localize(b / "stage.csv", tag_spacing_m=spacing, **common)
+        positioned = [r for r in results if r["status"] != "failed"]
+        assert positioned, results
+        for r in positioned:
+            assert r["systematic_rad"] == pytest.approx(sigma, abs=1e-12), (spacing, r)
+    with pytest.raises(rfidray.InputError, match="tag_spacing_m.*needs antenna_file"):
+        rfidray.localize(b / "stage.csv", method="nlls", tag_spacing_m=0.08)
+    with pytest.raises(rfidray.InputError, match="tag_spacing_m"):
+        rfidray.localize(b / "stage.csv", method="nlls", antenna_file=banded, tag_spacing_m=-1.0)
