@@ -17,6 +17,15 @@ std::string list(const std::vector<double>& v) {
   return s + "]";
 }
 
+// An optional count under `key` of `map` (0 when absent), named by its field when not a count.
+int count_in(const YamlFile& src, YamlMap& map, const char* key) {
+  auto n = map.get(key);
+  if (!n) return 0;
+  const long long v = src.integer(*n, map.field(key));
+  if (v < 0 || v > 2000000000LL) throw src.error(*n, map.field(key), "must be a count >= 0");
+  return static_cast<int>(v);
+}
+
 loc::AntennaCalibration parse_node(const YAML::Node& root, const std::string& source) {
   const YamlFile src(source);
   if (!root.IsDefined() || root.IsNull()) throw InputError(source + ": empty antenna file");
@@ -106,11 +115,7 @@ loc::AntennaCalibration parse_node(const YAML::Node& root, const std::string& so
     YamlMap a(src, *n, "allowance");
     c.allowance_base_rad = a.non_negative({"base_rad"}, 0.0);
     c.allowance_smooth_factor = a.non_negative({"smooth_factor"}, 1.0);
-    if (auto k = a.get("samples")) {
-      const long long v = src.integer(*k, a.field("samples"));
-      if (v < 0 || v > 2000000000LL) throw src.error(*k, a.field("samples"), "must be a count >= 0");
-      c.allowance_samples = static_cast<int>(v);
-    }
+    c.allowance_samples = count_in(src, a, "samples");
     if (auto k = a.get("coverage")) c.allowance_coverage = a.non_negative({"coverage"}, 0.0);
     // Per band of tag spacing (optional): [{spacing_from_m, spacing_below_m (absent: no upper end), base_rad,
     // smooth_factor, samples, coverage}], ascending and disjoint.
@@ -131,11 +136,7 @@ loc::AntennaCalibration parse_node(const YAML::Node& root, const std::string& so
                               num(c.allowance_bands.back().spacing_below_m) + ")");
         b.base_rad = e.non_negative({"base_rad"}, 0.0);
         b.smooth_factor = e.non_negative({"smooth_factor"}, 0.0);
-        if (auto k = e.get("samples")) {
-          const long long v = src.integer(*k, e.field("samples"));
-          if (v < 0 || v > 2000000000LL) throw src.error(*k, e.field("samples"), "must be a count >= 0");
-          b.samples = static_cast<int>(v);
-        }
+        b.samples = count_in(src, e, "samples");
         if (e.has("coverage")) b.coverage = e.non_negative({"coverage"}, 0.0);
         e.finish();
         c.allowance_bands.push_back(b);
@@ -145,15 +146,8 @@ loc::AntennaCalibration parse_node(const YAML::Node& root, const std::string& so
   }
   notes("prior_bounded", c.prior_bounded);
   c.residual_rms_rad = m.non_negative({"residual_rms_rad"}, 0.0);
-  auto count = [&](const char* key) {
-    auto n = m.get(key);
-    if (!n) return 0;
-    const long long v = src.integer(*n, key);
-    if (v < 0 || v > 2000000000LL) throw src.error(*n, key, "must be a count >= 0");
-    return static_cast<int>(v);
-  };
-  c.reads_used = count("reads_used");
-  c.tags_used = count("tags_used");
+  c.reads_used = count_in(src, m, "reads_used");
+  c.tags_used = count_in(src, m, "tags_used");
   auto sd_check = [&](const char* key, double v) {
     if (v < 0.0) throw src.error(root, key, "standard deviations must be >= 0");
   };

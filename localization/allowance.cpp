@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "core/error.h"
 #include "core/units.h"
@@ -132,16 +133,22 @@ void measure_allowance(const std::vector<CalibrationSample>& references, const C
     calibration.reference_median_error_uncalibrated_m = summarize(without, 0, {}).median_error_m;
     calibration.reference_error_tags = static_cast<int>(with.size());
   }
-  std::vector<AllowanceSample> samples;
-  for (size_t i = 0; i < found.size(); ++i)
-    if (usable[i]) samples.push_back(found[i]);
-  if (samples.size() < 10) return;
-  const Allowance a = choose_allowance(samples, options.allowance_coverage);
-  if (!std::isfinite(a.median_radius_m)) return;
-  calibration.allowance_base_rad = a.base_rad;
-  calibration.allowance_smooth_factor = a.smooth_factor;
-  calibration.allowance_samples = a.samples;
-  calibration.allowance_coverage = a.coverage;
+  // σ_sys chosen on the usable samples `in` keeps (none: fewer than 10 of them, or no finite choice).
+  auto choose_on = [&](auto&& in) -> std::optional<Allowance> {
+    std::vector<AllowanceSample> chosen;
+    for (size_t i = 0; i < found.size(); ++i)
+      if (usable[i] && in(i)) chosen.push_back(found[i]);
+    if (chosen.size() < 10) return std::nullopt;
+    const Allowance a = choose_allowance(chosen, options.allowance_coverage);
+    if (!std::isfinite(a.median_radius_m)) return std::nullopt;
+    return a;
+  };
+  const std::optional<Allowance> pooled = choose_on([](size_t) { return true; });
+  if (!pooled) return;
+  calibration.allowance_base_rad = pooled->base_rad;
+  calibration.allowance_smooth_factor = pooled->smooth_factor;
+  calibration.allowance_samples = pooled->samples;
+  calibration.allowance_coverage = pooled->coverage;
 
   // The same per band of tag spacing (AntennaCalibration::allowance_bands), split at half the first carrier's
   // wavelength (865.7 MHz without carriers).
@@ -154,16 +161,12 @@ void measure_allowance(const std::vector<CalibrationSample>& references, const C
     AntennaCalibration::AllowanceBand band;
     band.spacing_from_m = from_m;
     band.spacing_below_m = below_m;
-    std::vector<AllowanceSample> in_band;
-    for (size_t i = 0; i < found.size(); ++i)
-      if (usable[i] && band.contains(spacing[i])) in_band.push_back(found[i]);
-    if (in_band.size() < 10) continue;
-    const Allowance b = choose_allowance(in_band, options.allowance_coverage);
-    if (!std::isfinite(b.median_radius_m)) continue;
-    band.base_rad = b.base_rad;
-    band.smooth_factor = b.smooth_factor;
-    band.samples = b.samples;
-    band.coverage = b.coverage;
+    const std::optional<Allowance> b = choose_on([&](size_t i) { return band.contains(spacing[i]); });
+    if (!b) continue;
+    band.base_rad = b->base_rad;
+    band.smooth_factor = b->smooth_factor;
+    band.samples = b->samples;
+    band.coverage = b->coverage;
     calibration.allowance_bands.push_back(band);
   }
 }
