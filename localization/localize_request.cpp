@@ -59,7 +59,7 @@ LocalizePlan validate(const LocalizeRequest& r, const LocalizeFieldNames& names)
   o.max_residual_rad = r.max_residual_rad;
   o.max_uncertainty_m = r.max_uncertainty_m;
   o.systematic_phase_rad = systematic;
-  plan.allowance_source = r.systematic_phase_rad ? names.systematic_phase_rad
+  plan.allowance_source = r.systematic_phase_rad ? names.systematic_phase_rad + " (" + num(systematic) + " rad)"
                           : r.has_antenna_file   ? "the default with an antenna file (" + num(systematic) + " rad)"
                                                  : "the default without an antenna file (" + num(systematic) + " rad)";
   o.height_known = r.height_known;
@@ -68,8 +68,12 @@ LocalizePlan validate(const LocalizeRequest& r, const LocalizeFieldNames& names)
 }
 
 void apply_calibration_allowance(LocalizePlan& plan, const LocalizeRequest& request) {
-  if (request.systematic_phase_rad || !plan.options.calibration || !plan.options.calibration->has_allowance()) return;
+  if (request.systematic_phase_rad || !plan.options.calibration) return;
   const AntennaCalibration& c = *plan.options.calibration;
+  if (!c.has_allowance()) {
+    if (request.tag_spacing_m) plan.allowance_source += "; the antenna file measured no allowance, for any tag spacing";
+    return;
+  }
   const AntennaCalibration::AllowanceBand* band =
       request.tag_spacing_m ? c.allowance_band_for(*request.tag_spacing_m) : nullptr;
   if (band) {

@@ -47,6 +47,12 @@ TEST(LocalizeRequest, EachBadFieldIsNamedAsTheFrontEndCallsIt) {
       {[](LocalizeRequest& r) { r.has_channel = true; }, "field 'X.channel': needs X.scenario"},
       {[](LocalizeRequest& r) { r.height_known = true; }, "field 'X.height_known': needs X.truth (the tag z comes from it)"},
       {[](LocalizeRequest& r) { r.mirror_prior = "truth"; }, "field 'X.mirror_prior=truth': needs X.truth"},
+      {[](LocalizeRequest& r) { r.tag_spacing_m = 0.08; },
+       "field 'X.tag_spacing_m': needs X.antenna_file (it picks that file's allowance for the spacing)"},
+      {[&](LocalizeRequest& r) { r.has_antenna_file = true, r.tag_spacing_m = nan; },
+       "field 'X.tag_spacing_m': must be a finite number > 0 (got nan)"},
+      {[](LocalizeRequest& r) { r.has_antenna_file = true, r.tag_spacing_m = 0.0; },
+       "field 'X.tag_spacing_m': must be a finite number > 0 (got 0)"},
   };
   for (const Case& c : cases) {
     LocalizeRequest r;
@@ -77,11 +83,23 @@ TEST(LocalizeRequest, PlanCarriesEveryOption) {
   EXPECT_TRUE(plan.options.fold_pi);
   EXPECT_FALSE(plan.needs_truth_per_tag);
   // The systematic allowance: the user's, else 0.1 rad with an antenna file and 0.2 without.
+  // allowance_source says which, naming the user's field as the front end calls it.
   EXPECT_EQ(plan.options.systematic_phase_rad, 0.2);
+  EXPECT_EQ(plan.allowance_source, "the default without an antenna file (0.2 rad)");
   r.has_antenna_file = true;
   EXPECT_EQ(validate(r, names_with_prefix("")).options.systematic_phase_rad, 0.1);
+  EXPECT_EQ(validate(r, names_with_prefix("")).allowance_source, "the default with an antenna file (0.1 rad)");
+  // A file without a measured allowance keeps the default, and a spacing given for it says it found none.
+  r.tag_spacing_m = 0.08;
+  LocalizePlan unmeasured = validate(r, names_with_prefix(""));
+  unmeasured.options.calibration = AntennaCalibration{};
+  apply_calibration_allowance(unmeasured, r);
+  EXPECT_EQ(unmeasured.options.systematic_phase_rad, 0.1);
+  EXPECT_NE(unmeasured.allowance_source.find("measured no allowance"), std::string::npos) << unmeasured.allowance_source;
   r.systematic_phase_rad = 0.0;
   EXPECT_EQ(validate(r, names_with_prefix("")).options.systematic_phase_rad, 0.0);
+  EXPECT_EQ(validate(r, names_with_prefix("P.")).allowance_source, "P.systematic_phase_rad (0 rad)");
+  r.tag_spacing_m.reset();
   r.method = "all";
   EXPECT_EQ(validate(r, names_with_prefix("")).methods,
             (std::vector<Method>{Method::kHyperbolic, Method::kNlls, Method::kSar}));

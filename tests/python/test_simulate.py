@@ -87,6 +87,7 @@ def test_localize_matches_rfidray_localize_json(paper_run):
             assert g[key] == e.get(key), key
         assert g["error_m"] == e.get("error_m")
         assert g["reason"] == e.get("reason")
+        assert g["systematic_rad"] == (e["radius_parts"]["systematic_rad"] if "radius_parts" in e else None)
 
 
 def test_localize_takes_a_simulation(paper_run):
