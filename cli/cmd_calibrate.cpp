@@ -131,8 +131,10 @@ int run_calibrate(const CalibrateState& s) {
                      {"carrier_offsets_sd_rad", c.carrier_offsets_sd_rad},
                      {"pattern_rad", c.pattern_rad},
                      {"pattern_sd_rad", c.pattern_sd_rad},
-                     {"residual_rms_rad", c.residual_rms_rad},
+                     {"residual_rms_rad", number_or_null(c.residual_rms_rad)},  // null: nothing fitted
                      {"not_fitted", notes(c.not_fitted)},
+                     {"carrier_offsets_not_fitted", c.carriers_not_fitted.empty() ? nlohmann::json(nullptr)
+                                                                                 : nlohmann::json(c.carriers_not_fitted)},
                      {"allowance", allowance(c)},
                      {"references_localized", references_localized(c)},
                      {"held_out", held_out(c)},
@@ -150,9 +152,14 @@ int run_calibrate(const CalibrateState& s) {
     std::cout << j.dump(2) << "\n";
   } else {
     std::cout << "antenna " << c.antenna << ": " << c.tags_used << " tag runs, " << c.reads_used
-              << " reads, residual " << c.residual_rms_rad << " rad RMS; phase centre offset ("
-              << c.phase_centre_offset_m.transpose() << ") m; " << c.frequencies_hz.size() << " carriers -> "
-              << s.output << "\n";
+              << " reads, ";
+    if (std::isfinite(c.residual_rms_rad))
+      std::cout << "residual " << c.residual_rms_rad << " rad RMS; phase centre offset ("
+                << c.phase_centre_offset_m.transpose() << ") m; " << c.frequencies_hz.size() << " carriers -> ";
+    else
+      std::cout << "nothing calibrated (each carrier keeps its own offset; the file holds the radius allowance) -> ";
+    std::cout << s.output << "\n";
+    if (!c.carriers_not_fitted.empty()) std::cout << "  carrier offsets not fitted: " << c.carriers_not_fitted << "\n";
     for (const auto& n : c.not_fitted) std::cout << "  not fitted (held at 0): " << n.term << ": " << n.why << "\n";
     for (const auto& n : c.prior_bounded) std::cout << "  bounded by the prior: " << n.term << ": " << n.why << "\n";
     for (const auto& n : c.aliased) std::cout << "  aliased: " << n.term << ": " << n.why << "\n";

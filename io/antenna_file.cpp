@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "io/checked_yaml.h"
 #include "core/number_text.h"
@@ -36,7 +37,7 @@ loc::AntennaCalibration parse_node(const YAML::Node& root, const std::string& so
   if (auto n = m.get("phase_centre_offset_sd_m")) c.phase_centre_offset_sd_m = src.point(*n, "phase_centre_offset_sd_m");
   const YAML::Node fn = m.required("frequencies_hz");
   c.frequencies_hz = src.numbers(fn, "frequencies_hz");
-  if (c.frequencies_hz.empty()) throw src.error(fn, "frequencies_hz", "needs at least one carrier");
+  // Empty: no carrier offsets calibrated (calibrate kept nothing: carrier_offsets_not_fitted says why).
   for (size_t i = 0; i < c.frequencies_hz.size(); ++i) {
     if (c.frequencies_hz[i] <= 0.0)
       throw src.error(fn[i], "frequencies_hz[" + std::to_string(i) + "]", "must be > 0 (got " + num(c.frequencies_hz[i]) + ")");
@@ -48,7 +49,7 @@ loc::AntennaCalibration parse_node(const YAML::Node& root, const std::string& so
   if (c.carrier_offsets_rad.size() != c.frequencies_hz.size())
     throw src.error(on, "carrier_offsets_rad", "needs one value per frequency (" + std::to_string(c.frequencies_hz.size()) +
                                                    "), got " + std::to_string(c.carrier_offsets_rad.size()));
-  if (c.carrier_offsets_rad[0] != 0.0) throw src.error(on[0], "carrier_offsets_rad[0]", "must be 0 (offsets are relative to the first carrier)");
+  if (!c.carrier_offsets_rad.empty() && c.carrier_offsets_rad[0] != 0.0) throw src.error(on[0], "carrier_offsets_rad[0]", "must be 0 (offsets are relative to the first carrier)");
   c.carrier_offsets_sd_rad.assign(c.frequencies_hz.size(), 0.0);
   if (auto n = m.get("carrier_offsets_sd_rad")) {
     c.carrier_offsets_sd_rad = src.numbers(*n, "carrier_offsets_sd_rad");
@@ -111,6 +112,11 @@ loc::AntennaCalibration parse_node(const YAML::Node& root, const std::string& so
     }
   };
   notes("not_fitted", c.not_fitted);
+  if (auto n = m.get("carrier_offsets_not_fitted")) {
+    c.carriers_not_fitted = src.scalar(*n, "carrier_offsets_not_fitted");
+    if (!c.frequencies_hz.empty())
+      throw src.error(*n, "carrier_offsets_not_fitted", "is for a file without carriers (frequencies_hz: [])");
+  }
   if (auto n = m.get("allowance")) {
     YamlMap a(src, *n, "allowance");
     c.allowance_base_rad = a.non_negative({"base_rad"}, 0.0);
@@ -145,7 +151,7 @@ loc::AntennaCalibration parse_node(const YAML::Node& root, const std::string& so
     a.finish();
   }
   notes("prior_bounded", c.prior_bounded);
-  c.residual_rms_rad = m.non_negative({"residual_rms_rad"}, 0.0);
+  c.residual_rms_rad = m.non_negative({"residual_rms_rad"}, std::numeric_limits<double>::quiet_NaN());
   c.reads_used = count_in(src, m, "reads_used");
   c.tags_used = count_in(src, m, "tags_used");
   auto sd_check = [&](const char* key, double v) {
@@ -175,7 +181,8 @@ void write_antenna_file(std::ostream& out, const loc::AntennaCalibration& c) {
   out << "antenna: \"" << c.antenna << "\"\n";
   out << "phase_centre_offset_m: " << vec(c.phase_centre_offset_m) << "   # antenna frame, boresight +X\n";
   out << "phase_centre_offset_sd_m: " << vec(c.phase_centre_offset_sd_m) << "\n";
-  out << "frequencies_hz: " << list(c.frequencies_hz) << "\n";
+  out << "frequencies_hz: " << list(c.frequencies_hz)
+      << (c.frequencies_hz.empty() ? "   # none calibrated: each carrier keeps its own offset\n" : "\n");
   out << "carrier_offsets_rad: " << list(c.carrier_offsets_rad) << "   # relative to the first carrier\n";
   out << "carrier_offsets_sd_rad: " << list(c.carrier_offsets_sd_rad) << "\n";
   out << "pattern_terms: [";
@@ -200,6 +207,7 @@ void write_antenna_file(std::ostream& out, const loc::AntennaCalibration& c) {
     out << "not_fitted:   # held at 0 (sd 0): the reference geometry does not determine them\n";
     for (const auto& n : c.not_fitted) out << "  - {term: " << n.term << ", why: " << quoted(n.why) << "}\n";
   }
+  if (!c.carriers_not_fitted.empty()) out << "carrier_offsets_not_fitted: " << quoted(c.carriers_not_fitted) << "\n";
   if (c.has_allowance()) {
     out << "allowance:   # radius allowance measured on the reference tags: sigma_sys = max(base, factor x smooth misfit)\n";
     out << "  base_rad: " << num(c.allowance_base_rad) << "\n";
@@ -221,7 +229,7 @@ void write_antenna_file(std::ostream& out, const loc::AntennaCalibration& c) {
     out << "prior_bounded:   # fitted, but their sd is nearly the prior's: the data hardly determine them\n";
     for (const auto& n : c.prior_bounded) out << "  - {term: " << n.term << ", why: " << quoted(n.why) << "}\n";
   }
-  out << "residual_rms_rad: " << num(c.residual_rms_rad) << "\n";
+  if (std::isfinite(c.residual_rms_rad)) out << "residual_rms_rad: " << num(c.residual_rms_rad) << "\n";  // NaN: no fit
   out << "reads_used: " << c.reads_used << "\n";
   out << "tags_used: " << c.tags_used << "\n";
 }

@@ -150,11 +150,14 @@ void measure_allowance(const std::vector<CalibrationSample>& references, const C
   calibration.allowance_samples = pooled->samples;
   calibration.allowance_coverage = pooled->coverage;
 
-  // The same per band of tag spacing (AntennaCalibration::allowance_bands), split at half the first carrier's
-  // wavelength (865.7 MHz without carriers).
+  // The same per band of tag spacing (AntennaCalibration::allowance_bands), split at half the wavelength of the
+  // lowest carrier the references were read on.
   const std::vector<double> spacing = nearest_neighbour_spacing_m(references);
-  const double half_wavelength_m =
-      0.5 * wavelength_m(calibration.frequencies_hz.empty() ? 865.7e6 : calibration.frequencies_hz.front());
+  double lowest_hz = std::numeric_limits<double>::infinity();
+  for (const CalibrationSample& ref : references)
+    for (const ReadGroup& g : ref.reads.groups)
+      if (g.antenna == calibration.antenna && !g.reads.empty()) lowest_hz = std::min(lowest_hz, g.frequency_hz);
+  const double half_wavelength_m = 0.5 * wavelength_m(lowest_hz);
   calibration.allowance_bands.clear();
   for (const auto& [from_m, below_m] : {std::pair{0.0, half_wavelength_m},
                                         std::pair{half_wavelength_m, std::numeric_limits<double>::infinity()}}) {

@@ -67,6 +67,9 @@ struct AntennaCalibration {
   // tell only a combination of the two (e.g. a phase centre along boresight and the az² curvature, which both
   // curve the wavefront). Not written to the antenna file (its geometry_covariance holds the correlation).
   std::vector<TermNote> aliased;
+  // Why no carrier offsets were calibrated when calibrate kept nothing (CalibrationOptions::fit_carriers, chosen by
+  // the held-out check: frequencies_hz is then empty and each carrier keeps its own offset); empty otherwise.
+  std::string carriers_not_fitted;
   // The radius allowance measured on the reference tags (calibration.h): σ_sys = max(allowance_base_rad,
   // allowance_smooth_factor × a fit's smooth misfit) is the smallest pair (in median radius) whose 95 % radius
   // covers ≥ 95 % of the reference tags, each localized with this calibration. NaN: not measured.

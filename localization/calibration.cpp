@@ -374,6 +374,18 @@ AntennaCalibration fit_calibration(const std::vector<CalibrationSample>& samples
           << "the pair carries to other runs";
       out.aliased.push_back({std::string(kGeometryTermNames[a]) + "/" + kGeometryTermNames[b], why.str()});
     }
+  if (!options.fit_carriers) {
+    // Nothing calibrated (CalibrationOptions::fit_carriers): each carrier its own offset, as without a file.
+    out.frequencies_hz.clear();
+    out.carrier_offsets_rad.clear();
+    out.carrier_offsets_sd_rad.clear();
+    out.phase_centre_offset_m = out.phase_centre_offset_sd_m = Vec3::Zero();
+    out.pattern_rad = out.pattern_sd_rad = {};
+    out.geometry_covariance.setZero();
+    out.prior_bounded.clear();
+    out.aliased.clear();
+    out.residual_rms_rad = std::numeric_limits<double>::quiet_NaN();  // no fit
+  }
   if (options.measure_allowance || options.held_out_check) {
     CalibrationOptions measured = options;
     measured.planar = horizontal_plane;
@@ -436,6 +448,15 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   }
   std::vector<double> medians;
   for (const Model& m : models) medians.push_back(m.fitted.held_out_median_error_m);
+  // Last, nothing: localized without calibration, the held-out tags' error is the uncalibrated one the full
+  // model's check measured on the same folds (no fit to cross-validate).
+  const bool can_drop_all = full.has_carrier_offsets() || !pattern_terms.empty() || !offset_terms.empty();
+  if (can_drop_all) {
+    variant.fit_pattern = false, variant.fit_offset = false, variant.fit_carriers = false;
+    variant.held_out_check = false;
+    models.push_back({"nothing (each carrier its own offset, as without an antenna file)", variant, full});
+    medians.push_back(full.held_out_median_error_uncalibrated_m);
+  }
   const size_t chosen = model_with_lowest_held_out_error(medians);
   std::vector<AntennaCalibration::HeldOutModel> tried;
   for (size_t m = 0; m < models.size(); ++m)
@@ -450,7 +471,7 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   kept.held_out_check = false;
   AntennaCalibration out = fit_calibration(samples, antenna, kept, uncalibrated);
   const AntennaCalibration& measured = models[chosen].fitted;
-  out.held_out_median_error_m = measured.held_out_median_error_m;
+  out.held_out_median_error_m = medians[chosen];
   out.held_out_median_error_uncalibrated_m = measured.held_out_median_error_uncalibrated_m;
   out.held_out_tags = measured.held_out_tags;
   out.held_out_runs = measured.held_out_runs;
@@ -462,6 +483,7 @@ AntennaCalibration calibrate_antenna(const std::vector<CalibrationSample>& sampl
   for (size_t m = 1; m <= chosen; ++m) why << ", " << 1e3 * medians[m] << " mm with " << models[m].name;
   why << ": the simpler model localizes the tags of runs it was not fitted on at least as well (what the term fits "
          "in some runs does not carry to the others)";
+  if (!kept.fit_carriers) out.carriers_not_fitted = why.str();
   std::vector<std::string> dropped = pattern_terms;
   if (!models[chosen].options.fit_offset) dropped.insert(dropped.end(), offset_terms.begin(), offset_terms.end());
   for (const std::string& t : dropped) out.not_fitted.push_back({t, why.str()});

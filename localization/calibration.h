@@ -60,10 +60,14 @@ struct CalibrationOptions {
   // Which geometry terms to fit. false: held at 0 (with fit_offset, all three offsets).
   bool fit_pattern = true;
   bool fit_offset = true;
+  // false (with fit_pattern and fit_offset false): nothing is calibrated — every carrier keeps its own offset, as
+  // localize does without an antenna file (frequencies_hz left empty) — and only the allowance is measured.
+  bool fit_carriers = true;
   // Choose the terms by the held-out check (needs held_out_check and reference tags from ≥ 2 runs): the nested
   // models — what fit_pattern / fit_offset allow, then the pattern held at 0, then the phase-centre offset too
-  // (carrier offsets only) — are each cross-validated, and the one with the lowest held-out median error is
-  // kept (the simpler on a tie). The offset and the pattern are nearly aliased (both curve the wavefront; on the
+  // (carrier offsets only), then nothing (fit_carriers false: its held-out error is the uncalibrated one of the
+  // same check) — are each cross-validated, and the one with the lowest held-out median error is kept (the
+  // simpler on a tie). The offset and the pattern are nearly aliased (both curve the wavefront; on the
   // AdaRF D1 runs dx and az² correlate at −0.995), so together they fit each run's own range bias — the tag
   // row's, the room's — which the next run does not share. Terms dropped are listed in not_fitted with the
   // held-out medians; every model tried in held_out_models. Costs a cross-validation per model (≤ 3).

@@ -72,6 +72,8 @@ pyb::dict run_calibrate(const pyb::list& references, const std::string& antenna_
     return out;
   };
   d["not_fitted"] = notes(c.not_fitted);
+  d["carrier_offsets_not_fitted"] =
+      c.carriers_not_fitted.empty() ? pyb::object(pyb::none()) : pyb::object(pyb::str(c.carriers_not_fitted));
   d["prior_bounded"] = notes(c.prior_bounded);
   d["aliased"] = notes(c.aliased);
   if (c.has_allowance()) {
@@ -122,7 +124,7 @@ pyb::dict run_calibrate(const pyb::list& references, const std::string& antenna_
     }
     d["held_out"]["models"] = models;
   }
-  d["residual_rms_rad"] = c.residual_rms_rad;
+  d["residual_rms_rad"] = std::isfinite(c.residual_rms_rad) ? pyb::object(pyb::float_(c.residual_rms_rad)) : pyb::none();
   d["reads_used"] = c.reads_used;
   d["tags_used"] = c.tags_used;
   return d;

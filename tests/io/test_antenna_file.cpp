@@ -194,6 +194,38 @@ TEST(AntennaFile, AllowanceBandsRoundTripAndAreChecked) {
   EXPECT_NE(unknown.find("unknown key 'tags'"), std::string::npos) << unknown;
 }
 
+// A file of a calibration that kept nothing (calibrate's held-out check): no carriers, the why, no residual, and
+// the allowance; it round-trips, and the why is refused beside carriers.
+TEST(AntennaFile, NothingCalibratedRoundTrips) {
+  loc::AntennaCalibration e;
+  e.antenna = "a0";
+  e.carriers_not_fitted = "cross-validated over 6 runs in 2 folds: \"nothing\" localizes held-out tags best";
+  e.residual_rms_rad = std::numeric_limits<double>::quiet_NaN();
+  e.allowance_base_rad = 0.2;
+  e.allowance_smooth_factor = 0.0;
+  e.allowance_samples = 18;
+  std::ostringstream out;
+  write_antenna_file(out, e);
+  EXPECT_NE(out.str().find("frequencies_hz: []"), std::string::npos) << out.str();
+  EXPECT_EQ(out.str().find("residual_rms_rad"), std::string::npos) << out.str();
+  const loc::AntennaCalibration c = parse_antenna_yaml(out.str(), "a.yaml");
+  EXPECT_TRUE(c.frequencies_hz.empty());
+  EXPECT_FALSE(c.has_carrier_offsets());
+  EXPECT_EQ(c.carriers_not_fitted, e.carriers_not_fitted);
+  EXPECT_TRUE(std::isnan(c.residual_rms_rad));
+  EXPECT_TRUE(c.has_allowance());
+  std::ostringstream again;
+  write_antenna_file(again, c);
+  EXPECT_EQ(again.str(), out.str());
+  std::ostringstream with_carriers;
+  loc::AntennaCalibration both = example();
+  both.carriers_not_fitted = "why";
+  write_antenna_file(with_carriers, both);
+  const std::string msg = error_of(with_carriers.str());
+  EXPECT_NE(msg.find("carrier_offsets_not_fitted"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("without carriers"), std::string::npos) << msg;
+}
+
 TEST(AntennaFile, MalformedFilesNameFileLineAndField) {
   std::ostringstream good;
   write_antenna_file(good, example());

@@ -754,8 +754,9 @@ TEST(Calibration, TermsAreChosenByTheirHeldOutError) {
   ASSERT_TRUE(o.select_terms);  // the default, as `rfidray calibrate` runs it
   const AntennaCalibration same =
       calibrate_antenna(reference_runs(hw, 41, [](int) { return testing::example_hardware(); }), "a0", o);
-  ASSERT_EQ(same.held_out_models.size(), 3u);
+  ASSERT_EQ(same.held_out_models.size(), 4u);
   EXPECT_TRUE(same.held_out_models[0].kept);
+  EXPECT_EQ(same.held_out_models[3].median_error_m, same.held_out_median_error_uncalibrated_m);  // nothing
   EXPECT_NE(same.held_out_models[0].terms.find("pattern"), std::string::npos) << same.held_out_models[0].terms;
   for (const auto& m : same.held_out_models)
     EXPECT_GE(m.median_error_m, same.held_out_models[0].median_error_m) << m.terms;
@@ -769,10 +770,12 @@ TEST(Calibration, TermsAreChosenByTheirHeldOutError) {
   };
   const std::vector<CalibrationSample> runs = reference_runs(hw, 41, remounted);
   const AntennaCalibration moved = calibrate_antenna(runs, "a0", o);
-  ASSERT_EQ(moved.held_out_models.size(), 3u);
+  ASSERT_EQ(moved.held_out_models.size(), 4u);
   const auto kept = std::find_if(moved.held_out_models.begin(), moved.held_out_models.end(), [](const auto& m) { return m.kept; });
   ASSERT_NE(kept, moved.held_out_models.end());
-  EXPECT_EQ(kept->terms, "carrier offsets") << kept->terms;
+  // The carrier offsets are the same in every run here, but with eight carriers each left free the fit loses
+  // little: carrier offsets only and nothing at all come within a fraction of a millimetre, either may be kept.
+  EXPECT_GE(kept - moved.held_out_models.begin(), 2) << kept->terms;
   EXPECT_LT(kept->median_error_m, moved.held_out_models[0].median_error_m);
   for (const auto& m : moved.held_out_models) EXPECT_LE(kept->median_error_m, m.median_error_m) << m.terms;
   EXPECT_EQ(moved.held_out_median_error_m, kept->median_error_m);  // the held-out figures are the kept model's
@@ -794,6 +797,58 @@ TEST(Calibration, TermsAreChosenByTheirHeldOutError) {
   std::cout << "held out, remounted: " << 1e3 * moved.held_out_models[0].median_error_m << " mm with every term, "
             << 1e3 * kept->median_error_m << " mm with carrier offsets only, "
             << 1e3 * moved.held_out_median_error_uncalibrated_m << " mm uncalibrated\n";
+}
+
+// A reader whose carriers' chain offsets change at every power-up, on an antenna with no offset or pattern to
+// calibrate: offsets fitted over some runs are wrong in the others, and every model that ties the carriers
+// localizes held-out runs worse than none. calibrate keeps nothing
+// — no carrier offsets (each carrier its own, as without an antenna file), no geometry — says why, and still
+// measures the radius allowance; the file round-trips, and localize with it places a tag exactly where it does
+// without one.
+TEST(Calibration, CarrierOffsetsThatChangeBetweenRunsAreNotKept) {
+  Hardware hw;
+  hw.noise_rad = 0.1;
+  CalibrationOptions o;
+  o.planar = true;
+  o.held_out_folds = 2;
+  const auto restarted = [](int run) {
+    AntennaCalibration t = testing::example_hardware();
+    t.phase_centre_offset_m = Vec3::Zero();  // an antenna with nothing else to calibrate
+    t.pattern_rad = {};
+    std::mt19937_64 rng(500 + run);
+    std::uniform_real_distribution<double> u(-kPi, kPi);
+    for (size_t c = 1; c < t.carrier_offsets_rad.size(); ++c) t.carrier_offsets_rad[c] = u(rng);
+    return t;
+  };
+  const AntennaCalibration cal = calibrate_antenna(reference_runs(hw, 43, restarted), "a0", o);
+  ASSERT_EQ(cal.held_out_models.size(), 4u);
+  EXPECT_TRUE(cal.held_out_models[3].kept) << cal.held_out_models[2].median_error_m << " vs "
+                                           << cal.held_out_models[3].median_error_m;
+  EXPECT_EQ(cal.held_out_models[3].terms, "nothing (each carrier its own offset, as without an antenna file)");
+  for (size_t m = 0; m < 3; ++m)
+    EXPECT_GT(cal.held_out_models[m].median_error_m, cal.held_out_models[3].median_error_m) << cal.held_out_models[m].terms;
+  std::cout << "held out, reader restarted between runs: " << 1e3 * cal.held_out_models[0].median_error_m
+            << " mm with every term, " << 1e3 * cal.held_out_models[2].median_error_m << " mm with carrier offsets, "
+            << 1e3 * cal.held_out_models[3].median_error_m << " mm with nothing\n";
+  EXPECT_TRUE(cal.frequencies_hz.empty());
+  EXPECT_FALSE(cal.has_carrier_offsets());
+  EXPECT_EQ(cal.phase_centre_offset_m, Vec3::Zero());
+  EXPECT_EQ(cal.pattern_rad[0], 0.0);
+  EXPECT_TRUE(std::isnan(cal.residual_rms_rad));
+  EXPECT_NE(cal.carriers_not_fitted.find("cross-validated over 6 runs in 2 folds"), std::string::npos) << cal.carriers_not_fitted;
+  EXPECT_EQ(cal.held_out_median_error_m, cal.held_out_median_error_uncalibrated_m);
+  ASSERT_TRUE(cal.has_allowance());  // what the file is still for
+  EXPECT_GE(cal.allowance_samples, 10);
+  // localize with it: the positions of no calibration (the allowance aside).
+  const Vec3 tag(0.5, 0.7, 0.0);
+  Hardware other = hw;
+  other.truth = restarted(9);
+  const TagReads reads = testing::hardware_reads("t", tag, kStage, other, 77);
+  LocalizeOptions with = stage_options(0.0), without = stage_options(0.0);
+  with.calibration = cal;
+  const LocalizeResult a = localize(Method::kNlls, reads, with), b = localize(Method::kNlls, reads, without);
+  ASSERT_TRUE(a.has_position() && b.has_position());
+  EXPECT_EQ(a.position, b.position);
 }
 
 // Reference tags and stops all in one plane (z = 0), calibrated without --height-known: the vertical offset and
