@@ -5,7 +5,8 @@
 //   antenna: a0
 //   phase_centre_offset_m: [x, y, z]          # antenna frame, boresight = +X
 //   phase_centre_offset_sd_m: [x, y, z]
-//   frequencies_hz: [f0, f1, ...]             # ascending, distinct; carrier_offsets_rad[0] must be 0
+//   frequencies_hz: [f0, f1, ...]             # ascending, distinct; carrier_offsets_rad[0] must be 0; []: no
+//                                             # carrier calibrated (each keeps its own offset)
 //   carrier_offsets_rad: [0, c1, ...]
 //   carrier_offsets_sd_rad: [0, s1, ...]
 //   pattern_terms: [az, el, az2, az_el, el2]  # must be exactly these (the basis of the coefficients)
@@ -15,8 +16,11 @@
 //                                             # el2 (rad); symmetric, positive semi-definite
 //   not_fitted: [{term: dz, why: "..."}]     # optional: geometry terms held at 0, the data could not tell them
 //   prior_bounded: [{term: ..., why: "..."}] # optional: fitted terms whose sd is nearly the prior's
-//   allowance: {base_rad: b, smooth_factor: f, samples: n, coverage: c}   # optional: measured radius allowance
-//   residual_rms_rad: r
+//   carrier_offsets_not_fitted: "..."        # optional, only with frequencies_hz: []: why none was kept
+//   allowance: {base_rad: b, smooth_factor: f, samples: n, coverage: c,   # optional: measured radius allowance
+//               bands: [{spacing_from_m, spacing_below_m, base_rad, smooth_factor, samples, coverage}]}
+//                                             # bands optional: the same per band of tag spacing
+//   residual_rms_rad: r                       # optional (absent: nothing was fitted)
 //   reads_used: n
 //   tags_used: n
 // Errors: InputError "FILE:LINE: field 'x': what". Writing is deterministic (%.10g numbers).
