@@ -795,8 +795,8 @@ TEST(Calibration, TermsAreChosenByTheirHeldOutError) {
   EXPECT_EQ(every.held_out_median_error_m, moved.held_out_models[0].median_error_m);
   EXPECT_NE(every.phase_centre_offset_m.x(), 0.0);
   std::cout << "held out, remounted: " << 1e3 * moved.held_out_models[0].median_error_m << " mm with every term, "
-            << 1e3 * kept->median_error_m << " mm with carrier offsets only, "
-            << 1e3 * moved.held_out_median_error_uncalibrated_m << " mm uncalibrated\n";
+            << 1e3 * moved.held_out_models[2].median_error_m << " mm with carrier offsets only, "
+            << 1e3 * moved.held_out_models[3].median_error_m << " mm with nothing (kept: " << kept->terms << ")\n";
 }
 
 // A reader whose carriers' chain offsets change at every power-up, on an antenna with no offset or pattern to

@@ -43,7 +43,7 @@ def test_calibrate_matches_the_command(runs, tmp_path):
         np.testing.assert_array_equal(got[key], np.array(expected[key]), err_msg=key)
     # What the command says about its own and held-out references, under the same keys (too few tags here to
     # measure either: 6 of the 10 needed, so both are None in both).
-    for key in ("references_localized", "held_out"):
+    for key in ("references_localized", "held_out", "carrier_offsets_not_fitted", "residual_rms_rad"):
         assert got[key] == expected[key], key
     assert expected["held_out"] is None
     assert got["geometry_covariance"].shape == (8, 8)
