@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "io/checked_yaml.h"
@@ -16,6 +17,26 @@ std::string list(const std::vector<double>& v) {
   std::string s = "[";
   for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + num(v[i]);
   return s + "]";
+}
+
+// A YAML double-quoted scalar that reads back to `text`: quote and backslash escaped, control characters as \xNN
+// (a raw line break inside quotes would be folded to a space).
+std::string yaml_quoted(const std::string& text) {
+  std::string q = "\"";
+  for (const char ch : text) {
+    const unsigned char u = static_cast<unsigned char>(ch);
+    if (ch == '"' || ch == '\\') {
+      q += '\\';
+      q += ch;
+    } else if (u < 0x20 || u == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", u);
+      q += hex;
+    } else {
+      q += ch;
+    }
+  }
+  return q + "\"";
 }
 
 // An optional count under `key` of `map` (0 when absent), named by its field when not a count.
@@ -178,7 +199,7 @@ void write_antenna_file(std::ostream& out, const loc::AntennaCalibration& c) {
   auto vec = [](const Vec3& v) { return list({v.x(), v.y(), v.z()}); };
   auto arr = [](const std::array<double, loc::kPatternTerms>& a) { return list(std::vector<double>(a.begin(), a.end())); };
   out << "# rfidray antenna calibration (rfidray calibrate); model: localization/antenna_calibration.h\n";
-  out << "antenna: \"" << c.antenna << "\"\n";
+  out << "antenna: " << yaml_quoted(c.antenna) << "\n";
   out << "phase_centre_offset_m: " << vec(c.phase_centre_offset_m) << "   # antenna frame, boresight +X\n";
   out << "phase_centre_offset_sd_m: " << vec(c.phase_centre_offset_sd_m) << "\n";
   out << "frequencies_hz: " << list(c.frequencies_hz)
@@ -198,16 +219,11 @@ void write_antenna_file(std::ostream& out, const loc::AntennaCalibration& c) {
       out << "  - " << list(row) << "\n";
     }
   }
-  auto quoted = [](const std::string& text) {
-    std::string q = "\"";
-    for (char ch : text) q += ch == '"' || ch == '\\' ? std::string("\\") + ch : std::string(1, ch);
-    return q + "\"";
-  };
   if (!c.not_fitted.empty()) {
     out << "not_fitted:   # held at 0 (sd 0): the reference geometry does not determine them\n";
-    for (const auto& n : c.not_fitted) out << "  - {term: " << n.term << ", why: " << quoted(n.why) << "}\n";
+    for (const auto& n : c.not_fitted) out << "  - {term: " << n.term << ", why: " << yaml_quoted(n.why) << "}\n";
   }
-  if (!c.carriers_not_fitted.empty()) out << "carrier_offsets_not_fitted: " << quoted(c.carriers_not_fitted) << "\n";
+  if (!c.carriers_not_fitted.empty()) out << "carrier_offsets_not_fitted: " << yaml_quoted(c.carriers_not_fitted) << "\n";
   if (c.has_allowance()) {
     out << "allowance:   # radius allowance measured on the reference tags: sigma_sys = max(base, factor x smooth misfit)\n";
     out << "  base_rad: " << num(c.allowance_base_rad) << "\n";
@@ -227,7 +243,7 @@ void write_antenna_file(std::ostream& out, const loc::AntennaCalibration& c) {
   }
   if (!c.prior_bounded.empty()) {
     out << "prior_bounded:   # fitted, but their sd is nearly the prior's: the data hardly determine them\n";
-    for (const auto& n : c.prior_bounded) out << "  - {term: " << n.term << ", why: " << quoted(n.why) << "}\n";
+    for (const auto& n : c.prior_bounded) out << "  - {term: " << n.term << ", why: " << yaml_quoted(n.why) << "}\n";
   }
   if (std::isfinite(c.residual_rms_rad)) out << "residual_rms_rad: " << num(c.residual_rms_rad) << "\n";  // NaN: no fit
   out << "reads_used: " << c.reads_used << "\n";
