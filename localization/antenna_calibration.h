@@ -79,8 +79,8 @@ struct AntennaCalibration {
   double allowance_coverage = std::numeric_limits<double>::quiet_NaN();  // their share inside the radius
   bool has_allowance() const { return std::isfinite(allowance_base_rad) && std::isfinite(allowance_smooth_factor); }
   // The same allowance measured apart on the reference tags of each band of tag spacing (a tag's distance to its
-  // nearest reference neighbour in its run; a tag alone in its run: infinite), bands split at half the first
-  // carrier's wavelength: in a denser row each tag's phase also carries its neighbours' coupling, which the
+  // nearest reference neighbour in its run; a tag alone in its run: infinite), bands split at half the wavelength
+  // of the lowest carrier the references were read on: in a denser row each tag's phase also carries its neighbours' coupling, which the
   // fit cannot see (on the AdaRF training runs, 95 % of tags 20 cm apart need σ_sys ≤ 0.09 rad, of tags 4–10 cm
   // apart ≤ 0.34 rad). A band with fewer than 10 localized reference tags is not listed. localize uses the
   // band of the spacing the user gives (LocalizeRequest::tag_spacing_m), else the pooled allowance above.
