@@ -82,7 +82,7 @@ nlohmann::json allowance(const loc::AntennaCalibration& c) {
   nlohmann::json bands = nlohmann::json::array();
   for (const auto& b : c.allowance_bands)
     bands.push_back({{"spacing_from_m", b.spacing_from_m},
-                     {"spacing_below_m", std::isfinite(b.spacing_below_m) ? nlohmann::json(b.spacing_below_m) : nullptr},
+                     {"spacing_below_m", number_or_null(b.spacing_below_m)},
                      {"base_rad", b.base_rad}, {"smooth_factor", b.smooth_factor}, {"samples", b.samples},
                      {"coverage", number_or_null(b.coverage)}});
   return {{"base_rad", c.allowance_base_rad}, {"smooth_factor", c.allowance_smooth_factor},

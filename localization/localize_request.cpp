@@ -79,9 +79,11 @@ void apply_calibration_allowance(LocalizePlan& plan, const LocalizeRequest& requ
   if (band) {
     plan.options.systematic_phase_rad = band->base_rad;
     plan.options.smooth_misfit_factor = band->smooth_factor;
-    plan.allowance_source = "the antenna file's, measured on " + std::to_string(band->samples) + " reference tags " +
-                            num(band->spacing_from_m) + (std::isfinite(band->spacing_below_m) ? " to " + num(band->spacing_below_m) : " m or more") +
-                            (std::isfinite(band->spacing_below_m) ? " m" : "") + " apart";
+    const std::string spacing = std::isfinite(band->spacing_below_m)
+                                    ? num(band->spacing_from_m) + " to " + num(band->spacing_below_m) + " m"
+                                    : num(band->spacing_from_m) + " m or more";
+    plan.allowance_source =
+        "the antenna file's, measured on " + std::to_string(band->samples) + " reference tags " + spacing + " apart";
     return;
   }
   plan.options.systematic_phase_rad = c.allowance_base_rad;

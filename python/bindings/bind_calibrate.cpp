@@ -86,11 +86,11 @@ pyb::dict run_calibrate(const pyb::list& references, const std::string& antenna_
     for (const auto& b : c.allowance_bands) {
       pyb::dict e;
       e["spacing_from_m"] = b.spacing_from_m;
-      e["spacing_below_m"] = std::isfinite(b.spacing_below_m) ? pyb::object(pyb::float_(b.spacing_below_m)) : pyb::none();
+      e["spacing_below_m"] = float_or_none(b.spacing_below_m);
       e["base_rad"] = b.base_rad;
       e["smooth_factor"] = b.smooth_factor;
       e["samples"] = b.samples;
-      e["coverage"] = b.coverage;
+      e["coverage"] = float_or_none(b.coverage);
       bands.append(e);
     }
     a["bands"] = bands;
@@ -118,13 +118,13 @@ pyb::dict run_calibrate(const pyb::list& references, const std::string& antenna_
     for (const auto& m : c.held_out_models) {
       pyb::dict e;
       e["terms"] = m.terms;
-      e["median_error_m"] = std::isfinite(m.median_error_m) ? pyb::object(pyb::float_(m.median_error_m)) : pyb::none();
+      e["median_error_m"] = float_or_none(m.median_error_m);
       e["kept"] = m.kept;
       models.append(e);
     }
     d["held_out"]["models"] = models;
   }
-  d["residual_rms_rad"] = std::isfinite(c.residual_rms_rad) ? pyb::object(pyb::float_(c.residual_rms_rad)) : pyb::none();
+  d["residual_rms_rad"] = float_or_none(c.residual_rms_rad);
   d["reads_used"] = c.reads_used;
   d["tags_used"] = c.tags_used;
   return d;

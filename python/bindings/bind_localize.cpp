@@ -80,7 +80,6 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
     }
   }
   // The keys of `rfidray localize --json` results (without time_ms); None where the JSON has null.
-  auto number = [](double v) -> pyb::object { return std::isfinite(v) ? pyb::object(pyb::float_(v)) : pyb::none(); };
   pyb::list out;
   for (const Item& it : items) {
     const loc::LocalizeResult& r = it.result;
@@ -91,14 +90,14 @@ pyb::list run_localize(const pyb::list& files, pyb::object truth_arg, const std:
     d["status"] = loc::to_string(r.status());
     d["reason"] = r.ok ? pyb::object(pyb::none()) : pyb::object(pyb::str(loc::to_string(r.reason)));
     d["detail"] = r.ok ? pyb::object(pyb::none()) : pyb::object(pyb::str(r.detail));
-    d["x"] = positioned ? number(r.position.x()) : pyb::none();
-    d["y"] = positioned ? number(r.position.y()) : pyb::none();
-    d["z"] = positioned ? number(r.position.z()) : pyb::none();
+    d["x"] = positioned ? float_or_none(r.position.x()) : pyb::none();
+    d["y"] = positioned ? float_or_none(r.position.y()) : pyb::none();
+    d["z"] = positioned ? float_or_none(r.position.z()) : pyb::none();
     d["error_m"] = it.error_m ? pyb::object(pyb::float_(*it.error_m)) : pyb::none();
-    d["uncertainty_m"] = positioned ? number(r.uncertainty_m) : pyb::none();
-    d["residual_rad"] = number(r.residual_rad);
-    d["systematic_rad"] = positioned ? number(r.radius_systematic_rad) : pyb::none();  // σ_sys of the radius
-    d["multipath_phase_rad"] = scene ? number(r.multipath_phase_rad) : pyb::none();
+    d["uncertainty_m"] = positioned ? float_or_none(r.uncertainty_m) : pyb::none();
+    d["residual_rad"] = float_or_none(r.residual_rad);
+    d["systematic_rad"] = positioned ? float_or_none(r.radius_systematic_rad) : pyb::none();  // σ_sys of the radius
+    d["multipath_phase_rad"] = scene ? float_or_none(r.multipath_phase_rad) : pyb::none();
     d["mirror_resolved_by"] = positioned && !r.mirror_resolved_by.empty() ? pyb::object(pyb::str(r.mirror_resolved_by)) : pyb::none();
     d["reads"] = it.reads;
     out.append(d);

@@ -4,6 +4,7 @@
 #include <pybind11/pybind11.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <string>
 
 namespace rfidray::py {
@@ -14,6 +15,9 @@ namespace pyb = pybind11;
 // library's checked readers take, so arguments are validated exactly as the same keys in a scenario file.
 // Throws InputError naming `field` for anything else.
 YAML::Node to_yaml(pyb::handle value, const std::string& field);
+
+// A number for the results' dicts: None where the command's JSON has null (not finite: not measured, no end).
+inline pyb::object float_or_none(double v) { return std::isfinite(v) ? pyb::object(pyb::float_(v)) : pyb::none(); }
 
 void bind_scene(pyb::module_& m);     // Scene, Endpoint, Path, Channel
 void bind_simulate(pyb::module_& m);  // _simulate, _load_readings
