@@ -9,7 +9,7 @@ import os
 import numpy as np
 
 BANDS = (1.1, 2.2, 4.4, 9.0)
-CASES = ("sheet_edge_soft", "sheet_edge_hard")
+CASES = ("sheet_edge_soft", "sheet_edge_hard", "sheet_edge_soft_tall", "sheet_edge_hard_tall")
 LEVELS = ("los", "single-bounce", "double-bounce", "full-selective", "full")
 
 
@@ -51,8 +51,8 @@ def write(out_dir, log=print):
     if not data:
         raise SystemExit(f"summary: no sheet_edge_*.csv in {out_dir} (run --case sheet_edge_soft first)")
     md = ["# Sheet edge: error of each level against the FDTD reference, by kρ", "",
-          "Finite PEC sheet 0.9 × 0.8 m, dipole 1 m from the edge at 60°, observers at ρ = 4, 8, 16, 32 cm "
-          "(kρ = 0.73, 1.45, 2.90, 5.81), 11 angles each. Error = |h/h_ideal − E/E_free|, a fraction of the "
+          "Finite PEC sheet 0.9 × 0.8 m (`_tall`: 0.9 × 1.6 m, the same edge), dipole 1 m from the edge at 60°, "
+          "observers at ρ = 4, 8, 16, 32 cm (kρ = 0.73, 1.45, 2.90, 5.81), 11 angles each. Error = |h/h_ideal − E/E_free|, a fraction of the "
           "free-space field. Spread: |E(finest) − E(next resolution)|/E_free (the reference's own uncertainty).", ""]
     pooled = []
     for c, rows in data.items():
@@ -65,7 +65,7 @@ def write(out_dir, log=print):
                       f"{b['reference_spread_median']:.3f} / {b['_spread_max']:.3f} | {b['_full_within_01']}/{b['n_observers']} |")
         md.append("")
     bands = _band_rows(pooled)
-    md += ["## Both polarizations pooled (validity_bands.csv)", "",
+    md += ["## Both polarizations and both sheets pooled (validity_bands.csv)", "",
            "| kρ ≤ | n | full median | full max | single-bounce median | single-bounce max | spread median |",
            "|---|---|---|---|---|---|---|"]
     for b in bands:
@@ -91,8 +91,10 @@ def _chart(data, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, len(data), figsize=(6 * len(data), 4.2), sharey=True, squeeze=False)
-    for ax, (c, rows) in zip(axes[0], data.items()):
+    ncol = min(len(data), 2)
+    nrow = (len(data) + ncol - 1) // ncol
+    fig, axes = plt.subplots(nrow, ncol, figsize=(6 * ncol, 4.2 * nrow), sharey=True, squeeze=False)
+    for ax, (c, rows) in zip(axes.flat, data.items()):
         krs = sorted({r["krho"] for r in rows})
         sp_med = [np.median([r["reference_spread"] for r in rows if r["krho"] == k]) for k in krs]
         sp_max = [np.max([r["reference_spread"] for r in rows if r["krho"] == k]) for k in krs]
@@ -104,14 +106,16 @@ def _chart(data, path):
             line, = ax.plot(krs, med, marker=mk, label=f"{lv} median")
             ax.plot(krs, mx, marker=mk, ls=":", color=line.get_color(), alpha=0.6)
         ax.set_xscale("log")
+        ax.minorticks_off()  # the log axis's minor labels (2×10⁰ …) overlap the kρ ticks
         ax.set_xticks(krs)
         ax.set_xticklabels([f"{k:.2f}" for k in krs])
         ax.set_xlabel("kρ (distance to the edge × k)")
         ax.set_title(c.replace("_", " ") + " (dotted: max over 11 angles)")
         ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel("|h/h_ideal − E/E_free|")
+    for row in axes:
+        row[0].set_ylabel("|h/h_ideal − E/E_free|")
     axes[0][0].legend(fontsize=7, loc="upper right")
-    fig.suptitle("rfidray levels vs FDTD (meep), finite PEC sheet, 866 MHz", fontsize=10)
+    fig.suptitle("rfidray levels vs FDTD (meep), finite PEC sheets 0.9 × 0.8 m and (tall) 0.9 × 1.6 m, 866 MHz", fontsize=10)
     fig.tight_layout()
     fig.savefig(path + ".tmp.png", dpi=110)
     os.replace(path + ".tmp.png", path)
