@@ -18,6 +18,11 @@ struct EdgeSight {
   // |E^i·β̂0'| / |E^i| of the incident field at the edge: its share along the edge's soft direction (core/utd.h);
   // the rest, √(1 − share²), is the hard part (E ⊥ edge), whose near field no ray level has.
   double soft_share = 1.0;
+  // |p̂·ê_s| of this end's antenna (p̂ its unit axis, or its polarization's field for a non-linear one): how much of
+  // the edge's singular near field it reads. Across the edge that field is E ∝ (kρ)^{1/n − 1}·ê_s with
+  // ê_s = sin(φ/n) ρ̂ + cos(φ/n) φ̂ (Meixner's edge condition; φ̂ the direction of growing φ): along ρ̂ on the
+  // wedge's bisector, normal to each face on it. 1 when the axis lies along it, 0 along the edge.
+  double singular_share = 1.0;
   std::optional<double> second_edge_m;  // another edge within reach of this end, when there is one
 };
 

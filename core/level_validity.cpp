@@ -45,21 +45,22 @@ constexpr SoftBand kSoftBands[] = {
     {kReachKrho, 0.019},
 };
 // Across the edge (hard) what is left is the plate, not the edge: the same edge, source and observers with the
-// sheet twice as tall move the FDTD field by 0.1–0.3 of the free-space field, and `full`, whose canonical near field
-// is an infinite half-plane's, hardly at all (docs/fullwave.md, "What is left across an edge"). The error has the
-// shape of the edge's singular radial field, E_ρ ∝ (kρ)^{1/n − 1}·sin(φ/n) (Meixner's edge condition: the edge
-// charge a finite plate sets differently): on the 0.8 m sheet at ρ = 4 cm, error / (kρ)^{−1/2}|sin(φ/2)| is
-// 0.15–0.18 at all 11 angles. The scale is that ratio's 75th percentile over both sheets' 88 observers.
+// sheet twice as tall move the FDTD field by 0.1–0.26 of the free-space field, and `full`, whose canonical near field
+// is an infinite half-plane's, by at most 0.02 (docs/fullwave.md, "What is left across an edge"). The error has the
+// size and direction of the edge's singular near field, (kρ)^{1/n − 1} along ê_s (core/edge_sight.h; Meixner's edge
+// condition: the edge charge a finite plate sets differently), as the end's antenna reads it (singular_share): on
+// the 0.8 m sheet at ρ = 4 cm, error / ((kρ)^{−1/2}·singular_share) is 0.15–0.18 at all 11 angles. The scale is
+// that ratio's 75th percentile over both sheets' 88 observers; on a right-angled wedge (case wedge_edge_hard, not
+// used to set it) the same ratio's 75th percentile is 0.153.
 constexpr double kHardEdgeChargeScale = 0.144;
 
-double full_wave_floor(double krho, double soft_share, double n, double phi_rad) {
+double full_wave_floor(double krho, double soft_share, double n, double singular_share) {
   const SoftBand* band = kSoftBands;
   while (krho > band->krho_max && band + 1 != std::end(kSoftBands)) ++band;
   const double s = std::clamp(soft_share, 0.0, 1.0);
-  const double nn = std::clamp(n, 1.0, 2.0);
   // kρ ≥ 1e-3 keeps the estimate finite on the edge itself (it is far outside any level's validity there).
-  const double hard = kHardEdgeChargeScale * std::pow(std::max(krho, 1e-3), 1.0 / nn - 1.0) *
-                      std::abs(std::sin(std::clamp(phi_rad, 0.0, nn * kPi) / nn));
+  const double hard = kHardEdgeChargeScale * std::pow(std::max(krho, 1e-3), 1.0 / std::clamp(n, 1.0, 2.0) - 1.0) *
+                      std::clamp(singular_share, 0.0, 1.0);
   return s * band->error + std::sqrt(1.0 - s * s) * hard;
 }
 
@@ -172,7 +173,7 @@ LevelValidity level_validity(ChannelLevel level, const std::optional<EdgeSight>&
                                                 sight->sin_beta0)
                        : 0.0;
   const double floor =
-      diffracts ? full_wave_floor(v.nearest_edge_krho, sight->soft_share, sight->n, sight->phi_rad) : 0.0;
+      diffracts ? full_wave_floor(v.nearest_edge_krho, sight->soft_share, sight->n, sight->singular_share) : 0.0;
   set_error(v, diffracts ? std::max((1.0 - w) * canonical.utd, floor) : canonical.geometrical_optics,
             relative_amplitude);
   char b[400];

@@ -7,10 +7,13 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
+#include <complex>
 #include <mutex>
 #include <stdexcept>
 
 #include "core/level_validity.h"
+#include "core/polarization.h"
 #include "raytrace/edge_end_finder.h"
 #include "raytrace/edge_on_plate_finder.h"
 #include "raytrace/morton.h"
@@ -250,6 +253,19 @@ std::optional<EdgeSight> RaytracedChannel::nearest_edge(const Endpoint& end_poin
       const double soft = std::abs(beta_in.cast<std::complex<double>>().dot(e_in));
       const double hard = std::abs(phi_in.cast<std::complex<double>>().dot(e_in));
       if (soft + hard > 0.0) sight.soft_share = soft / std::hypot(soft, hard);
+    }
+    {
+      // This end's reading of the edge's singular near field (core/edge_sight.h): φ grows about +e (raytrace/edges.h,
+      // angle_about), so φ̂ = ê × ρ̂.
+      const Vec3 rho_hat = v_end / rho_end;
+      const Vec3 phi_hat = e.direction.cross(rho_hat);
+      const Vec3 e_s = std::sin(w.phi_rad / w.n) * rho_hat + std::cos(w.phi_rad / w.n) * phi_hat;
+      const Polarization& pol = end_point.polarization;
+      sight.singular_share =
+          pol.kind == PolarizationKind::kLinear
+              ? std::abs((end_point.pose.orientation * pol.axis_local).normalized().dot(e_s))
+              : std::abs(polarization_match(e_s.cast<std::complex<double>>(), pol, end_point.pose.orientation,
+                                            (end - q).normalized()));
     }
     sight.other_distance_m = v_other.norm();
     sight.metal_faces = materials[facets[w.face0].material].perfect_conductor &&

@@ -57,6 +57,37 @@ def sheet_edge(axis: str, rhos=SHEET_RHOS_M, angles=SHEET_ANGLES_DEG, half_heigh
     )
 
 
+# Case (a′): the same edge, source and observers on a right-angled metal wedge: a box 0.9 × 0.5 × 0.8 m
+# (x ∈ [0, 0.9], y ∈ [−0.5, 0], z ∈ [−0.4, 0.4]) whose top face is the sheet's plane and whose front face x = 0 closes
+# the wedge (exterior angle 270°: a rack upright's or a crate's corner). Angles round the edge from the top face
+# (φ = 0, along +x) to the front face (φ = 270°): the observers of the sheet case up to 260°. Boundaries as the
+# sheet's (the source does not see the front face): reflection 120°, shadow 240°.
+WEDGE_ANGLES_DEG = tuple(a for a in SHEET_ANGLES_DEG if a < 270.0)
+
+
+def wedge_edge(axis: str) -> Case:
+    phi_s = math.radians(SOURCE_PHI_DEG)
+    source = (SOURCE_RANGE_M * math.cos(phi_s), SOURCE_RANGE_M * math.sin(phi_s), 0.0)
+    obs = []
+    for rho in SHEET_RHOS_M:
+        for a in WEDGE_ANGLES_DEG:
+            p = (rho * math.cos(math.radians(a)), rho * math.sin(math.radians(a)), 0.0)
+            obs.append(Observer(f"rho{rho * 100:.0f}cm_phi{a:.0f}", p, rho, a, sheet_region(a)))
+    pol = {"z": "soft (E ∥ edge: z dipole, E_z)", "x": "hard (E ⊥ edge: x dipole, E_x)"}[axis]
+    return Case(
+        name=f"wedge_edge_{'soft' if axis == 'z' else 'hard'}",
+        description="PEC box 0.9 × 0.5 × 0.8 m (x ∈ [0, 0.9], y ∈ [−0.5, 0], z ∈ [−0.4, 0.4]), its right-angled edge "
+                    f"along z; dipole 1 m from the edge at 60° from the top face; {pol}",
+        boxes=(Box((0.0, -0.5, -0.4), (0.9, 0.0, 0.4), "metal"),),
+        source=source,
+        axis=axis,
+        observers=tuple(obs),
+        domain_lo=(-0.40, -0.60, -0.50),
+        domain_hi=(1.00, 0.98, 0.50),
+        polarization_name="soft" if axis == "z" else "hard",
+    )
+
+
 # Case (e): a concrete wall. ITU-R P.2040 Table 3 (core/material.cpp's builtin "concrete"): ε' = a·f^b,
 # σ = c·f^d, f in GHz, a = 5.24, b = 0, c = 0.0462, d = 0.7822; the fit is given from 1 GHz and extrapolated
 # to 866 MHz here, as rfidray does: ε' = 5.24, σ = 0.0413 S/m. The same ε', σ go to meep (fdtd.py: σ_D).
@@ -444,6 +475,8 @@ CASES = {
     "sheet_edge_hard": lambda: sheet_edge("x"),
     "sheet_edge_soft_tall": lambda: sheet_edge("z", half_height_m=0.8),
     "sheet_edge_hard_tall": lambda: sheet_edge("x", half_height_m=0.8),
+    "wedge_edge_soft": lambda: wedge_edge("z"),
+    "wedge_edge_hard": lambda: wedge_edge("x"),
     "concrete_wall": concrete_wall,
     "plate_front": plate_front,
     "rack_bay": rack_bay,

@@ -9,7 +9,8 @@ import os
 import numpy as np
 
 BANDS = (1.1, 2.2, 4.4, 9.0)
-CASES = ("sheet_edge_soft", "sheet_edge_hard", "sheet_edge_soft_tall", "sheet_edge_hard_tall")
+CASES = ("sheet_edge_soft", "sheet_edge_hard", "sheet_edge_soft_tall", "sheet_edge_hard_tall", "wedge_edge_soft",
+         "wedge_edge_hard")
 LEVELS = ("los", "single-bounce", "double-bounce", "full-selective", "full")
 
 
@@ -51,8 +52,9 @@ def write(out_dir, log=print):
     if not data:
         raise SystemExit(f"summary: no sheet_edge_*.csv in {out_dir} (run --case sheet_edge_soft first)")
     md = ["# Sheet edge: error of each level against the FDTD reference, by kρ", "",
-          "Finite PEC sheet 0.9 × 0.8 m (`_tall`: 0.9 × 1.6 m, the same edge), dipole 1 m from the edge at 60°, "
-          "observers at ρ = 4, 8, 16, 32 cm (kρ = 0.73, 1.45, 2.90, 5.81), 11 angles each. Error = |h/h_ideal − E/E_free|, a fraction of the "
+          "Finite PEC sheet 0.9 × 0.8 m (`_tall`: 0.9 × 1.6 m, the same edge; `wedge_`: a PEC box 0.9 × 0.5 × 0.8 m "
+          "whose top face is the sheet, a right-angled edge), dipole 1 m from the edge at 60°, observers at ρ = 4, 8, "
+          "16, 32 cm (kρ = 0.73, 1.45, 2.90, 5.81), 11 angles each (9 round the wedge). Error = |h/h_ideal − E/E_free|, a fraction of the "
           "free-space field. Spread: |E(finest) − E(next resolution)|/E_free (the reference's own uncertainty).", ""]
     pooled = []
     for c, rows in data.items():
@@ -65,7 +67,7 @@ def write(out_dir, log=print):
                       f"{b['reference_spread_median']:.3f} / {b['_spread_max']:.3f} | {b['_full_within_01']}/{b['n_observers']} |")
         md.append("")
     bands = _band_rows(pooled)
-    md += ["## Both polarizations and both sheets pooled (validity_bands.csv)", "",
+    md += ["## Both polarizations, both sheets and the wedge pooled (validity_bands.csv)", "",
            "| kρ ≤ | n | full median | full max | single-bounce median | single-bounce max | spread median |",
            "|---|---|---|---|---|---|---|"]
     for b in bands:
@@ -110,12 +112,12 @@ def _chart(data, path):
         ax.set_xticks(krs)
         ax.set_xticklabels([f"{k:.2f}" for k in krs])
         ax.set_xlabel("kρ (distance to the edge × k)")
-        ax.set_title(c.replace("_", " ") + " (dotted: max over 11 angles)")
+        ax.set_title(c.replace("_", " ") + " (dotted: max over the angles)")
         ax.grid(alpha=0.3)
     for row in axes:
         row[0].set_ylabel("|h/h_ideal − E/E_free|")
     axes[0][0].legend(fontsize=7, loc="upper right")
-    fig.suptitle("rfidray levels vs FDTD (meep), finite PEC sheets 0.9 × 0.8 m and (tall) 0.9 × 1.6 m, 866 MHz", fontsize=10)
+    fig.suptitle("rfidray levels vs FDTD (meep): PEC sheets 0.9 × 0.8 m and (tall) 0.9 × 1.6 m, a PEC box's edge (wedge), 866 MHz", fontsize=10)
     fig.tight_layout()
     fig.savefig(path + ".tmp.png", dpi=110)
     os.replace(path + ".tmp.png", path)
