@@ -28,9 +28,11 @@ def sheet_region(phi_deg: float) -> str:
     return "shadow"
 
 
-def sheet_edge(axis: str, rhos=SHEET_RHOS_M, angles=SHEET_ANGLES_DEG, half_height_m: float = 0.4) -> Case:
-    """The sheet case; half_height_m > 0.4 makes the sheet taller (the same edge, source and observers, its corners
-    farther): what the sheet's other edges and corners add near the edge, which the canonical half-plane has not."""
+EDGE_POLARIZATION = {"z": "soft (E ∥ edge: z dipole, E_z)", "x": "hard (E ⊥ edge: x dipole, E_x)"}
+
+
+def _edge_source_and_observers(rhos, angles):
+    """The source 1 m from the edge (the z axis) at φ' = 60°, and observers at (ρ, φ) round it in the plane z = 0."""
     phi_s = math.radians(SOURCE_PHI_DEG)
     source = (SOURCE_RANGE_M * math.cos(phi_s), SOURCE_RANGE_M * math.sin(phi_s), 0.0)
     obs = []
@@ -38,7 +40,14 @@ def sheet_edge(axis: str, rhos=SHEET_RHOS_M, angles=SHEET_ANGLES_DEG, half_heigh
         for a in angles:
             p = (rho * math.cos(math.radians(a)), rho * math.sin(math.radians(a)), 0.0)
             obs.append(Observer(f"rho{rho * 100:.0f}cm_phi{a:.0f}", p, rho, a, sheet_region(a)))
-    pol = {"z": "soft (E ∥ edge: z dipole, E_z)", "x": "hard (E ⊥ edge: x dipole, E_x)"}[axis]
+    return source, tuple(obs)
+
+
+def sheet_edge(axis: str, rhos=SHEET_RHOS_M, angles=SHEET_ANGLES_DEG, half_height_m: float = 0.4) -> Case:
+    """The sheet case; half_height_m > 0.4 makes the sheet taller (the same edge, source and observers, its corners
+    farther): what the sheet's other edges and corners add near the edge, which the canonical half-plane has not."""
+    source, obs = _edge_source_and_observers(rhos, angles)
+    pol = EDGE_POLARIZATION[axis]
     h = half_height_m
     tall = "" if h == 0.4 else "_tall"
     # The domain ends 0.1 m beyond the sheet's top and bottom edges: 0.4 m more (z ∈ ±0.8) moves the field by
@@ -50,7 +59,7 @@ def sheet_edge(axis: str, rhos=SHEET_RHOS_M, angles=SHEET_ANGLES_DEG, half_heigh
         boxes=(Box((0.0, 0.0, -h), (0.9, 0.0, h), "metal"),),
         source=source,
         axis=axis,
-        observers=tuple(obs),
+        observers=obs,
         domain_lo=(-0.40, -0.40, -h - 0.10),
         domain_hi=(1.00, 0.98, h + 0.10),
         polarization_name="soft" if axis == "z" else "hard",
@@ -66,14 +75,8 @@ WEDGE_ANGLES_DEG = tuple(a for a in SHEET_ANGLES_DEG if a < 270.0)
 
 
 def wedge_edge(axis: str) -> Case:
-    phi_s = math.radians(SOURCE_PHI_DEG)
-    source = (SOURCE_RANGE_M * math.cos(phi_s), SOURCE_RANGE_M * math.sin(phi_s), 0.0)
-    obs = []
-    for rho in SHEET_RHOS_M:
-        for a in WEDGE_ANGLES_DEG:
-            p = (rho * math.cos(math.radians(a)), rho * math.sin(math.radians(a)), 0.0)
-            obs.append(Observer(f"rho{rho * 100:.0f}cm_phi{a:.0f}", p, rho, a, sheet_region(a)))
-    pol = {"z": "soft (E ∥ edge: z dipole, E_z)", "x": "hard (E ⊥ edge: x dipole, E_x)"}[axis]
+    source, obs = _edge_source_and_observers(SHEET_RHOS_M, WEDGE_ANGLES_DEG)
+    pol = EDGE_POLARIZATION[axis]
     return Case(
         name=f"wedge_edge_{'soft' if axis == 'z' else 'hard'}",
         description="PEC box 0.9 × 0.5 × 0.8 m (x ∈ [0, 0.9], y ∈ [−0.5, 0], z ∈ [−0.4, 0.4]), its right-angled edge "
@@ -81,7 +84,7 @@ def wedge_edge(axis: str) -> Case:
         boxes=(Box((0.0, -0.5, -0.4), (0.9, 0.0, 0.4), "metal"),),
         source=source,
         axis=axis,
-        observers=tuple(obs),
+        observers=obs,
         domain_lo=(-0.40, -0.60, -0.50),
         domain_hi=(1.00, 0.98, 0.50),
         polarization_name="soft" if axis == "z" else "hard",
