@@ -266,6 +266,7 @@ std::optional<EdgeSight> RaytracedChannel::nearest_edge(const Endpoint& end_poin
               ? std::abs((end_point.pose.orientation * pol.axis_local).normalized().dot(e_s))
               : std::abs(polarization_match(e_s.cast<std::complex<double>>(), pol, end_point.pose.orientation,
                                             (end - q).normalized()));
+      if (!std::isfinite(sight.singular_share)) sight.singular_share = 1.0;  // no axis to read it by: assume all
     }
     sight.other_distance_m = v_other.norm();
     sight.metal_faces = materials[facets[w.face0].material].perfect_conductor &&
