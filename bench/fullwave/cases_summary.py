@@ -38,29 +38,33 @@ def table(rows):
     return out
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("-o", "--out", required=True, help="directory with the cases' CSVs (run.py -o)")
-    a = ap.parse_args()
+def write(out_dir, log=print):
+    """OUT/other_geometries.md from the CSVs there; exit 2 when there is none."""
     md = ["# Other geometries: error of each level against the FDTD reference, per region", "",
           "Error = |h/h_ideal − E/E_free| (a fraction of the free-space field), median / max over the region's "
           f"observers where the reference is converged (spread ≤ {CONVERGED}); † = none is, over all. "
           "Per-observer figures: CASE.md / CASE.csv.", ""]
     found = 0
     for c in CASES:
-        p = os.path.join(a.out, c + ".csv")
+        p = os.path.join(out_dir, c + ".csv")
         if not os.path.exists(p):
             continue
         found += 1
         md += [f"## {c}", ""] + table(read_rows(p)) + [""]
     if not found:
-        print(f"cases_summary.py: error: no {', '.join(c + '.csv' for c in CASES)} in {a.out}", file=sys.stderr)
+        print(f"cases_summary.py: error: no {', '.join(c + '.csv' for c in CASES)} in {out_dir}", file=sys.stderr)
         sys.exit(2)
-    path = os.path.join(a.out, "other_geometries.md")
+    path = os.path.join(out_dir, "other_geometries.md")
     with open(path + ".tmp", "w") as f:
         f.write("\n".join(md) + "\n")
     os.replace(path + ".tmp", path)
-    print(f"wrote {path}")
+    log(f"wrote {path}")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("-o", "--out", required=True, help="directory with the cases' CSVs (run.py -o)")
+    write(ap.parse_args().out)
 
 
 if __name__ == "__main__":

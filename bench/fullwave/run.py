@@ -6,12 +6,15 @@
   /usr/bin/python3 bench/fullwave/run.py --halfplane-2d [--resolution 60 ...] -o bench/results/fullwave
   /usr/bin/python3 bench/fullwave/run.py --summary -o bench/results/fullwave
   /usr/bin/python3 bench/fullwave/run.py --validity --rfidray build/rfidray -o bench/results/fullwave
+  /usr/bin/python3 bench/fullwave/run.py --all --rfidray build/rfidray -o bench/results/fullwave
 
 Per case it writes CASE.md and CASE.csv: for every observer the FDTD's E/E_free at the finest resolution, the
 reference's own error (resolution spread, PML and sheet-thickness changes) and for every level h/h_ideal and the
 error |h/h_ideal − E/E_free| (a fraction of the free-space field). FDTD runs are cached in OUT/fdtd/*.json.
 --summary builds sheet_edge.md, validity_bands.csv and error_vs_krho.png from the sheet cases' CSVs; --validity
-checks `link --json`'s validity verdicts against every stored observer (validity_table.py).
+checks `link --json`'s validity verdicts against every stored observer (validity_table.py). --all does all of it:
+every case as its stored reference was made (cases.RUNS; cached FDTD runs are reused, so with the cache it takes
+minutes), then --summary, the other cases' table (cases_summary.py) and --validity (against --before if given).
 Exit 2 on bad input (unknown case, missing binary), with the reason.
 """
 from __future__ import annotations
@@ -206,6 +209,31 @@ def run_halfplane_2d(a):
     log("wrote halfplane_2d.md / .csv")
 
 
+def run_all(a):
+    """Every case of cases.RUNS with its own resolutions, PML and thickness checks; then the tables."""
+    import copy
+    import cases_summary
+    import summary
+    import validity_table
+    if not a.rfidray or not os.path.isfile(a.rfidray):
+        fail(f"--all needs --rfidray BINARY (got {a.rfidray!r}: no such file)")
+    if a.before and not os.path.isfile(a.before):
+        fail(f"--before {a.before}: no such file")
+    t0 = time.time()
+    for name, (resolutions, pmls, thickness) in cases.RUNS.items():
+        one = copy.copy(a)
+        one.case, one.resolution, one.pml, one.thickness = name, [float(r) for r in resolutions], list(pmls), thickness
+        log(f"case {name}: {', '.join(f'{r:g}' for r in resolutions)} px/m")
+        run_case(one)
+    summary.write(a.out, log)
+    cases_summary.write(a.out, log)
+    try:
+        validity_table.write(a.rfidray, a.out, a.scratch, a.before, log=log, reuse=False)
+    except ValueError as e:
+        fail(str(e))
+    log(f"all cases, tables and validity in {time.time() - t0:.0f} s")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--rfidray", help="path of the rfidray binary")
@@ -214,6 +242,9 @@ def main():
     ap.add_argument("--pml", type=float, action="append", help="PML thickness m (first = used; second = check)")
     ap.add_argument("--thickness", type=float, default=0.0, help="also run sheets this thick (m) at the coarsest resolution")
     ap.add_argument("--halfplane-2d", action="store_true", help="the 2-D FDTD vs exact half-plane study")
+    ap.add_argument("--all", action="store_true",
+                    help="every case as its reference was made (cases.RUNS), then --summary, the other cases' table "
+                         "and --validity")
     ap.add_argument("--summary", action="store_true", help="bands, CSV and chart from the sheet cases' CSVs")
     ap.add_argument("--validity", action="store_true",
                     help="validity's verdicts against every stored observer (validity.md/.csv; no FDTD run)")
@@ -230,6 +261,8 @@ def main():
         fail("--pml: thickness must be in [0.05, 2] m")
     if a.halfplane_2d:
         return run_halfplane_2d(a)
+    if a.all:
+        return run_all(a)
     if a.summary:
         import summary
         return summary.write(a.out, log)
