@@ -24,10 +24,7 @@ import cases
 import rfidray_link
 from summary import read_rows
 
-CASE_ORDER = ("sheet_edge_soft", "sheet_edge_hard", "sheet_edge_soft_tall", "sheet_edge_hard_tall", "wedge_edge_soft",
-              "wedge_edge_hard", "concrete_wall", "doorway", "plate_front", "rack_bay", "upright", "upright_hard",
-              "rack_post", "plate_corner", "plate_corner_line", "plate_grazing", "plate_corner_steep",
-              "plate_corner_steep_box")
+CASE_ORDER = tuple(cases.RUNS)
 WRONG = 0.1       # a level is wrong at an observer when its error exceeds this fraction of the free-space field
 VERY_WRONG = 0.2  # the goal: no observer this far off left level_ok
 
