@@ -21,6 +21,7 @@ from scipy import special as sp
 
 from cases import SHEET_ANGLES_DEG, SHEET_RHOS_M, SOURCE_PHI_DEG, SOURCE_RANGE_M
 from geometry import K_RAD_M
+from ptd_fringe import kp_transition
 
 K = K_RAD_M
 PHI_S = math.radians(SOURCE_PHI_DEG)
@@ -72,21 +73,13 @@ def plane_wave_ray(from_phi, rho, phi):
     return h * np.array([-d[1], d[0]])
 
 
-def transition(x):
-    """Kouyoumjian–Pathak F(x) = 2j√x e^{jx} ∫_{√x}^∞ e^{−jτ²} dτ."""
-    s = math.sqrt(x)
-    fs, fc = sp.fresnel(s * math.sqrt(2.0 / math.pi))
-    tail = math.sqrt(math.pi / 2.0) * ((0.5 - fc) - 1j * (0.5 - fs))
-    return 2j * s * np.exp(1j * x) * tail
-
-
 def d_hard(phi, big_l, n=2.0):
     total = 0.0
     for beta in (phi - PHI_S, phi + PHI_S):
         for sign in (1, -1):
             big_n = round((beta + sign * math.pi) / (2.0 * math.pi * n))
             a = 2.0 * math.cos((2.0 * math.pi * n * big_n - beta) / 2.0) ** 2
-            total += transition(K * big_l * a) / math.tan((math.pi + sign * beta) / (2.0 * n))
+            total += kp_transition(K * big_l * a) / math.tan((math.pi + sign * beta) / (2.0 * n))
     return -np.exp(-1j * math.pi / 4.0) / (2.0 * n * math.sqrt(2.0 * math.pi * K)) * total
 
 
