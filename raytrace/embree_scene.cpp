@@ -30,7 +30,8 @@ EmbreeScene::EmbreeScene(std::span<const SceneMesh> meshes, const std::string& c
     scene_ = rtcNewScene(device_);
     // Robust traversal: rays through shared edges/vertices are not lost (the image method's reflection
     // points and the blocked-path crossings land on edges of tessellated surfaces).
-    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+    // The context filter: occluded_except's transparent triangles (a context without a filter pays nothing).
+    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
     for (size_t m = 0; m < meshes.size(); ++m) {
       const SceneMesh& mesh = meshes[m];
@@ -68,6 +69,41 @@ EmbreeScene::EmbreeScene(std::span<const SceneMesh> meshes, const std::string& c
     rtcReleaseDevice(device_);
     throw;
   }
+}
+
+namespace {
+
+// Embree hands the filter the context it was given: the caller's skip test rides behind it.
+struct SkipContext {
+  RTCIntersectContext context;  // first member: Embree's pointer to it is a pointer to this
+  EmbreeScene::TriangleFilter skip = nullptr;
+  const void* user = nullptr;
+};
+
+// Rejecting a hit (valid = 0) makes Embree go on as if the triangle were not there.
+void skip_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* c = reinterpret_cast<const SkipContext*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i)
+    if (args->valid[i] != 0 &&
+        c->skip(c->user, RTCHitN_geomID(args->hit, args->N, i), RTCHitN_primID(args->hit, args->N, i)))
+      args->valid[i] = 0;
+}
+
+}  // namespace
+
+bool EmbreeScene::occluded_except(const Vec3& origin, const Vec3& dir, double tnear, double tfar,
+                                  TriangleFilter skip, const void* user) const {
+  if (!(tfar > tnear)) return false;
+  ++tl_rays_traced;
+  SkipContext c;
+  rtcInitIntersectContext(&c.context);
+  c.context.filter = skip_filter;
+  c.skip = skip;
+  c.user = user;
+  RTCRay ray;
+  fill_ray(ray, origin - origin_, dir, tnear, tfar);
+  rtcOccluded1(scene_, &c.context, &ray);
+  return ray.tfar < 0.0f;
 }
 
 namespace {

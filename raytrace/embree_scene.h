@@ -102,6 +102,17 @@ class EmbreeScene {
     return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
   }
 
+  // Which triangles a query looks through: skip(user, geom, prim) true for a triangle to ignore. Called inside
+  // Embree's traversal, on the calling thread, for every triangle the ray meets: it must be cheap and must not
+  // throw.
+  using TriangleFilter = bool (*)(const void* user, uint32_t geom, uint32_t prim);
+
+  // occluded() with the triangles `skip` accepts made transparent: true if any other triangle lies on
+  // origin + t·dir for t in [tnear, tfar]. One traversal (Embree's intersect-context filter rejects the skipped
+  // hits and the traversal goes on), however many skipped triangles the segment crosses. Counts one ray.
+  bool occluded_except(const Vec3& origin, const Vec3& dir, double tnear, double tfar, TriangleFilter skip,
+                       const void* user) const;
+
   // occluded() of each of the n segments s[0..n) into blocked[0..n), `width` segments per Embree call: 1 =
   // rtcOccluded1 each; 4, 8, 16 = rtcOccluded4/8/16 packets (segments with tfar ≤ tnear are inactive lanes and
   // not blocked, as in occluded()). Counts one ray per active segment. Throws std::invalid_argument for

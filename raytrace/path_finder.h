@@ -279,6 +279,11 @@ class PathFinder {
   bool is_post_facet(uint32_t facet) const {
     return facet != kNoFacet && !posts_.post_of_facet.empty() && posts_.post_of_facet[facet] != kNoPost;
   }
+  // EmbreeScene::TriangleFilter for a post's legs (`user` is the PathFinder): its triangles are transparent.
+  static bool skip_post_triangle(const void* user, uint32_t geom, uint32_t prim) {
+    const PathFinder& self = *static_cast<const PathFinder*>(user);
+    return self.is_post_facet(self.scene_->facet_of(self.scene_->triangle_id(geom, prim)));
+  }
   // Level full (diffraction.cpp): every edge.
   void diffractions(const Endpoint& a, const Endpoint& t, double f, double floor, std::vector<TracedPath>& out) const;
   // Levels full-selective and full (double_diffraction.cpp): every pair of edge_pairs_, in both orders.

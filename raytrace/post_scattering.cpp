@@ -24,7 +24,8 @@
 // truncated: 0.84–1.19) is not in the FDTD field, which it put 0.10–0.12 off, against 0.03–0.09 with one end.
 //
 // Both legs must be clear of everything but thin posts (several posts in line each scatter once: no multiple
-// scattering between posts). Other paths' legs still see a post as an obstacle.
+// scattering between posts), however many posts stand on them: each leg is one ray that looks through every post's
+// triangles (EmbreeScene::occluded_except). Other paths' legs still see a post as an obstacle.
 #include <cmath>
 #include <complex>
 
@@ -39,20 +40,6 @@ namespace {
 
 using C = std::complex<double>;
 
-// A segment clear of everything except thin posts' faces, which it passes through.
-template <typename IsPostFacet>
-bool clear_except_posts(const Scene& scene, const Vec3& origin, const Vec3& dir, double tnear, double tfar,
-                        double step_m, IsPostFacet&& is_post_facet) {
-  const EmbreeScene& bvh = scene.bvh();
-  for (int i = 0; i < 64 && tnear < tfar; ++i) {
-    const RayHit hit = bvh.intersect(origin, dir, tnear, tfar);
-    if (!hit.hit) return true;
-    if (!is_post_facet(scene.facet_of(scene.triangle_id(hit.geom, hit.prim)))) return false;
-    tnear = hit.t + step_m;
-  }
-  return tnear >= tfar;
-}
-
 }  // namespace
 
 void PathFinder::post_scatterings(const Endpoint& ant, const Endpoint& tag, double f, double floor,
@@ -63,7 +50,7 @@ void PathFinder::post_scatterings(const Endpoint& ant, const Endpoint& tag, doub
   const Vec3& t = tag.pose.position;
   const double k = wavenumber_rad_m(f);
   const C full_integral = std::sqrt(kPi) * std::polar(1.0, -0.25 * kPi);
-  const auto is_post = [this](uint32_t facet) { return is_post_facet(facet); };
+  const EmbreeScene& bvh = scene_->bvh();
   for (uint32_t pi = 0; pi < posts.size(); ++pi) {
     const ThinPost& post = posts[pi];
     const Vec3& d = post.direction;
@@ -113,10 +100,9 @@ void PathFinder::post_scatterings(const Endpoint& ant, const Endpoint& tag, doub
     const double end_in = std::min(options_.endpoint_epsilon_m, 0.25 * r1);
     const double end_out = std::min(options_.endpoint_epsilon_m, 0.25 * r2);
     const double leg_in_far = r1 * (1.0 - radius_out / rho_a), leg_out_near = r2 * radius_out / rho_t;
-    if ((leg_in_far > end_in &&
-         !clear_except_posts(*scene_, a, s_hat_in, end_in, leg_in_far, options_.surface_epsilon_m, is_post)) ||
-        (r2 - end_out > leg_out_near &&
-         !clear_except_posts(*scene_, qp, s_hat_out, leg_out_near, r2 - end_out, options_.surface_epsilon_m, is_post)))
+    // One ray per leg: Embree looks through every post's triangles (occluded_except), however many posts it crosses.
+    if (bvh.occluded_except(a, s_hat_in, end_in, leg_in_far, skip_post_triangle, this) ||
+        bvh.occluded_except(qp, s_hat_out, leg_out_near, r2 - end_out, skip_post_triangle, this))
       continue;
     TracedPath p;
     p.kind = PathKind::kPostScattering;

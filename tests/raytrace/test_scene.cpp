@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include "core/error.h"
 #include "raytrace/obj_loader.h"
@@ -199,6 +200,55 @@ TEST(EmbreeScene, HitsMapBackToTrianglesFacetsAndMaterials) {
   EXPECT_EQ(std::abs(f.offset_m), double(2.95f));  // the scene's geometry is float (Scene): exactly that float
   EXPECT_TRUE(scene.bvh().occluded(Vec3(-1, -3.0, 1.985), Vec3(1, 0, 0), 0.0, 4.0));
   EXPECT_FALSE(scene.bvh().occluded(Vec3(-1, -3.0, 1.985), Vec3(1, 0, 0), 0.0, 3.9));
+}
+
+// occluded_except (Embree's context filter) against walking the hits one by one with intersect(): random segments
+// through a generated warehouse, every third triangle transparent. It must see through exactly those: blocked where
+// the walk meets another triangle first, clear where only transparent ones lie on the segment (such segments must
+// occur, or the test would pass with a filter that ignores nothing); with nothing skipped it is occluded(), with
+// everything skipped it is never blocked.
+TEST(EmbreeScene, OccludedExceptLooksThroughTheSkippedTrianglesOnly) {
+  WarehouseParams params;
+  params.rows = 2, params.racks_per_row = 2, params.shelves = 3;
+  const Scene scene(generate_warehouse(params), MaterialAssignment{});
+  const EmbreeScene& bvh = scene.bvh();
+  const auto every_third = [](const void* s, uint32_t geom, uint32_t prim) {
+    return static_cast<const Scene*>(s)->triangle_id(geom, prim) % 3 == 0;
+  };
+  const auto nothing = [](const void*, uint32_t, uint32_t) { return false; };
+  const auto everything = [](const void*, uint32_t, uint32_t) { return true; };
+  Vec3 lo = Vec3::Constant(1e30), hi = Vec3::Constant(-1e30);
+  for (const Facet& f : scene.facets()) lo = lo.cwiseMin(f.lo), hi = hi.cwiseMax(f.hi);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const auto point = [&]() -> Vec3 { return lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(hi - lo); };
+  int through_skipped_only = 0, blocked = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3 a = point(), b = point();
+    const double length = (b - a).norm();
+    const Vec3 dir = (b - a) / length;
+    // The walk: each transparent hit is stepped over by 1 µm (these random segments meet no two triangles closer).
+    bool walk_blocked = false;
+    int crossed = 0;
+    for (double t = 1e-4; t < length - 1e-4;) {
+      const RayHit h = bvh.intersect(a, dir, t, length - 1e-4);
+      if (!h.hit) break;
+      if (!every_third(&scene, h.geom, h.prim)) {
+        walk_blocked = true;
+        break;
+      }
+      ++crossed;
+      t = h.t + 1e-6;
+    }
+    const bool filtered = bvh.occluded_except(a, dir, 1e-4, length - 1e-4, every_third, &scene);
+    EXPECT_EQ(filtered, walk_blocked) << "segment " << i;
+    through_skipped_only += !walk_blocked && crossed > 0;
+    blocked += walk_blocked;
+    EXPECT_EQ(bvh.occluded_except(a, dir, 1e-4, length - 1e-4, nothing, nullptr), bvh.occluded(a, dir, 1e-4, length - 1e-4));
+    EXPECT_FALSE(bvh.occluded_except(a, dir, 1e-4, length - 1e-4, everything, nullptr));
+  }
+  EXPECT_GT(through_skipped_only, 50);  // 75 with this seed
+  EXPECT_GT(blocked, 100);
 }
 
 // Embree shares each mesh's index array instead of copying it (raytrace/embree_scene.h). The scene built from
