@@ -297,6 +297,19 @@ TEST(ObstacleValidity, DiffractionPointAtAnEdgesEndIsFlagged) {
   EXPECT_FALSE(full.obstacle_sight(z_dipole_at(Vec3(0.3, 0.3, 1.0)), z_dipole_at(Vec3(0.35, 0.25, 0.5)), kF).edge_end);
 }
 
+// The edge integral ∫ e^{−jk(L(x) − L_Q)} f(x)/f_Q dx, f = 1/(s s'), over [x0, x0 + length] of the x axis by the
+// midpoint rule (n points), for ends a, t whose Keller point on the axis is the origin.
+std::complex<double> edge_integral_quadrature(const Vec3& a, const Vec3& t, double k, double x0, double length, int n) {
+  const double s_in = a.norm(), s_out = t.norm();
+  std::complex<double> sum{0.0, 0.0};
+  for (int i = 0; i < n; ++i) {
+    const Vec3 p(x0 + (i + 0.5) * length / n, 0, 0);
+    const double si = (a - p).norm(), so = (t - p).norm();
+    sum += std::polar(s_in * s_out / (si * so), -k * (si + so - s_in - s_out)) * (length / n);
+  }
+  return sum;
+}
+
 // The truncation T of the uniform endpoint evaluation: ½ with the Keller point at an end, → 1 deep inside, → 0 far
 // past (its magnitude then falls as 1/τ), against the edge integral summed directly for a long and a short edge.
 TEST(ObstacleValidity, EdgeTruncationIsTheEdgeIntegralsShare) {
@@ -314,18 +327,9 @@ TEST(ObstacleValidity, EdgeTruncationIsTheEdgeIntegralsShare) {
   // edge at its middle (the sheet edge's nearest FDTD observers, kρ = 0.73: there the line's integral is itself
   // 0.06 off its stationary-phase value, UTD's matter and not the ends'). T's first-order end terms agree with the
   // quadrature to 2.4–3.6e-4 at 1 m (allowed 2e-3) and 0.013 at kρ = 0.73 (allowed 0.02), measured 2026-12-06.
-  const auto quadrature = [&](const Vec3& a_, const Vec3& t_, double x0, double length, int n) {
-    const double s_in = a_.norm(), s_out = t_.norm();  // the Keller point is the origin
-    std::complex<double> sum{0.0, 0.0};
-    for (int i = 0; i < n; ++i) {
-      const Vec3 p(x0 + (i + 0.5) * length / n, 0, 0);
-      const double si = (a_ - p).norm(), so = (t_ - p).norm();
-      sum += std::polar(s_in * s_out / (si * so), -k * (si + so - s_in - s_out)) * (length / n);
-    }
-    return sum;
-  };
   const auto share = [&](const Vec3& a_, const Vec3& t_, double x0, double length) {
-    return quadrature(a_, t_, x0, length, 100000) / quadrature(a_, t_, -30.0, 60.0, 2000000);
+    return edge_integral_quadrature(a_, t_, k, x0, length, 100000) /
+           edge_integral_quadrature(a_, t_, k, -30.0, 60.0, 2000000);
   };
   for (const auto& [x0, length] : {std::pair{-0.1, 0.3}, std::pair{0.05, 0.4}, std::pair{-0.6, 0.5}, std::pair{0.0, 3.0}}) {
     const std::complex<double> tr = truncation(x0, length), q = share(a, t, x0, length);
@@ -344,22 +348,12 @@ TEST(ObstacleValidity, EdgeTruncationIsTheEdgeIntegralsShare) {
 TEST(ObstacleValidity, EdgeTruncationIsSteadyAsTheKellerPointReachesAnEnd) {
   const double k = wavenumber_rad_m(kF);
   const Vec3 a(0.0, -1.0, 0.3), t(0.0, 1.2, -0.2);  // the Keller point on the x axis at x = 0
-  const double s_in = a.norm(), s_out = t.norm();
-  const auto quadrature = [&](double x0, double length, int n) {
-    std::complex<double> sum{0.0, 0.0};
-    for (int i = 0; i < n; ++i) {
-      const Vec3 p(x0 + (i + 0.5) * length / n, 0, 0);
-      const double si = (a - p).norm(), so = (t - p).norm();
-      sum += std::polar(s_in * s_out / (si * so), -k * (si + so - s_in - s_out)) * (length / n);
-    }
-    return sum;
-  };
-  const std::complex<double> line = quadrature(-30.0, 60.0, 2000000);
+  const std::complex<double> line = edge_integral_quadrature(a, t, k, -30.0, 60.0, 2000000);
   for (double off : {1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9}) {
     for (double side : {-1.0, 1.0}) {
       const double end = side * off;  // the edge [−0.5, end]: the Keller point inside (end > 0) or past it
       const std::complex<double> tr = edge_truncation(Vec3(-0.5, 0, 0), Vec3::UnitX(), 0.5 + end, a, t, k);
-      const std::complex<double> q = quadrature(-0.5, 0.5 + end, 20000) / line;
+      const std::complex<double> q = edge_integral_quadrature(a, t, k, -0.5, 0.5 + end, 20000) / line;
       EXPECT_NEAR(std::abs(tr - q), 0.0, 2e-3) << "end at " << end << " m: T " << tr << ", quadrature " << q;
     }
   }
