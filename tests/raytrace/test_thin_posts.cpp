@@ -128,7 +128,7 @@ TEST(ThinPosts, APostBehindManyOthersStillScatters) {
   const auto paths = c.paths(z_dipole_at(Vec3(-1.0, 0.025, 0.1)), z_dipole_at(Vec3(-1.5, 0.025, -0.1)), kF);
   std::vector<bool> scattered(kPosts, false);
   for (const Path& q : paths)
-    if (q.kind == PathKind::kPostScattering) scattered[static_cast<size_t>(std::lround(q.point.x() / 0.5))] = true;
+    if (q.kind == PathKind::kPostScattering) scattered.at(static_cast<size_t>(std::lround(q.point.x() / 0.5))) = true;
   for (int i = 0; i < kPosts; ++i) EXPECT_TRUE(scattered[i]) << "post " << i;
 }
 
