@@ -186,6 +186,37 @@ CylinderField cylinder_scattered(const CylinderCoefficients& c, double k_rho_sou
   return out;
 }
 
+CylinderScatteringBound::CylinderScatteringBound(double ka_max) {
+  const CylinderCoefficients c = cylinder_coefficients(ka_max);  // throws outside (0, kCylinderMaxKa]
+  std::array<C, kCylinderMaxTerms> h{};
+  hankel2_orders(kCylinderBoundMinX, kCylinderMaxTerms, h.data());
+  // Where |c_n| is known to grow with ka (the header): the first zeros of Y_0 and Y_1 (A&S table 9.5), as lower bounds.
+  constexpr double kY0FirstZero = 0.8935, kY1FirstZero = 2.1971;
+  double soft = 0.0, hard = 0.0;
+  for (int n = 0; n < kCylinderMaxTerms; ++n) {
+    const double m_n = n == 0 ? 2.0 / kPi : kCylinderBoundMinX * std::norm(h[n]);
+    if (!std::isfinite(m_n)) break;  // past where Y_n overflows: c_n underflowed long before
+    const double soft_limit = n == 0 ? kY0FirstZero : std::max(kY1FirstZero, static_cast<double>(n));
+    const double hard_limit = n == 0 ? kY1FirstZero : static_cast<double>(n);
+    const double c_soft = n >= c.terms ? 1.0 : ka_max < soft_limit ? std::abs(c.soft[n]) : 1.0;
+    const double c_hard = n >= c.terms ? 1.0 : ka_max < hard_limit ? std::abs(c.hard[n]) : 1.0;
+    const double weight = (n == 0 ? 1.0 : 2.0) * m_n;
+    soft += weight * c_soft;
+    hard += weight * c_hard;
+  }
+  soft_sum_ = soft;
+  hard_sum_ = hard;
+}
+
+CylinderField CylinderScatteringBound::ratio(double k_rho_source, double k_rho_observer) const {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  if (!(k_rho_source >= kCylinderBoundMinX && k_rho_observer >= kCylinderBoundMinX)) return {kInf, kInf};
+  // Σ ε_n C_n M_n / √(xs xo) over √(2/(π (xs + xo))); 1 % for the rounding of the series and its Hankel expansion.
+  const double scale =
+      1.01 * std::sqrt(0.5 * kPi * (k_rho_source + k_rho_observer) / (k_rho_source * k_rho_observer));
+  return {soft_sum_ * scale, hard_sum_ * scale};
+}
+
 std::complex<double> cylinder_scattered(const CylinderCoefficients& c, CylinderPolarization polarization,
                                         double k_rho_source, double k_rho_observer, double delta_phi_rad) {
   const CylinderField f = cylinder_scattered(c, k_rho_source, k_rho_observer, delta_phi_rad);

@@ -26,8 +26,10 @@
 // Both legs must be clear of everything but thin posts (several posts in line each scatter once: no multiple
 // scattering between posts), however many posts stand on them: each leg is one ray that looks through every post's
 // triangles (EmbreeScene::occluded_except). Other paths' legs still see a post as an obstacle.
+#include <array>
 #include <cmath>
 #include <complex>
+#include <utility>
 
 #include "core/cylinder_scattering.h"
 #include "core/units.h"
@@ -51,6 +53,24 @@ void PathFinder::post_scatterings(const Endpoint& ant, const Endpoint& tag, doub
   const double k = wavenumber_rad_m(f);
   const C full_integral = std::sqrt(kPi) * std::polar(1.0, -0.25 * kPi);
   const EmbreeScene& bvh = scene_->bvh();
+  // |h_post| ≤ √(G_A G_T) · λ/(4πL) · |T| · (B_s |e_β| |p_T(β̂)| + B_h |e_φ| |p_T(φ̂)|), p_T the tag's polarization
+  // match (linear in the field it receives) and B_s, B_h the cylinder's bounds of |R_s|, |R_h| for every k_t ≤ k
+  // (core/cylinder_scattering.h): a post below the floor by it is skipped before its coefficients and series, as it
+  // would be after them. One bound per post radius and link, a few per scene.
+  const double lambda = wavelength_m(f);
+  std::array<std::pair<double, CylinderScatteringBound>, 8> bounds{};  // (radius rounded up, its bound)
+  size_t bound_count = 0;
+  const auto bound_for = [&](double radius_m) -> const CylinderScatteringBound* {
+    // Rounded up to 0.1 mm: a bound holds for every thinner cylinder, and posts of one size have radii that differ
+    // in the last digits (each its own cross-section's capacity).
+    const double key = std::ceil(radius_m * 1e4) * 1e-4;
+    for (size_t i = 0; i < bound_count; ++i)
+      if (bounds[i].first == key) return &bounds[i].second;
+    const double ka_max = k * key;
+    if (!(ka_max > 0.0 && ka_max <= kCylinderMaxKa) || bound_count == bounds.size()) return nullptr;
+    bounds[bound_count] = {key, CylinderScatteringBound(ka_max)};
+    return &bounds[bound_count++].second;
+  };
   for (uint32_t pi = 0; pi < posts.size(); ++pi) {
     const ThinPost& post = posts[pi];
     const Vec3& d = post.direction;
@@ -72,11 +92,6 @@ void PathFinder::post_scatterings(const Endpoint& ant, const Endpoint& tag, doub
     const double ka = k_t * post.radius_m;
     if (!(ka > 0.0) || ka > kCylinderMaxKa) continue;  // not thin at this frequency (≥ 40 GHz for a 0.15 m post)
     const double xs = k_t * rho_a, xo = k_t * rho_t;
-    const double delta_phi = std::atan2(d.dot(va.cross(vt)), va.dot(vt));
-    const CylinderCoefficients c = cylinder_coefficients(ka, cylinder_terms(ka, xs, xo));
-    const C far = hankel2_zero_far(k_t * lt);
-    const CylinderField u = cylinder_scattered(c, xs, xo, delta_phi);
-    const C r_soft = u.soft / far * truncation, r_hard = u.hard / far * truncation;
     const Vec3 qp = post.base + zs * d;
     const Vec3 s_hat_in = (qp - a) / r1, s_hat_out = (t - qp) / r2;
     // Edge-fixed bases (KP), as for a diffracted ray: φ̂' = −ê × ŝ' / |·|, β̂0' = φ̂' × ŝ', φ̂ = ê × ŝ / |·|, β̂0 = φ̂ × ŝ.
@@ -87,9 +102,25 @@ void PathFinder::post_scatterings(const Endpoint& ant, const Endpoint& tag, doub
     const CVec3 e_in = ant.polarization.field(ant.pose.orientation, s_hat_in);
     const C e_beta = beta_in.cast<C>().dot(e_in);
     const C e_phi = phi_in.cast<C>().dot(e_in);
-    const CVec3 e_out = -(r_soft * e_beta) * beta_out.cast<C>() - (r_hard * e_phi) * phi_out.cast<C>();
     const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, s_hat_in) *
                                   tag.pattern.gain_linear_world(tag.pose.orientation, -s_hat_out));
+    if (const CylinderScatteringBound* bound = bound_for(post.radius_m)) {
+      // The tag's match is linear in the field: |p_T(e_out)| ≤ |R_s||e_β||p_T(β̂)| + |R_h||e_φ||p_T(φ̂)|.
+      const CylinderField most_r = bound->ratio(xs, xo);  // +∞ (an end too close for the bound) never skips
+      const auto match = [&](const Vec3& v) {
+        return std::abs(polarization_match(v.cast<C>(), tag.polarization, tag.pose.orientation, s_hat_out));
+      };
+      const double most = gain * std::abs(truncation) * lambda / (4.0 * kPi * length) *
+                          (most_r.soft.real() * std::abs(e_beta) * match(beta_out) +
+                           most_r.hard.real() * std::abs(e_phi) * match(phi_out));
+      if (most * most < floor) continue;
+    }
+    const double delta_phi = std::atan2(d.dot(va.cross(vt)), va.dot(vt));
+    const CylinderCoefficients c = cylinder_coefficients(ka, cylinder_terms(ka, xs, xo));
+    const C far = hankel2_zero_far(k_t * lt);
+    const CylinderField u = cylinder_scattered(c, xs, xo, delta_phi);
+    const C r_soft = u.soft / far * truncation, r_hard = u.hard / far * truncation;
+    const CVec3 e_out = -(r_soft * e_beta) * beta_out.cast<C>() - (r_hard * e_phi) * phi_out.cast<C>();
     const C coefficient = gain * polarization_match(e_out, tag.polarization, tag.pose.orientation, s_hat_out);
     const C contribution = path_contribution(length, coefficient, f);
     if (std::norm(contribution) < floor) continue;  // would be dropped: no ray for it
