@@ -12,6 +12,22 @@
 namespace rfidray {
 namespace {
 
+// A welded point or a grid cell: three integer coordinates, hashed for the unordered maps below (a std::map of these
+// was a third of w1m's edge extraction).
+using IntPoint = std::tuple<int64_t, int64_t, int64_t>;
+struct IntPointHash {
+  size_t operator()(const IntPoint& p) const {
+    // splitmix64's finalizer over a combination of the three.
+    uint64_t h = static_cast<uint64_t>(std::get<0>(p)) * 0x9E3779B97F4A7C15ull;
+    h ^= static_cast<uint64_t>(std::get<1>(p)) + 0xBF58476D1CE4E5B9ull + (h << 6) + (h >> 2);
+    h ^= static_cast<uint64_t>(std::get<2>(p)) + 0x94D049BB133111EBull + (h << 6) + (h >> 2);
+    h ^= h >> 31;
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 29;
+    return static_cast<size_t>(h);
+  }
+};
+
 // A piece of a facet's outline: welded endpoint ids (sorted), positions, and a point inside the facet's
 // triangle that owns it (to tell which way the facet lies from the edge).
 struct OutlinePiece {
@@ -67,7 +83,7 @@ class FacetGrid {
     return {static_cast<int64_t>(std::floor(p.x())), static_cast<int64_t>(std::floor(p.y())),
             static_cast<int64_t>(std::floor(p.z()))};
   }
-  std::map<std::tuple<int64_t, int64_t, int64_t>, std::vector<uint32_t>> cells_;
+  std::unordered_map<IntPoint, std::vector<uint32_t>, IntPointHash> cells_;
   std::vector<uint32_t> large_;
 };
 
@@ -84,17 +100,20 @@ std::vector<Edge> extract_edges(const Scene& scene, const EdgeOptions& options) 
   const auto& facets = scene.facets();
   const Vec3 origin = scene.local_origin();
   // Weld every facet vertex across meshes (1 µm grid, as merge_facets does within a mesh).
-  std::map<std::tuple<int64_t, int64_t, int64_t>, uint32_t> ids;
+  // Ids in the order points are first met, as a std::map gave them (the edges' order follows from them).
+  std::unordered_map<IntPoint, uint32_t, IntPointHash> ids;
+  ids.reserve(scene.triangle_count());
   auto id_of = [&](const Vec3& v) {
     const Vec3 r = (v - origin) * 1e6;
     return ids.emplace(std::tuple{std::llround(r.x()), std::llround(r.y()), std::llround(r.z())},
                        static_cast<uint32_t>(ids.size()))
         .first->second;
   };
-  // Outline pieces of every facet: triangle edges used once inside it.
-  std::map<uint64_t, std::vector<OutlinePiece>> pieces;
+  // Outline pieces of every facet: triangle edges used once inside it, keyed by their welded ends, in facet order.
+  std::vector<std::pair<uint64_t, OutlinePiece>> pieces;
+  std::vector<std::pair<uint64_t, OutlinePiece>> facet_pieces;  // one facet's triangle edges, scratch
   for (uint32_t f = 0; f < facets.size(); ++f) {
-    std::map<uint64_t, std::pair<int, OutlinePiece>> count;
+    facet_pieces.clear();
     for (uint32_t tri : facets[f].triangles) {
       const auto c = scene.corners(tri);
       const Vec3 centroid = (c[0] + c[1] + c[2]) / 3.0;
@@ -106,13 +125,21 @@ std::vector<Edge> extract_edges(const Scene& scene, const EdgeOptions& options) 
           std::swap(a, b);
           std::swap(pa, pb);
         }
-        auto& entry = count[(a << 32) | b];
-        if (entry.first++ == 0) entry.second = {f, pa, pb, centroid};
+        facet_pieces.push_back({(a << 32) | b, OutlinePiece{f, pa, pb, centroid}});
       }
     }
-    for (const auto& [key, entry] : count)
-      if (entry.first == 1) pieces[key].push_back(entry.second);
+    // A key met once is outline (the order among a key's pieces is then moot: they are dropped).
+    std::sort(facet_pieces.begin(), facet_pieces.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (size_t i = 0; i < facet_pieces.size();) {
+      size_t j = i + 1;
+      while (j < facet_pieces.size() && facet_pieces[j].first == facet_pieces[i].first) ++j;
+      if (j - i == 1) pieces.push_back(facet_pieces[i]);
+      i = j;
+    }
   }
+  // By key, as a std::map<key, vector> of them iterated. Within a key the order is moot: one piece is a free edge,
+  // two are ordered by their facets below, more are not an edge.
+  std::sort(pieces.begin(), pieces.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
   // Classify each piece; collect wedge / free segments per (facet a, facet b).
   struct Segment {
     Vec3 p0, p1, inside_a, inside_b;
@@ -120,9 +147,14 @@ std::vector<Edge> extract_edges(const Scene& scene, const EdgeOptions& options) 
   std::map<std::pair<uint32_t, uint32_t>, std::vector<Segment>> groups;
   const FacetGrid grid(scene);
   const double cos_flat = std::cos(options.flat_tolerance_rad);
-  for (const auto& [key, list] : pieces) {
-    if (list.size() == 1) {
-      const OutlinePiece& p = list[0];
+  for (size_t first = 0; first < pieces.size();) {
+    size_t last = first + 1;
+    while (last < pieces.size() && pieces[last].first == pieces[first].first) ++last;
+    const size_t count = last - first;  // outline pieces with these ends: 1 free, 2 between two facets
+    const OutlinePiece& p = pieces[first].second;
+    const OutlinePiece& other = pieces[std::min(first + 1, last - 1)].second;
+    first = last;
+    if (count == 1) {
       // A junction: the piece lies on another facet (tested at its midpoint and quarter points).
       bool junction = false;
       for (double s : {0.25, 0.5, 0.75}) {
@@ -132,9 +164,9 @@ std::vector<Edge> extract_edges(const Scene& scene, const EdgeOptions& options) 
         });
       }
       if (!junction) groups[{p.facet, kNoEdge}].push_back({p.p0, p.p1, p.inside, p.inside});
-    } else if (list.size() == 2 && list[0].facet != list[1].facet) {
-      const OutlinePiece &a = list[0].facet < list[1].facet ? list[0] : list[1];
-      const OutlinePiece &b = list[0].facet < list[1].facet ? list[1] : list[0];
+    } else if (count == 2 && p.facet != other.facet) {
+      const OutlinePiece& a = p.facet < other.facet ? p : other;
+      const OutlinePiece& b = p.facet < other.facet ? other : p;
       if (std::abs(facets[a.facet].normal.dot(facets[b.facet].normal)) > cos_flat) continue;  // (near) coplanar
       groups[{a.facet, b.facet}].push_back({a.p0, a.p1, a.inside, b.inside});
     }

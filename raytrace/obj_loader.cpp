@@ -24,11 +24,16 @@ namespace {
 struct FaceRecord {
   size_t line = 0;
   int vertex_count = 0;
-  std::string usemtl;
+  uint32_t usemtl = 0;  // into ObjValidation::usemtl_names (a name copied per face was a fifth of a 1 M-face load)
+};
+struct ObjValidation {
+  std::vector<FaceRecord> faces;
+  std::vector<std::string> usemtl_names{std::string()};  // 0: before any `usemtl`
 };
 
-std::vector<std::string_view> split_ws(std::string_view s) {
-  std::vector<std::string_view> out;
+// The whitespace-separated tokens of `s` into `out` (cleared first: one vector for every line of a file).
+void split_ws(std::string_view s, std::vector<std::string_view>& out) {
+  out.clear();
   size_t i = 0;
   while (i < s.size()) {
     while (i < s.size() && (s[i] == ' ' || s[i] == '\t' || s[i] == '\r')) ++i;
@@ -37,7 +42,6 @@ std::vector<std::string_view> split_ws(std::string_view s) {
     if (j > i) out.push_back(s.substr(i, j - i));
     i = j;
   }
-  return out;
 }
 
 bool parse_double(std::string_view t, double& v) {
@@ -52,7 +56,7 @@ bool parse_int(std::string_view t, long long& v) {
 }
 
 // Validates the file line by line; returns the face records in file order.
-std::vector<FaceRecord> validate_obj(const std::filesystem::path& path) {
+ObjValidation validate_obj(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
     throw InputError(path.string() + ": cannot open OBJ file (not a regular file)");
@@ -62,13 +66,16 @@ std::vector<FaceRecord> validate_obj(const std::filesystem::path& path) {
   auto fail = [&](size_t line, const std::string& what) {
     return InputError(file + ":" + std::to_string(line) + ": " + what);
   };
-  std::vector<FaceRecord> faces;
-  std::string line, usemtl;
+  ObjValidation out;
+  std::vector<FaceRecord>& faces = out.faces;
+  std::string line;
+  uint32_t usemtl = 0;
   long long nv = 0, nvt = 0, nvn = 0;
   size_t line_no = 0;
+  std::vector<std::string_view> tok;
   while (std::getline(in, line)) {
     ++line_no;
-    const auto tok = split_ws(line);
+    split_ws(line, tok);
     if (tok.empty() || tok[0].front() == '#') continue;
     const std::string_view key = tok[0];
     if (key == "v" || key == "vn" || key == "vt") {
@@ -112,7 +119,9 @@ std::vector<FaceRecord> validate_obj(const std::filesystem::path& path) {
       faces.push_back({line_no, static_cast<int>(tok.size() - 1), usemtl});
     } else if (key == "usemtl") {
       if (tok.size() < 2) throw fail(line_no, "'usemtl' without a material name");
-      usemtl = std::string(tok[1]);
+      const auto& names = out.usemtl_names;
+      usemtl = static_cast<uint32_t>(std::find(names.begin(), names.end(), tok[1]) - names.begin());
+      if (usemtl == names.size()) out.usemtl_names.emplace_back(tok[1]);
     } else if (key == "mtllib") {
       // The OBJ parser reads the material library whole: a device or FIFO would never end.
       for (size_t i = 1; i < tok.size(); ++i) {
@@ -122,7 +131,7 @@ std::vector<FaceRecord> validate_obj(const std::filesystem::path& path) {
       }
     }
   }
-  return faces;
+  return out;
 }
 
 std::vector<std::string> split_lines(const std::string& text, const std::string& prefix) {
@@ -144,7 +153,8 @@ uint32_t material_slot(TriangleMesh& mesh, const std::string& name) {
 }  // namespace
 
 ObjScene load_obj(const std::filesystem::path& path) {
-  const std::vector<FaceRecord> records = validate_obj(path);
+  const ObjValidation validation = validate_obj(path);
+  const std::vector<FaceRecord>& records = validation.faces;
   const std::string file = path.string();
 
   tinyobj::ObjReaderConfig config;
@@ -190,7 +200,7 @@ ObjScene load_obj(const std::filesystem::path& path) {
         throw InputError(file + (k < records.size() ? ":" + std::to_string(records[k].line) : std::string()) +
                          ": face " + std::to_string(k + 1) + " could not be matched to its line");
       const FaceRecord& rec = records[k++];
-      const uint32_t mat = material_slot(mesh, rec.usemtl);
+      const uint32_t mat = material_slot(mesh, validation.usemtl_names[rec.usemtl]);
       const uint32_t v0 = vertex(shape.mesh.indices[offset]);
       for (size_t i = 1; i + 1 < n; ++i) {
         mesh.triangles.push_back({v0, vertex(shape.mesh.indices[offset + i]), vertex(shape.mesh.indices[offset + i + 1])});
