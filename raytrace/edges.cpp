@@ -117,8 +117,9 @@ std::vector<Edge> extract_edges(const Scene& scene, const EdgeOptions& options) 
     for (uint32_t tri : facets[f].triangles) {
       const auto c = scene.corners(tri);
       const Vec3 centroid = (c[0] + c[1] + c[2]) / 3.0;
+      const uint64_t id[3] = {id_of(c[0]), id_of(c[1]), id_of(c[2])};  // in the order the edge loop met them
       for (int k = 0; k < 3; ++k) {
-        uint64_t a = id_of(c[k]), b = id_of(c[(k + 1) % 3]);
+        uint64_t a = id[k], b = id[(k + 1) % 3];
         if (a == b) continue;
         Vec3 pa = c[k], pb = c[(k + 1) % 3];
         if (a > b) {
