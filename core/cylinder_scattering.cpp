@@ -208,7 +208,7 @@ CylinderScatteringBound::CylinderScatteringBound(double ka_max) {
   hard_sum_ = hard;
 }
 
-CylinderField CylinderScatteringBound::ratio(double k_rho_source, double k_rho_observer) const {
+CylinderBoundRatios CylinderScatteringBound::ratio(double k_rho_source, double k_rho_observer) const {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   if (!(k_rho_source >= kCylinderBoundMinX && k_rho_observer >= kCylinderBoundMinX)) return {kInf, kInf};
   // Σ ε_n C_n M_n / √(xs xo) over √(2/(π (xs + xo))); 1 % for the rounding of the series and its Hankel expansion.

@@ -68,20 +68,23 @@ void hankel2_orders(double x, int count, std::complex<double>* out, int signific
 //   |u_s| ≤ Σ_n ε_n C_n M_n / √(kρ' kρ),   |H0_far(x)| = √(2/(πx)),
 // M_0 = 2/π and M_n = x₀ |H_n(x₀)|² at x₀ = kCylinderBoundMinX for n ≥ 1: x |H_n(x)|² increases towards 2/π for
 // n = 0 and decreases for n ≥ 1 (Nicholson's formula; Watson, "A Treatise on the Theory of Bessel Functions",
-// §13.74; DLMF §10.18(iii)). C_n = |c_n(ka_max)| where |c_n| grows with ka on (0, ka_max] — soft n = 0 below Y_0's first
-// zero (0.8936), soft n ≥ 1 and hard n = 0 (= soft c_1) below 2.197 (Y_1's) or n, hard n ≥ 1 below n: there
+// §13.74; DLMF §10.18(iii)). C_n = |c_n(ka_max)| where |c_n| grows with ka on (0, ka_max] — soft n = 0 below Y_0's
+// first zero (0.8936), soft n ≥ 1 and hard n = 0 (= soft c_1) below 2.197 (Y_1's) or n, hard n ≥ 1 below n: there
 // J_n, Y_n keep their signs and Y_n/J_n (or Y'_n/J'_n) moves monotonically, by the Wronskian 2/(πx) — and C_n = 1
-// otherwise (|c_n| ≤ 1 always: |J| ≤ |H|). Within 1 % of the true bound's arithmetic (tests/core/test_cylinder_scattering.cpp
-// checks it against the series). Value type; thread-safe once built; the constructor throws std::invalid_argument for
-// ka_max ≤ 0 or > kCylinderMaxKa.
+// otherwise (|c_n| ≤ 1 always: |J| ≤ |H|). It carries 1 % more for the rounding of the series and of its Hankel
+// expansion (tests/core/test_cylinder_scattering.cpp checks it against the series). Value type; thread-safe once
+// built; the constructor throws std::invalid_argument for ka_max ≤ 0 or > kCylinderMaxKa.
 inline constexpr double kCylinderBoundMinX = 10.0;
+struct CylinderBoundRatios {
+  double soft, hard;
+};
 class CylinderScatteringBound {
  public:
   CylinderScatteringBound() = default;  // bounds nothing: ratio() is +∞
   explicit CylinderScatteringBound(double ka_max);
   // The bound of each polarization for kρ' = `k_rho_source`, kρ = `k_rho_observer`; +∞ unless both are ≥
   // kCylinderBoundMinX. (A thin post's hard bound is far below its soft one: c_n^hard ~ (ka)², c_0^soft ~ 1/ln ka.)
-  CylinderField ratio(double k_rho_source, double k_rho_observer) const;  // real values in .soft, .hard
+  CylinderBoundRatios ratio(double k_rho_source, double k_rho_observer) const;
 
  private:
   double soft_sum_ = std::numeric_limits<double>::infinity();  // Σ ε_n C_n M_n per polarization

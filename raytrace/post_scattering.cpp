@@ -106,13 +106,13 @@ void PathFinder::post_scatterings(const Endpoint& ant, const Endpoint& tag, doub
                                   tag.pattern.gain_linear_world(tag.pose.orientation, -s_hat_out));
     if (const CylinderScatteringBound* bound = bound_for(post.radius_m)) {
       // The tag's match is linear in the field: |p_T(e_out)| ≤ |R_s||e_β||p_T(β̂)| + |R_h||e_φ||p_T(φ̂)|.
-      const CylinderField most_r = bound->ratio(xs, xo);  // +∞ (an end too close for the bound) never skips
+      const CylinderBoundRatios most_r = bound->ratio(xs, xo);  // +∞ (an end too close for the bound) never skips
       const auto match = [&](const Vec3& v) {
         return std::abs(polarization_match(v.cast<C>(), tag.polarization, tag.pose.orientation, s_hat_out));
       };
       const double most = gain * std::abs(truncation) * lambda / (4.0 * kPi * length) *
-                          (most_r.soft.real() * std::abs(e_beta) * match(beta_out) +
-                           most_r.hard.real() * std::abs(e_phi) * match(phi_out));
+                          (most_r.soft * std::abs(e_beta) * match(beta_out) +
+                           most_r.hard * std::abs(e_phi) * match(phi_out));
       if (most * most < floor) continue;
     }
     const double delta_phi = std::atan2(d.dot(va.cross(vt)), va.dot(vt));
