@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <tuple>
 #include <unordered_map>
@@ -100,24 +101,42 @@ std::vector<Edge> extract_edges(const Scene& scene, const EdgeOptions& options) 
   const auto& facets = scene.facets();
   const Vec3 origin = scene.local_origin();
   // Weld every facet vertex across meshes (1 µm grid, as merge_facets does within a mesh).
-  // Ids in the order points are first met, as a std::map gave them (the edges' order follows from them).
+  // Ids in the order points are first met, as a std::map gave them (the edges' order follows from them). A mesh
+  // vertex looks its point up once; its other corners read the id it got (a lookup per corner missed cache).
+  const auto& meshes = scene.meshes();
+  constexpr uint32_t kUnwelded = std::numeric_limits<uint32_t>::max();
+  std::vector<std::vector<uint32_t>> weld(meshes.size());  // per mesh vertex: its id, or kUnwelded
+  size_t vertices = 0;
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    weld[m].assign(meshes[m].vertex_count(), kUnwelded);
+    vertices += meshes[m].vertex_count();
+  }
   std::unordered_map<IntPoint, uint32_t, IntPointHash> ids;
-  ids.reserve(scene.triangle_count());
-  auto id_of = [&](const Vec3& v) {
-    const Vec3 r = (v - origin) * 1e6;
-    return ids.emplace(std::tuple{std::llround(r.x()), std::llround(r.y()), std::llround(r.z())},
+  ids.reserve(vertices);
+  auto id_of = [&](uint32_t mesh, uint32_t vertex, const Vec3& v) {
+    uint32_t& id = weld[mesh][vertex];
+    if (id == kUnwelded) {
+      const Vec3 r = (v - origin) * 1e6;
+      id = ids.emplace(std::tuple{std::llround(r.x()), std::llround(r.y()), std::llround(r.z())},
                        static_cast<uint32_t>(ids.size()))
-        .first->second;
+               .first->second;
+    }
+    return id;
   };
   // Outline pieces of every facet: triangle edges used once inside it, keyed by their welded ends, in facet order.
   std::vector<std::pair<uint64_t, OutlinePiece>> pieces;
+  pieces.reserve(scene.triangle_count() + scene.triangle_count() / 2);  // ~1.2 per triangle on w1m; grown copies cost
   std::vector<std::pair<uint64_t, OutlinePiece>> facet_pieces;  // one facet's triangle edges, scratch
   for (uint32_t f = 0; f < facets.size(); ++f) {
     facet_pieces.clear();
+    const uint32_t mesh = facets[f].mesh;
+    const uint32_t first_triangle = scene.triangle_id(mesh, 0);
     for (uint32_t tri : facets[f].triangles) {
-      const auto c = scene.corners(tri);
+      const auto c = scene.corners(mesh, tri);
+      const auto& v = meshes[mesh].triangles[tri - first_triangle];
       const Vec3 centroid = (c[0] + c[1] + c[2]) / 3.0;
-      const uint64_t id[3] = {id_of(c[0]), id_of(c[1]), id_of(c[2])};  // in the order the edge loop met them
+      // In the order the edge loop below met them.
+      const uint64_t id[3] = {id_of(mesh, v[0], c[0]), id_of(mesh, v[1], c[1]), id_of(mesh, v[2], c[2])};
       for (int k = 0; k < 3; ++k) {
         uint64_t a = id[k], b = id[(k + 1) % 3];
         if (a == b) continue;
