@@ -29,7 +29,6 @@
 #include <array>
 #include <cmath>
 #include <complex>
-#include <utility>
 
 #include "core/cylinder_scattering.h"
 #include "core/units.h"
@@ -56,20 +55,28 @@ void PathFinder::post_scatterings(const Endpoint& ant, const Endpoint& tag, doub
   // |h_post| ≤ √(G_A G_T) · λ/(4πL) · |T| · (B_s |e_β| |p_T(β̂)| + B_h |e_φ| |p_T(φ̂)|), p_T the tag's polarization
   // match (linear in the field it receives) and B_s, B_h the cylinder's bounds of |R_s|, |R_h| for every k_t ≤ k
   // (core/cylinder_scattering.h): a post below the floor by it is skipped before its coefficients and series, as it
-  // would be after them. One bound per post radius and link, a few per scene.
+  // would be after them. One bound per post radius and frequency, a few per scene, kept per thread across links (a
+  // pure function of k and the radius: which thread computed it changes nothing).
   const double lambda = wavelength_m(f);
-  std::array<std::pair<double, CylinderScatteringBound>, 8> bounds{};  // (radius rounded up, its bound)
-  size_t bound_count = 0;
+  struct CachedBound {
+    double k = 0.0, radius_m = 0.0;  // the radius rounded up
+    CylinderScatteringBound bound;
+  };
+  thread_local std::array<CachedBound, 16> tl_bounds{};
+  thread_local size_t tl_bound_count = 0, tl_bound_next = 0;
   const auto bound_for = [&](double radius_m) -> const CylinderScatteringBound* {
     // Rounded up to 0.1 mm: a bound holds for every thinner cylinder, and posts of one size have radii that differ
     // in the last digits (each its own cross-section's capacity).
     const double key = std::ceil(radius_m * 1e4) * 1e-4;
-    for (size_t i = 0; i < bound_count; ++i)
-      if (bounds[i].first == key) return &bounds[i].second;
+    for (size_t i = 0; i < tl_bound_count; ++i)
+      if (tl_bounds[i].k == k && tl_bounds[i].radius_m == key) return &tl_bounds[i].bound;
     const double ka_max = k * key;
-    if (!(ka_max > 0.0 && ka_max <= kCylinderMaxKa) || bound_count == bounds.size()) return nullptr;
-    bounds[bound_count] = {key, CylinderScatteringBound(ka_max)};
-    return &bounds[bound_count++].second;
+    if (!(ka_max > 0.0 && ka_max <= kCylinderMaxKa)) return nullptr;
+    CachedBound& slot = tl_bounds[tl_bound_next];  // the oldest once full
+    slot = {k, key, CylinderScatteringBound(ka_max)};
+    tl_bound_next = (tl_bound_next + 1) % tl_bounds.size();
+    if (tl_bound_count < tl_bounds.size()) ++tl_bound_count;
+    return &slot.bound;
   };
   for (uint32_t pi = 0; pi < posts.size(); ++pi) {
     const ThinPost& post = posts[pi];
