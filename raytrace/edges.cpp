@@ -4,30 +4,14 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <tuple>
 #include <unordered_map>
 
 #include "core/units.h"
+#include "raytrace/grid_key.h"
 #include "raytrace/scene.h"
 
 namespace rfidray {
 namespace {
-
-// A welded point or a grid cell: three integer coordinates, hashed for the unordered maps below (a std::map of these
-// was a third of w1m's edge extraction).
-using IntPoint = std::tuple<int64_t, int64_t, int64_t>;
-struct IntPointHash {
-  size_t operator()(const IntPoint& p) const {
-    // splitmix64's finalizer over a combination of the three.
-    uint64_t h = static_cast<uint64_t>(std::get<0>(p)) * 0x9E3779B97F4A7C15ull;
-    h ^= static_cast<uint64_t>(std::get<1>(p)) + 0xBF58476D1CE4E5B9ull + (h << 6) + (h >> 2);
-    h ^= static_cast<uint64_t>(std::get<2>(p)) + 0x94D049BB133111EBull + (h << 6) + (h >> 2);
-    h ^= h >> 31;
-    h *= 0xBF58476D1CE4E5B9ull;
-    h ^= h >> 29;
-    return static_cast<size_t>(h);
-  }
-};
 
 // A piece of a facet's outline: welded endpoint ids (sorted), positions, and a point inside the facet's
 // triangle that owns it (to tell which way the facet lies from the edge).
@@ -84,7 +68,7 @@ class FacetGrid {
     return {static_cast<int64_t>(std::floor(p.x())), static_cast<int64_t>(std::floor(p.y())),
             static_cast<int64_t>(std::floor(p.z()))};
   }
-  std::unordered_map<IntPoint, std::vector<uint32_t>, IntPointHash> cells_;
+  std::unordered_map<GridKey, std::vector<uint32_t>, GridHash> cells_;
   std::vector<uint32_t> large_;
 };
 
@@ -111,13 +95,13 @@ std::vector<Edge> extract_edges(const Scene& scene, const EdgeOptions& options) 
     weld[m].assign(meshes[m].vertex_count(), kUnwelded);
     vertices += meshes[m].vertex_count();
   }
-  std::unordered_map<IntPoint, uint32_t, IntPointHash> ids;
+  std::unordered_map<GridKey, uint32_t, GridHash> ids;
   ids.reserve(vertices);
   auto id_of = [&](uint32_t mesh, uint32_t vertex, const Vec3& v) {
     uint32_t& id = weld[mesh][vertex];
     if (id == kUnwelded) {
       const Vec3 r = (v - origin) * 1e6;
-      id = ids.emplace(std::tuple{std::llround(r.x()), std::llround(r.y()), std::llround(r.z())},
+      id = ids.emplace(GridKey{std::llround(r.x()), std::llround(r.y()), std::llround(r.z())},
                        static_cast<uint32_t>(ids.size()))
                .first->second;
     }

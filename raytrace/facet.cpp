@@ -4,23 +4,12 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "raytrace/grid_key.h"
+
 namespace rfidray {
 namespace {
 
-// Vertices are welded by position (OBJ exporters often duplicate vertices per face), on a 1 µm grid.
-struct GridKey {
-  int64_t x, y, z;
-  bool operator==(const GridKey&) const = default;
-};
-struct GridHash {
-  size_t operator()(const GridKey& k) const {
-    // Unsigned arithmetic: wraps instead of overflowing (the keys of georeferenced meshes reach ~1e13).
-    return static_cast<size_t>(static_cast<uint64_t>(k.x) * 73856093ULL) ^
-           static_cast<size_t>(static_cast<uint64_t>(k.y) * 19349663ULL) ^
-           static_cast<size_t>(static_cast<uint64_t>(k.z) * 83492791ULL);
-  }
-};
-
+// Vertices are welded by position (OBJ exporters often duplicate vertices per face), on a 1 µm grid (GridKey).
 std::vector<uint32_t> weld(const TriangleMesh& mesh, const Vec3& origin) {
   std::unordered_map<GridKey, uint32_t, GridHash> ids;
   ids.reserve(mesh.vertices.size());
