@@ -67,7 +67,8 @@ void PathFinder::post_scatterings(const Endpoint& ant, const Endpoint& tag, doub
   const auto bound_for = [&](double radius_m) -> const CylinderScatteringBound* {
     // Rounded up to 0.1 mm: a bound holds for every thinner cylinder, and posts of one size have radii that differ
     // in the last digits (each its own cross-section's capacity).
-    const double key = std::ceil(radius_m * 1e4) * 1e-4;
+    double key = std::ceil(radius_m * 1e4) * 1e-4;
+    if (key < radius_m) key += 1e-4;  // the product rounded below the radius
     for (size_t i = 0; i < tl_bound_count; ++i)
       if (tl_bounds[i].k == k && tl_bounds[i].radius_m == key) return &tl_bounds[i].bound;
     const double ka_max = k * key;
