@@ -48,6 +48,8 @@ namespace rfidray {
 namespace {
 
 constexpr double kDoubleDiffractionOnEdgeM = 1e-6;  // an end this close to an edge's line is on it
+// The span test's slack (double_diffractions), shared by edge_pairs_near's bound of it.
+constexpr double kSpanSlackM = 1e-4;
 
 // The wedge angles about edge e of a grazing leg, along the face that `into_face` points into (⟂ the edge) on the
 // side `side` (that face's normal or its opposite), and of the other end `v_other` (⟂ the edge); the grazing leg is
@@ -189,8 +191,14 @@ void PathFinder::index_edge_pairs() {
   std::vector<uint8_t> paired(edges_.size(), 0);
   for (const EdgePair& p : edge_pairs_) paired[p.first] = paired[p.second] = 1;
   paired_edges_.clear();
-  for (uint32_t i = 0; i < edges_.size(); ++i)
-    if (paired[i]) paired_edges_.push_back(i);
+  max_edge_coordinate_m_ = 0.0;
+  for (uint32_t i = 0; i < edges_.size(); ++i) {
+    if (!paired[i]) continue;
+    paired_edges_.push_back(i);
+    const Edge& e = edges_[i];
+    max_edge_coordinate_m_ = std::max({max_edge_coordinate_m_, e.start.cwiseAbs().maxCoeff(),
+                                       (e.start + e.length_m * e.direction).cwiseAbs().maxCoeff()});
+  }
   pair_corners_.clear();
   pair_corner_of_.assign(2 * edge_pairs_.size(), -1);
   std::map<std::array<double, 3>, int32_t> index;  // exact coordinates → corner
@@ -211,8 +219,176 @@ void PathFinder::index_edge_pairs() {
   }
 }
 
+// What double_diffractions' per-link tests decide, bounded over a box of tags (the block's), with A fixed. Every bound
+// is a superset of what the per-link test passes for any tag T in the box, widened by `margin` (1e-9 of the scene's
+// scale: the per-link arithmetic rounds by a few ulps of its coordinates, 10⁵ times less), so a pruned order is one
+// the per-link loop would have rejected for every tag of the block, and the kept ones are walked in the same order:
+// the same paths (tests/raytrace/test_double_diffraction.cpp). The box is taken as its bounding ball (centre m,
+// radius r), and what a tag sees from a line is 1-Lipschitz in T: its coordinate along the line and its distance
+// from it move by at most |T − m| ≤ r.
+//  - Parallel pairs: the span test (both edges overlap [min(z_A, z_T), max(z_A, z_T)], over z_T's interval), then the
+//    Fermat points z_Q1 = z_A + (z_T − z_A)·w1, w1 = ρ0/(ρ0 + ρ12 + ρ2), and z_Q2 likewise with w2 = (ρ0 + ρ12)/(…):
+//    bilinear in (z_T, w) over a rectangle, so bounded by its four corners; ρ2 (T from edge 2's line) in [ρc − r, ρc + r].
+//  - Pairs meeting at a corner C: rejected when the shortest path is through C, i.e. f(q) = (p² − 2cpq + q²)/(1 − c²)
+//    ≤ 1 (corner_view_is_shortest), p = d1·(C − A)/|C − A| fixed, q = d2·(T − C)/|T − C|. f is convex in q, so f ≤ 1 at
+//    both ends of q's interval (the cosines of d2's angles to the cone of directions from C to the ball) rejects
+//    every tag; kept when 1 − c² < 1e-3 (near-parallel edges, where rounding in f grows as 1/(1 − c²)) or the ball
+//    reaches C.
+//  - Other pairs: kept (their slope test, path_points_on_edges, is not bounded here).
+void PathFinder::edge_pairs_near(const Vec3& a, const Vec3& lo, const Vec3& hi, EdgePairBlock& out) const {
+  out.orders.clear();
+  out.edges.clear();
+  out.corners.clear();
+  if (edge_pairs_.empty()) return;
+  const Vec3 m = 0.5 * (lo + hi);
+  const double scale = std::max({1.0, a.cwiseAbs().maxCoeff(), lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff(),
+                                 max_edge_coordinate_m_});
+  const double margin = 1e-9 * scale;
+  const double r = 0.5 * (hi - lo).norm() + margin;
+  // Per paired edge: A's feet (as per link) and the box centre's, T's coordinate along the line in [z_c − r, z_c + r].
+  thread_local std::vector<LineFeet> tl_box_feet;
+  thread_local std::vector<uint8_t> tl_box_span, tl_edge_used;
+  tl_box_feet.resize(edges_.size());
+  tl_box_span.resize(edges_.size());
+  tl_edge_used.assign(edges_.size(), 0);
+  for (const uint32_t ei : paired_edges_) {
+    const LineFeet& feet = tl_box_feet[ei] = line_feet(edges_[ei].start, edges_[ei].direction, a, m);
+    tl_box_span[ei] = std::max(feet.z_a, feet.z_t + r) >= -kSpanSlackM - margin &&
+                      std::min(feet.z_a, feet.z_t - r) <= edges_[ei].length_m + kSpanSlackM + margin;
+  }
+  // Per corner: C's direction from A (as per link; A on C rejects every tag), and the cone from C to the ball.
+  struct CornerCone {
+    Vec3 from_a = Vec3::Zero(), axis = Vec3::Zero();
+    double half_angle_rad = 0.0;
+    bool a_on_corner = false, bounded = false;
+  };
+  thread_local std::vector<CornerCone> tl_cones;
+  thread_local std::vector<uint8_t> tl_corner_used;
+  tl_cones.resize(pair_corners_.size());
+  tl_corner_used.assign(pair_corners_.size(), 0);
+  for (size_t c = 0; c < pair_corners_.size(); ++c) {
+    CornerCone& cone = tl_cones[c];
+    const Vec3 ca = pair_corners_[c] - a, cm = m - pair_corners_[c];
+    const double ca_norm = ca.norm(), cm_norm = cm.norm();
+    cone.a_on_corner = ca_norm < 1e-12;
+    if (!cone.a_on_corner) cone.from_a = ca / ca_norm;
+    cone.bounded = cm_norm > 1.001 * r;
+    if (cone.bounded) {
+      cone.axis = cm / cm_norm;
+      cone.half_angle_rad = std::asin(r / cm_norm) + 1e-7;  // + acos's and asin's rounding near 0 and π
+    }
+  }
+  // The interval of d·(T − p)/|T − p| over the ball (cosines of d's angles to the cone from p to the ball), widened
+  // by 1e-9; false when the ball reaches p.
+  const auto cosine_range = [&](const Vec3& d, const Vec3& p, double& lo_cos, double& hi_cos) {
+    const Vec3 pm = m - p;
+    const double distance = pm.norm();
+    if (!(distance > 1.001 * r)) return false;
+    const double half_angle = std::asin(r / distance) + 1e-7;  // + acos's and asin's rounding near 0 and π
+    const double theta = std::acos(std::clamp(d.dot(pm / distance), -1.0, 1.0));
+    hi_cos = std::cos(std::max(0.0, theta - half_angle)) + 1e-9;
+    lo_cos = std::cos(std::min(kPi, theta + half_angle)) - 1e-9;
+    return true;
+  };
+  // Per edge taken second, at its start and its end: the interval of d2·(T − end)/|T − end| (computed when first
+  // needed in this block; 0: not yet, 1: bounded, 2: unbounded).
+  struct EndCosines {
+    double lo[2] = {0.0, 0.0}, hi[2] = {0.0, 0.0};
+    uint8_t state[2] = {0, 0};
+  };
+  thread_local std::vector<EndCosines> tl_end_cosines;
+  tl_end_cosines.resize(edges_.size());
+  for (const uint32_t ei : paired_edges_) tl_end_cosines[ei].state[0] = tl_end_cosines[ei].state[1] = 0;
+  // path_points_on_edges' first half: at t2 = 0 and t2 = len2, t1 is the Fermat point on line 1 of A and Q2, which
+  // does not depend on T, and the slope there, d2·(v̂ − ŵ) with v̂ = (Q2 − Q1)/|Q2 − Q1| and ŵ = (T − Q2)/|T − Q2|,
+  // rejects the link when positive at 0 or negative at len2: for every tag of the box when d2·ŵ's interval says so.
+  // The same arithmetic as per link for v̂; a non-finite t1 keeps the order, as per link.
+  const auto slope_rejects_box = [&](size_t pi, int order) {
+    const EdgePair& pair = edge_pairs_[pi];
+    const uint32_t i1 = order == 0 ? pair.first : pair.second, i2 = order == 0 ? pair.second : pair.first;
+    const Edge& e1 = edges_[i1];
+    const Edge& e2 = edges_[i2];
+    const Vec3 &d1 = e1.direction, &d2 = e2.direction;
+    EndCosines& ends = tl_end_cosines[i2];
+    for (int end = 0; end < 2; ++end) {
+      const double t2 = end == 0 ? 0.0 : e2.length_m;
+      const Vec3 q2 = e2.start + t2 * d2;
+      const double t1 = fermat_on_line(e1.start, d1, a, q2);
+      if (!std::isfinite(t1)) return false;
+      if (ends.state[end] == 0) ends.state[end] = cosine_range(d2, q2, ends.lo[end], ends.hi[end]) ? 1 : 2;
+      if (ends.state[end] != 1) continue;
+      const Vec3 q1 = e1.start + t1 * d1;
+      const double dv = d2.dot((q2 - q1).normalized());
+      if (end == 0 ? dv - ends.hi[0] > 1e-9 : dv - ends.lo[1] < -1e-9) return true;
+    }
+    return false;
+  };
+  const auto keep = [&](size_t pi, int order) {
+    out.orders.push_back(static_cast<uint32_t>(2 * pi + order));
+    tl_edge_used[edge_pairs_[pi].first] = tl_edge_used[edge_pairs_[pi].second] = 1;
+    const int32_t corner = pair_corner_of_[2 * pi + order];
+    if (corner >= 0) tl_corner_used[corner] = 1;
+  };
+  for (size_t pi = 0; pi < edge_pairs_.size(); ++pi) {
+    const EdgePair& pair = edge_pairs_[pi];
+    if (pair.parallel && !(tl_box_span[pair.first] && tl_box_span[pair.second])) continue;
+    for (int order = 0; order < 2; ++order) {
+      const uint32_t i1 = order == 0 ? pair.first : pair.second, i2 = order == 0 ? pair.second : pair.first;
+      const Edge& e1 = edges_[i1];
+      const Edge& e2 = edges_[i2];
+      if (pair.parallel) {
+        const LineFeet& feet = tl_box_feet[i1];
+        const double za = feet.z_a, rho0 = feet.rho_a, rho12 = pair.offset_length_m[order];
+        const double rho_c = (feet.v_t - pair.offset_m[order]).norm();
+        const double rho2_lo = std::max(0.0, rho_c - r), rho2_hi = rho_c + r;
+        const double zt_lo = feet.z_t - r, zt_hi = feet.z_t + r;
+        // The interval of z_A + (z_T − z_A)·w over z_T ∈ [zt_lo, zt_hi], w ∈ [w_lo, w_hi].
+        const auto range = [&](double numerator, double out_lo_hi[2]) {
+          const double w_lo = numerator / (rho0 + rho12 + rho2_hi), w_hi = numerator / (rho0 + rho12 + rho2_lo);
+          const double c[4] = {za + (zt_lo - za) * w_lo, za + (zt_lo - za) * w_hi, za + (zt_hi - za) * w_lo,
+                               za + (zt_hi - za) * w_hi};
+          out_lo_hi[0] = *std::min_element(c, c + 4) - margin;
+          out_lo_hi[1] = *std::max_element(c, c + 4) + margin;
+        };
+        if (rho0 + rho12 + rho2_lo > 0.0) {
+          double zq1[2], zq2[2];
+          range(rho0, zq1);
+          if (zq1[1] < 0.0 || zq1[0] > e1.length_m) continue;
+          range(rho0 + rho12, zq2);
+          // Q2 = e1.start + w12 + z_Q2·d1, its coordinate along edge 2: c0 + c1·z_Q2.
+          const double c0 = (e1.start + pair.offset_m[order] - e2.start).dot(e2.direction);
+          const double c1 = e1.direction.dot(e2.direction);
+          const double x1 = c0 + c1 * zq2[0], x2 = c0 + c1 * zq2[1];
+          if (std::max(x1, x2) + margin < 0.0 || std::min(x1, x2) - margin > e2.length_m) continue;
+        }
+      } else {
+        const int32_t corner = pair_corner_of_[2 * pi + order];
+        if (corner >= 0) {
+          const CornerCone& cone = tl_cones[corner];
+          if (cone.a_on_corner) continue;  // on_corner for every tag: rejected
+          const double c = e1.direction.dot(e2.direction);
+          if (cone.bounded && 1.0 - c * c >= 1e-3) {
+            const double p = e1.direction.dot(cone.from_a);
+            const double theta = std::acos(std::clamp(e2.direction.dot(cone.axis), -1.0, 1.0));
+            const double q_hi = std::cos(std::max(0.0, theta - cone.half_angle_rad)) + 1e-9;
+            const double q_lo = std::cos(std::min(kPi, theta + cone.half_angle_rad)) - 1e-9;
+            const auto f_of = [&](double q) { return (p * p - 2.0 * c * p * q + q * q) / (1.0 - c * c); };
+            if (std::max(f_of(q_lo), f_of(q_hi)) <= 1.0 - 1e-6) continue;
+          }
+        }
+        if (slope_rejects_box(pi, order)) continue;
+      }
+      keep(pi, order);
+    }
+  }
+  for (const uint32_t ei : paired_edges_)
+    if (tl_edge_used[ei]) out.edges.push_back(ei);
+  for (size_t c = 0; c < pair_corners_.size(); ++c)
+    if (tl_corner_used[c]) out.corners.push_back(static_cast<uint32_t>(c));
+}
+
 void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, double f, double floor,
-                                     std::vector<TracedPath>& out) const {
+                                     const EdgePairBlock* block, std::vector<TracedPath>& out) const {
   if (edge_pairs_.empty()) return;
   const Vec3& a = ant.pose.position;
   const Vec3& t = tag.pose.position;
@@ -222,19 +398,18 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
   const EmbreeScene& bvh = scene_->bvh();
   using C = std::complex<double>;
   const double min_leg_m = 0.5 * wavelength_m(f);
-  // A and T seen from every paired edge's line, once per link instead of once per pair and order (an edge is in
-  // many pairs). Per-thread scratch: no allocation once warm.
+  // A and T seen from every paired edge's line (or every edge the block's orders read), once per link instead of
+  // once per pair and order (an edge is in many pairs). Per-thread scratch: no allocation once warm.
   //
   // Across two parallel edges both diffraction points lie between A's and T's feet on each edge's line (Fermat:
   // the unfolded path is straight), so a pair whose either edge lies wholly beyond both feet has no path (most
   // pairs of most links). The slack keeps this a superset of the exact test below: float rounding of the points
   // (~1e-14 m) and the 1e-6 rad that "parallel" allows (≤ 1e-6 m over a 1 m gap).
-  constexpr double kSpanSlackM = 1e-4;
   thread_local std::vector<LineFeet> tl_feet;
   thread_local std::vector<uint8_t> tl_span;  // 1: the edge overlaps [min(z_A, z_T), max(z_A, z_T)] along its line
   tl_feet.resize(edges_.size());
   tl_span.resize(edges_.size());
-  for (const uint32_t ei : paired_edges_) {
+  for (const uint32_t ei : block ? std::span<const uint32_t>(block->edges) : std::span<const uint32_t>(paired_edges_)) {
     const LineFeet& feet = tl_feet[ei] = line_feet(edges_[ei].start, edges_[ei].direction, a, t);
     tl_span[ei] = std::max(feet.z_a, feet.z_t) >= -kSpanSlackM &&
                   std::min(feet.z_a, feet.z_t) <= edges_[ei].length_m + kSpanSlackM;
@@ -242,150 +417,169 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
   // The corners' directions from A and to T, once per link and corner (shared by every pair meeting there).
   thread_local std::vector<CornerView> tl_corners;
   tl_corners.resize(pair_corners_.size());
-  for (size_t c = 0; c < pair_corners_.size(); ++c) {
+  const auto view_corner = [&](size_t c) {
     const Vec3 ca = pair_corners_[c] - a, tc = t - pair_corners_[c];
     CornerView& v = tl_corners[c];
     const double ca_norm = ca.norm(), tc_norm = tc.norm();
     v.on_corner = ca_norm < 1e-12 || tc_norm < 1e-12;
     if (!v.on_corner) v.from_a = ca / ca_norm, v.to_t = tc / tc_norm;
+  };
+  if (block) {
+    for (const uint32_t c : block->corners) view_corner(c);
+  } else {
+    for (size_t c = 0; c < pair_corners_.size(); ++c) view_corner(c);
   }
+  // One order of one pair (edge 1 first, then edge 2): the exact tests, the field, the legs.
+  const auto try_order = [&](size_t pi, int order) {
+    const EdgePair& pair = edge_pairs_[pi];
+    const uint32_t i1 = order == 0 ? pair.first : pair.second, i2 = order == 0 ? pair.second : pair.first;
+    const Edge& e1 = edges_[i1];
+    const Edge& e2 = edges_[i2];
+    const Vec3& d = e1.direction;
+    const LineFeet& feet1 = tl_feet[i1];
+    Vec3 q1, q2, va, vt2;  // va: A from edge 1's line; vt2: T from edge 2's line (both ⟂ their edge)
+    if (pair.parallel) {
+      // Across the edges: A from edge 1's line, edge 2's line from edge 1's, T from edge 2's line.
+      const double za = feet1.z_a, zt = feet1.z_t;
+      va = feet1.v_a;
+      const Vec3& w12 = pair.offset_m[order];
+      vt2 = feet1.v_t - w12;
+      const double rho0 = feet1.rho_a, rho12 = pair.offset_length_m[order], rho2 = vt2.norm();
+      if (rho0 < kDoubleDiffractionOnEdgeM || rho2 < kDoubleDiffractionOnEdgeM) return;
+      const double total = rho0 + rho12 + rho2;
+      const double zq1 = za + (zt - za) * rho0 / total, zq2 = za + (zt - za) * (rho0 + rho12) / total;
+      if (zq1 < 0.0 || zq1 > e1.length_m) return;
+      q1 = e1.start + zq1 * d;
+      q2 = e1.start + w12 + zq2 * d;
+      const double along2 = (q2 - e2.start).dot(e2.direction);
+      if (along2 < 0.0 || along2 > e2.length_m) return;
+    } else {
+      va = feet1.v_a;
+      vt2 = tl_feet[i2].v_t;
+      if (feet1.rho_a < kDoubleDiffractionOnEdgeM || tl_feet[i2].rho_t < kDoubleDiffractionOnEdgeM) return;
+      // Both tests are exact; the corner's (two square roots) first: it rejects most corner pairs (paper
+      // warehouse: it leaves 5 % of what the slope test leaves), the slope test's sixteen are then mostly spared.
+      const int32_t corner = pair_corner_of_[2 * pi + order];
+      if (corner >= 0 && corner_view_is_shortest(e1, e2, tl_corners[corner])) return;
+      if (!path_points_on_edges(e1, e2, a, t)) return;
+      double t1 = 0.0, t2 = 0.0;
+      if (!keller_points(e1, e2, a, t, 0.1 * min_leg_m, t1, t2)) return;
+      q1 = e1.start + t1 * d;
+      q2 = e2.start + t2 * e2.direction;
+    }
+    const Vec3 s1 = q1 - a, s12v = q2 - q1, s2 = t - q2;
+    const double s_in = s1.norm(), s12 = s12v.norm(), s_out = s2.norm();
+    if (!(s_in > 0.0 && s12 > 0.0 && s_out > 0.0)) return;
+    // The leg between the edges: at most double_diffraction_max_m, and at least λ/2 (k·s12 ≥ π): UTD at edge 2
+    // takes edge 1's diffracted field there for a ray. Closer edges (a 3 cm shelf's two front edges) are one thick
+    // edge, which this does not model.
+    if (s12 > options_.double_diffraction_max_m || s12 < min_leg_m) return;
+    const double length = s_in + s12 + s_out;
+    if (length * length > max_length2_) return;
+    const Vec3 s_hat_in = s1 / s_in, s_hat_mid = s12v / s12, s_hat_out = s2 / s_out;
+    const double sin_beta1 = s_hat_in.cross(d).norm(), sin_beta2 = s_hat_mid.cross(e2.direction).norm();
+    if (sin_beta1 < 1e-9 || sin_beta2 < 1e-9) return;
+    const double beta1 = std::atan2(sin_beta1, s_hat_in.dot(d));
+    const double beta2 = std::atan2(sin_beta2, s_hat_mid.dot(e2.direction));
+    // The leg between the edges, across each edge (from edge 1 into its side; from edge 2 back to edge 1).
+    const Vec3 w1 = s12v - s12v.dot(d) * d, w2 = -(s12v - s12v.dot(e2.direction) * e2.direction);
+    if (w1.norm() < kDoubleDiffractionOnEdgeM || w2.norm() < kDoubleDiffractionOnEdgeM) return;
+    const Vec3 u1 = w1.normalized(), u2 = w2.normalized();
+    // One leg between the edges in free space, or one per side of their shared face (a sheet's two sides).
+    const Vec3 face_normal = pair.shared_facet != kNoFacet ? facets[pair.shared_facet].normal : Vec3::Zero();
+    const int sides = pair.shared_facet != kNoFacet ? 2 : 1;
+    for (int side_index = 0; side_index < sides; ++side_index) {
+      const Vec3 side = side_index == 0 ? face_normal : Vec3(-face_normal);
+      WedgeAngles wa1, wa2;
+      const bool grazing = pair.shared_facet != kNoFacet;
+      if (grazing) {
+        // The leg lies on the facet: across each edge it must point into the facet's side of that edge.
+        if (facet_towards(e1, u1) != pair.shared_facet || facet_towards(e2, u2) != pair.shared_facet) continue;
+        if (!grazing_angles(e1, u1, side, va, /*graze_is_source=*/false, wa1)) continue;
+        if (!grazing_angles(e2, u2, side, vt2, /*graze_is_source=*/true, wa2)) continue;
+      } else {
+        if (!wedge_angles(e1, va, w1, wa1) || !wedge_angles(e2, w2, vt2, wa2)) continue;
+      }
+      // Edge 1's diffracted wave at Q2: radius s12 along φ̂1 (across edge 1), s' + s12 along β̂1; edge 2's
+      // plane of incidence cuts it along t2 (⟂ ŝ12, in the plane of ŝ12 and edge 2).
+      const double rho1 = s12, rho2 = s_in + s12;
+      const Vec3 phi1 = d.cross(s_hat_mid).normalized();
+      const Vec3 section = (e2.direction - e2.direction.dot(s_hat_mid) * s_hat_mid).normalized();
+      const double cos2 = sq(section.dot(phi1));
+      const double rho_e = 1.0 / (cos2 / rho1 + (1.0 - cos2) / rho2);
+      const double l1 = s_in * s12 * sin_beta1 * sin_beta1 / (s_in + s12);
+      const double l2 = s_out * (rho_e + s_out) * rho1 * rho2 * sin_beta2 * sin_beta2 /
+                        (rho_e * (rho1 + s_out) * (rho2 + s_out));
+      const auto coefficients = [&](const WedgeAngles& w, double beta0, double l) {
+        const RadioMaterial& m0 = materials[facets[w.face0].material];
+        const RadioMaterial& mn = materials[facets[w.facen].material];
+        const FresnelCoefficients r0 = material_reflection(m0, f, std::abs(std::sin(w.phi_prime_rad)));
+        const FresnelCoefficients rn = material_reflection(mn, f, std::abs(std::sin(w.n * kPi - w.phi_rad)));
+        return wedge_diffraction(w.n, w.phi_rad, w.phi_prime_rad, beta0, l, k, r0, rn);
+      };
+      const UtdCoefficients d1 = coefficients(wa1, beta1, l1);
+      UtdCoefficients d2 = coefficients(wa2, beta2, l2);
+      if (grazing) d2.hard *= 0.5;  // KP: at grazing incidence the hard coefficient's two terms are one field
+      // Edge-fixed bases (KP), as in diffraction.cpp: φ̂' = −ê × ŝ' / |·|, β̂0' = φ̂' × ŝ', φ̂ = ê × ŝ / |·|, β̂0 = φ̂ × ŝ.
+      const Vec3 phi_in1 = -(d.cross(s_hat_in)).normalized(), beta_in1 = phi_in1.cross(s_hat_in);
+      const Vec3 phi_out1 = d.cross(s_hat_mid).normalized(), beta_out1 = phi_out1.cross(s_hat_mid);
+      const Vec3& d2v = e2.direction;
+      const Vec3 phi_in2 = -(d2v.cross(s_hat_mid)).normalized(), beta_in2 = phi_in2.cross(s_hat_mid);
+      const Vec3 phi_out2 = d2v.cross(s_hat_out).normalized(), beta_out2 = phi_out2.cross(s_hat_out);
+      const CVec3 e_in = ant.polarization.field(ant.pose.orientation, s_hat_in);
+      const CVec3 e_mid = -(d1.soft * beta_in1.cast<C>().dot(e_in)) * beta_out1.cast<C>() -
+                          (d1.hard * phi_in1.cast<C>().dot(e_in)) * phi_out1.cast<C>();
+      const CVec3 e_out = -(d2.soft * beta_in2.cast<C>().dot(e_mid)) * beta_out2.cast<C>() -
+                          (d2.hard * phi_in2.cast<C>().dot(e_mid)) * phi_out2.cast<C>();
+      const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, s_hat_in) *
+                                    tag.pattern.gain_linear_world(tag.pose.orientation, -s_hat_out));
+      const double spreading = (length / s_in) * std::sqrt(s_in / (s12 * (s_in + s12))) *
+                               std::sqrt(rho_e / (s_out * (rho_e + s_out)));
+      const C coefficient = gain * spreading *
+                            polarization_match(e_out, tag.polarization, tag.pose.orientation, s_hat_out);
+      const C contribution = path_contribution(length, coefficient, f);
+      if (std::norm(contribution) < floor) continue;  // would be dropped: no ray for it
+      // Legs: from each edge point (where float precision matters), stopping short of the ends; the grazing
+      // leg just off its face on its side.
+      const double end_in = std::min(options_.endpoint_epsilon_m, 0.25 * s_in);
+      const double end_out = std::min(options_.endpoint_epsilon_m, 0.25 * s_out);
+      const double end_mid = std::min(options_.endpoint_epsilon_m, 0.25 * s12);
+      const Vec3 mid_origin = grazing ? Vec3(q1 + options_.surface_epsilon_m * side) : q1;
+      if (bvh.occluded(q1, -s_hat_in, end_in, s_in - end_in) ||
+          bvh.occluded(mid_origin, s_hat_mid, end_mid, s12 - end_mid) ||
+          bvh.occluded(q2, s_hat_out, end_out, s_out - end_out))
+        continue;
+      TracedPath p;
+      p.kind = PathKind::kDiffraction2;
+      p.length_m = length;
+      p.point = q1;
+      p.point2 = q2;
+      p.material = facets[wa1.face0].material;
+      p.material2 = facets[wa2.face0].material;
+      p.facet = wa1.face0;
+      p.facet2 = wa2.face0;
+      p.edge = i1;
+      p.edge2 = i2;
+      p.coefficient = coefficient;
+      p.contribution = contribution;
+      out.push_back(p);
+    }
+  };
+  if (block) {  // the orders edge_pairs_near kept for this link's block, ascending: the same paths in the same order
+    tl_edge_pair_orders_tried += block->orders.size();
+    for (const uint32_t o : block->orders) {
+      const EdgePair& pair = edge_pairs_[o >> 1];
+      if (pair.parallel && !(tl_span[pair.first] && tl_span[pair.second])) continue;
+      try_order(o >> 1, static_cast<int>(o & 1u));
+    }
+    return;
+  }
+  tl_edge_pair_orders_tried += 2 * edge_pairs_.size();
   for (size_t pi = 0; pi < edge_pairs_.size(); ++pi) {  // found within double_diffraction_max_m (edge_pairs.h)
     const EdgePair& pair = edge_pairs_[pi];
     if (pair.parallel && !(tl_span[pair.first] && tl_span[pair.second])) continue;
-    for (int order = 0; order < 2; ++order) {
-      const uint32_t i1 = order == 0 ? pair.first : pair.second, i2 = order == 0 ? pair.second : pair.first;
-      const Edge& e1 = edges_[i1];
-      const Edge& e2 = edges_[i2];
-      const Vec3& d = e1.direction;
-      const LineFeet& feet1 = tl_feet[i1];
-      Vec3 q1, q2, va, vt2;  // va: A from edge 1's line; vt2: T from edge 2's line (both ⟂ their edge)
-      if (pair.parallel) {
-        // Across the edges: A from edge 1's line, edge 2's line from edge 1's, T from edge 2's line.
-        const double za = feet1.z_a, zt = feet1.z_t;
-        va = feet1.v_a;
-        const Vec3& w12 = pair.offset_m[order];
-        vt2 = feet1.v_t - w12;
-        const double rho0 = feet1.rho_a, rho12 = pair.offset_length_m[order], rho2 = vt2.norm();
-        if (rho0 < kDoubleDiffractionOnEdgeM || rho2 < kDoubleDiffractionOnEdgeM) continue;
-        const double total = rho0 + rho12 + rho2;
-        const double zq1 = za + (zt - za) * rho0 / total, zq2 = za + (zt - za) * (rho0 + rho12) / total;
-        if (zq1 < 0.0 || zq1 > e1.length_m) continue;
-        q1 = e1.start + zq1 * d;
-        q2 = e1.start + w12 + zq2 * d;
-        const double along2 = (q2 - e2.start).dot(e2.direction);
-        if (along2 < 0.0 || along2 > e2.length_m) continue;
-      } else {
-        va = feet1.v_a;
-        vt2 = tl_feet[i2].v_t;
-        if (feet1.rho_a < kDoubleDiffractionOnEdgeM || tl_feet[i2].rho_t < kDoubleDiffractionOnEdgeM) continue;
-        // Both tests are exact; the corner's (two square roots) first: it rejects most corner pairs (paper
-        // warehouse: it leaves 5 % of what the slope test leaves), the slope test's sixteen are then mostly spared.
-        const int32_t corner = pair_corner_of_[2 * pi + order];
-        if (corner >= 0 && corner_view_is_shortest(e1, e2, tl_corners[corner])) continue;
-        if (!path_points_on_edges(e1, e2, a, t)) continue;
-        double t1 = 0.0, t2 = 0.0;
-        if (!keller_points(e1, e2, a, t, 0.1 * min_leg_m, t1, t2)) continue;
-        q1 = e1.start + t1 * d;
-        q2 = e2.start + t2 * e2.direction;
-      }
-      const Vec3 s1 = q1 - a, s12v = q2 - q1, s2 = t - q2;
-      const double s_in = s1.norm(), s12 = s12v.norm(), s_out = s2.norm();
-      if (!(s_in > 0.0 && s12 > 0.0 && s_out > 0.0)) continue;
-      // The leg between the edges: at most double_diffraction_max_m, and at least λ/2 (k·s12 ≥ π): UTD at edge 2
-      // takes edge 1's diffracted field there for a ray. Closer edges (a 3 cm shelf's two front edges) are one thick
-      // edge, which this does not model.
-      if (s12 > options_.double_diffraction_max_m || s12 < min_leg_m) continue;
-      const double length = s_in + s12 + s_out;
-      if (length * length > max_length2_) continue;
-      const Vec3 s_hat_in = s1 / s_in, s_hat_mid = s12v / s12, s_hat_out = s2 / s_out;
-      const double sin_beta1 = s_hat_in.cross(d).norm(), sin_beta2 = s_hat_mid.cross(e2.direction).norm();
-      if (sin_beta1 < 1e-9 || sin_beta2 < 1e-9) continue;
-      const double beta1 = std::atan2(sin_beta1, s_hat_in.dot(d));
-      const double beta2 = std::atan2(sin_beta2, s_hat_mid.dot(e2.direction));
-      // The leg between the edges, across each edge (from edge 1 into its side; from edge 2 back to edge 1).
-      const Vec3 w1 = s12v - s12v.dot(d) * d, w2 = -(s12v - s12v.dot(e2.direction) * e2.direction);
-      if (w1.norm() < kDoubleDiffractionOnEdgeM || w2.norm() < kDoubleDiffractionOnEdgeM) continue;
-      const Vec3 u1 = w1.normalized(), u2 = w2.normalized();
-      // One leg between the edges in free space, or one per side of their shared face (a sheet's two sides).
-      const Vec3 face_normal = pair.shared_facet != kNoFacet ? facets[pair.shared_facet].normal : Vec3::Zero();
-      const int sides = pair.shared_facet != kNoFacet ? 2 : 1;
-      for (int side_index = 0; side_index < sides; ++side_index) {
-        const Vec3 side = side_index == 0 ? face_normal : Vec3(-face_normal);
-        WedgeAngles wa1, wa2;
-        const bool grazing = pair.shared_facet != kNoFacet;
-        if (grazing) {
-          // The leg lies on the facet: across each edge it must point into the facet's side of that edge.
-          if (facet_towards(e1, u1) != pair.shared_facet || facet_towards(e2, u2) != pair.shared_facet) continue;
-          if (!grazing_angles(e1, u1, side, va, /*graze_is_source=*/false, wa1)) continue;
-          if (!grazing_angles(e2, u2, side, vt2, /*graze_is_source=*/true, wa2)) continue;
-        } else {
-          if (!wedge_angles(e1, va, w1, wa1) || !wedge_angles(e2, w2, vt2, wa2)) continue;
-        }
-        // Edge 1's diffracted wave at Q2: radius s12 along φ̂1 (across edge 1), s' + s12 along β̂1; edge 2's
-        // plane of incidence cuts it along t2 (⟂ ŝ12, in the plane of ŝ12 and edge 2).
-        const double rho1 = s12, rho2 = s_in + s12;
-        const Vec3 phi1 = d.cross(s_hat_mid).normalized();
-        const Vec3 section = (e2.direction - e2.direction.dot(s_hat_mid) * s_hat_mid).normalized();
-        const double cos2 = sq(section.dot(phi1));
-        const double rho_e = 1.0 / (cos2 / rho1 + (1.0 - cos2) / rho2);
-        const double l1 = s_in * s12 * sin_beta1 * sin_beta1 / (s_in + s12);
-        const double l2 = s_out * (rho_e + s_out) * rho1 * rho2 * sin_beta2 * sin_beta2 /
-                          (rho_e * (rho1 + s_out) * (rho2 + s_out));
-        const auto coefficients = [&](const WedgeAngles& w, double beta0, double l) {
-          const RadioMaterial& m0 = materials[facets[w.face0].material];
-          const RadioMaterial& mn = materials[facets[w.facen].material];
-          const FresnelCoefficients r0 = material_reflection(m0, f, std::abs(std::sin(w.phi_prime_rad)));
-          const FresnelCoefficients rn = material_reflection(mn, f, std::abs(std::sin(w.n * kPi - w.phi_rad)));
-          return wedge_diffraction(w.n, w.phi_rad, w.phi_prime_rad, beta0, l, k, r0, rn);
-        };
-        const UtdCoefficients d1 = coefficients(wa1, beta1, l1);
-        UtdCoefficients d2 = coefficients(wa2, beta2, l2);
-        if (grazing) d2.hard *= 0.5;  // KP: at grazing incidence the hard coefficient's two terms are one field
-        // Edge-fixed bases (KP), as in diffraction.cpp: φ̂' = −ê × ŝ' / |·|, β̂0' = φ̂' × ŝ', φ̂ = ê × ŝ / |·|, β̂0 = φ̂ × ŝ.
-        const Vec3 phi_in1 = -(d.cross(s_hat_in)).normalized(), beta_in1 = phi_in1.cross(s_hat_in);
-        const Vec3 phi_out1 = d.cross(s_hat_mid).normalized(), beta_out1 = phi_out1.cross(s_hat_mid);
-        const Vec3& d2v = e2.direction;
-        const Vec3 phi_in2 = -(d2v.cross(s_hat_mid)).normalized(), beta_in2 = phi_in2.cross(s_hat_mid);
-        const Vec3 phi_out2 = d2v.cross(s_hat_out).normalized(), beta_out2 = phi_out2.cross(s_hat_out);
-        const CVec3 e_in = ant.polarization.field(ant.pose.orientation, s_hat_in);
-        const CVec3 e_mid = -(d1.soft * beta_in1.cast<C>().dot(e_in)) * beta_out1.cast<C>() -
-                            (d1.hard * phi_in1.cast<C>().dot(e_in)) * phi_out1.cast<C>();
-        const CVec3 e_out = -(d2.soft * beta_in2.cast<C>().dot(e_mid)) * beta_out2.cast<C>() -
-                            (d2.hard * phi_in2.cast<C>().dot(e_mid)) * phi_out2.cast<C>();
-        const double gain = std::sqrt(ant.pattern.gain_linear_world(ant.pose.orientation, s_hat_in) *
-                                      tag.pattern.gain_linear_world(tag.pose.orientation, -s_hat_out));
-        const double spreading = (length / s_in) * std::sqrt(s_in / (s12 * (s_in + s12))) *
-                                 std::sqrt(rho_e / (s_out * (rho_e + s_out)));
-        const C coefficient = gain * spreading *
-                              polarization_match(e_out, tag.polarization, tag.pose.orientation, s_hat_out);
-        const C contribution = path_contribution(length, coefficient, f);
-        if (std::norm(contribution) < floor) continue;  // would be dropped: no ray for it
-        // Legs: from each edge point (where float precision matters), stopping short of the ends; the grazing
-        // leg just off its face on its side.
-        const double end_in = std::min(options_.endpoint_epsilon_m, 0.25 * s_in);
-        const double end_out = std::min(options_.endpoint_epsilon_m, 0.25 * s_out);
-        const double end_mid = std::min(options_.endpoint_epsilon_m, 0.25 * s12);
-        const Vec3 mid_origin = grazing ? Vec3(q1 + options_.surface_epsilon_m * side) : q1;
-        if (bvh.occluded(q1, -s_hat_in, end_in, s_in - end_in) ||
-            bvh.occluded(mid_origin, s_hat_mid, end_mid, s12 - end_mid) ||
-            bvh.occluded(q2, s_hat_out, end_out, s_out - end_out))
-          continue;
-        TracedPath p;
-        p.kind = PathKind::kDiffraction2;
-        p.length_m = length;
-        p.point = q1;
-        p.point2 = q2;
-        p.material = facets[wa1.face0].material;
-        p.material2 = facets[wa2.face0].material;
-        p.facet = wa1.face0;
-        p.facet2 = wa2.face0;
-        p.edge = i1;
-        p.edge2 = i2;
-        p.coefficient = coefficient;
-        p.contribution = contribution;
-        out.push_back(p);
-      }
-    }
+    try_order(pi, 0);
+    try_order(pi, 1);
   }
 }
 

@@ -242,6 +242,29 @@ void PathFinder::decide_plane_pair_sharing(const Vec3& a, std::span<const Endpoi
   out.share_plane_pairs = static_cast<double>(tl_probe.size()) < kMaxKeptShare * all_pairs;
 }
 
+void PathFinder::decide_edge_pair_sharing(const Vec3& a, std::span<const Endpoint> tags,
+                                          std::span<const uint32_t> order, PoseCandidates& out) const {
+  out.share_edge_pairs = false;
+  if (!includes(options_.level, ChannelLevel::kFullSelective) || edge_pairs_.empty()) return;
+  if (options_.edge_pair_sharing != TraceOptions::Sharing::kAuto) {
+    out.share_edge_pairs = options_.edge_pair_sharing == TraceOptions::Sharing::kAlways;
+    return;
+  }
+  // As for plane pairs, by measurement: w1m coverage maps at `full` (bench/results/levels/README.md, "Edge pairs
+  // shared per block") took 0.66× the time shared where a block keeps 2 % of the orders (tags 25 cm apart),
+  // 0.90× at 11–21 % (1 m apart) and 0.96–1.01× at 23–26 % (2.5 m apart): share below 0.3.
+  constexpr size_t kBlock = 16, kMinTags = 64;
+  constexpr double kMaxKeptShare = 0.3;
+  if (order.size() < kMinTags) return;
+  Vec3 lo, hi;
+  tag_block_box(tags, order.first(kBlock), lo, hi);
+  if (!lo.allFinite() || !hi.allFinite() || !a.allFinite()) return;
+  thread_local EdgePairBlock tl_probe;
+  edge_pairs_near(a, lo, hi, tl_probe);
+  const double all_orders = 2.0 * static_cast<double>(edge_pairs_.size());
+  out.share_edge_pairs = static_cast<double>(tl_probe.orders.size()) < kMaxKeptShare * all_orders;
+}
+
 void PathFinder::check_link(const Endpoint& antenna, const Endpoint& tag, double frequency_hz) {
   const Vec3& a = antenna.pose.position;
   const Vec3& t = tag.pose.position;
@@ -254,7 +277,7 @@ void PathFinder::check_link(const Endpoint& antenna, const Endpoint& tag, double
 
 void PathFinder::trace(const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
                        const PoseCandidates& candidates, std::vector<TracedPath>& out) const {
-  trace_impl(antenna, tag, frequency_hz, candidates, -1, nullptr, nullptr, out);
+  trace_impl(antenna, tag, frequency_hz, candidates, -1, nullptr, nullptr, nullptr, out);
 }
 
 void PathFinder::trace_sum(const Endpoint& antenna, std::span<const Endpoint> tags, std::span<const uint32_t> which,
@@ -263,8 +286,8 @@ void PathFinder::trace_sum(const Endpoint& antenna, std::span<const Endpoint> ta
   thread_local std::vector<TracedPath> tl_paths;  // per-thread scratch: no allocation once warm
   std::vector<TracedPath>& paths = tl_paths;
   const auto sum = [&](uint32_t k, int hint, const std::vector<uint32_t>* groups = nullptr,
-                       const std::vector<PlanePair>* pairs = nullptr) {
-    trace_impl(antenna, tags[k], frequency_hz, candidates, hint, groups, pairs, paths);
+                       const std::vector<PlanePair>* pairs = nullptr, const EdgePairBlock* edge_pairs = nullptr) {
+    trace_impl(antenna, tags[k], frequency_hz, candidates, hint, groups, pairs, edge_pairs, paths);
     std::complex<double> s{0.0, 0.0};
     for (const TracedPath& p : paths) s += p.contribution;
     h[k] = s;
@@ -275,17 +298,21 @@ void PathFinder::trace_sum(const Endpoint& antenna, std::span<const Endpoint> ta
                               !exact_groups_.empty();
     const bool pair_blocks = candidates.share_plane_pairs && includes(options_.level, ChannelLevel::kDoubleBounce) &&
                              planes_.size() >= 2;
-    if (!group_blocks && !pair_blocks) {
+    const bool edge_blocks = candidates.share_edge_pairs && includes(options_.level, ChannelLevel::kFullSelective) &&
+                             !edge_pairs_.empty();
+    if (!group_blocks && !pair_blocks && !edge_blocks) {
       for (uint32_t k : which) sum(k, -1);
       return;
     }
-    // Per block of 16 nearby tags (the callers pass them in Morton order): the exact search's groups and the
-    // double-bounce search's plane pairs that can matter for any tag of the block, found once, instead of
-    // every group and every pair for every link.
+    // Per block of 16 nearby tags (the callers pass them in Morton order): the exact search's groups, the
+    // double-bounce search's plane pairs and second-order diffraction's edge pairs that can matter for any tag of
+    // the block, found once, instead of every group and every pair for every link.
     thread_local std::vector<uint32_t> tl_groups;
     thread_local std::vector<PlanePair> tl_pairs;
+    thread_local EdgePairBlock tl_edge_block;
     std::vector<uint32_t>& groups = tl_groups;
     std::vector<PlanePair>& pairs = tl_pairs;
+    EdgePairBlock& edge_block = tl_edge_block;
     constexpr size_t kTagBlock = 16;
     for (size_t i = 0; i < which.size(); i += kTagBlock) {
       const size_t n = std::min(kTagBlock, which.size() - i);
@@ -296,8 +323,11 @@ void PathFinder::trace_sum(const Endpoint& antenna, std::span<const Endpoint> ta
       if (finite && group_blocks) exact_groups_near(antenna.pose.position, lo, hi, groups);
       const bool share_pairs = finite && pair_blocks;
       if (share_pairs) plane_pairs_near(antenna.pose.position, lo, hi, pairs);
+      const bool share_edges = finite && edge_blocks;
+      if (share_edges) edge_pairs_near(antenna.pose.position, lo, hi, edge_block);
       for (size_t j = 0; j < n; ++j)
-        sum(which[i + j], -1, finite && group_blocks ? &groups : nullptr, share_pairs ? &pairs : nullptr);
+        sum(which[i + j], -1, finite && group_blocks ? &groups : nullptr, share_pairs ? &pairs : nullptr,
+            share_edges ? &edge_block : nullptr);
     }
     return;
   }
@@ -352,7 +382,7 @@ bool PathFinder::direct_segment(const Vec3& a, const Vec3& t, Segment& s, double
 void PathFinder::trace_impl(const Endpoint& antenna, const Endpoint& tag, double frequency_hz,
                             const PoseCandidates& candidates, int los_hint,
                             const std::vector<uint32_t>* exact_groups, const std::vector<PlanePair>* plane_pairs,
-                            std::vector<TracedPath>& out) const {
+                            const EdgePairBlock* edge_pairs, std::vector<TracedPath>& out) const {
   out.clear();
   if (los_hint < 0) check_link(antenna, tag, frequency_hz);  // (trace_sum checked before its packet)
   direct_path(antenna, tag, frequency_hz, los_hint, out);
@@ -392,7 +422,7 @@ void PathFinder::trace_impl(const Endpoint& antenna, const Endpoint& tag, double
       return std::tie(x.length_m, x.edge) < std::tie(y.length_m, y.edge);
     });
     first = out.size();
-    double_diffractions(antenna, tag, frequency_hz, floor_so_far(), out);
+    double_diffractions(antenna, tag, frequency_hz, floor_so_far(), edge_pairs, out);
     std::stable_sort(out.begin() + first, out.end(), [](const TracedPath& x, const TracedPath& y) {
       return std::tie(x.length_m, x.edge, x.edge2) < std::tie(y.length_m, y.edge, y.edge2);
     });

@@ -71,6 +71,10 @@ inline thread_local uint64_t tl_reflections_found = 0;
 // (try_plane_pair calls), credited likewise. Every pair per link without sharing; what plane_pairs_near
 // keeps when links are traced together.
 inline thread_local uint64_t tl_plane_pairs_tried = 0;
+// Second-order diffraction on the calling thread: orders of edge pairs (a pair taken edge 1 first, or edge 2) that
+// the per-link loop visited, credited likewise. Two per pair per link without sharing; what edge_pairs_near keeps
+// when links are traced together.
+inline thread_local uint64_t tl_edge_pair_orders_tried = 0;
 
 // A path as the tracer produces it (no strings: the hot loop does not allocate).
 struct TracedPath {
@@ -99,6 +103,15 @@ struct PlanePair {
   uint32_t first = 0, second = 0;
 };
 
+// The second-order diffraction work of a block of nearby tags (PathFinder::edge_pairs_near): the orders of edge pairs
+// (2·pair + order, ascending) that can carry a path for some tag of the block, and the paired edges and pair corners
+// those orders read (ascending). Per-thread scratch of trace_sum.
+struct EdgePairBlock {
+  std::vector<uint32_t> orders;
+  std::vector<uint32_t> edges;
+  std::vector<uint32_t> corners;
+};
+
 struct PoseCandidates {
   bool all = true;                     // test every plane and every point (exact)
   std::vector<uint32_t> planes;        // otherwise only these (plane-group ids) ...
@@ -107,6 +120,7 @@ struct PoseCandidates {
   std::vector<RayHit> hits;            // per-ray scratch
   std::vector<char> plane_seen;        // per-plane scratch
   bool share_plane_pairs = false;      // trace_sum shares double-bounce plane pairs per block (see there)
+  bool share_edge_pairs = false;       // trace_sum shares second-order diffraction's edge pairs per block
 };
 
 class PathFinder {
@@ -131,6 +145,10 @@ class PathFinder {
   // pair, saved on its 16 links for each pair pruned).
   void decide_plane_pair_sharing(const Vec3& antenna_position, std::span<const Endpoint> tags,
                                  std::span<const uint32_t> order, PoseCandidates& out) const;
+  // Sets out.share_edge_pairs likewise for second-order diffraction (TraceOptions::edge_pair_sharing; kAuto: finds
+  // the first block's orders and shares when fewer than 0.3 of them are kept, with ≥ 64 tags).
+  void decide_edge_pair_sharing(const Vec3& antenna_position, std::span<const Endpoint> tags,
+                                std::span<const uint32_t> order, PoseCandidates& out) const;
   // Every path of one link into `out` (cleared first; reuse it across calls to avoid allocation).
   // Throws InputError if the endpoints coincide or are not finite.
   void trace(const Endpoint& antenna, const Endpoint& tag, double frequency_hz, const PoseCandidates& candidates,
@@ -222,10 +240,10 @@ class PathFinder {
 
   // los_hint: −1 = trace the level-los visibility ray here, 0 = known clear, 1 = known blocked.
   // exact_groups: as reflections_exact's `groups`.
-  // plane_pairs: as double_reflections' `pairs`.
+  // plane_pairs: as double_reflections' `pairs`; edge_pairs: as double_diffractions' `block`.
   void trace_impl(const Endpoint& antenna, const Endpoint& tag, double frequency_hz, const PoseCandidates& candidates,
                   int los_hint, const std::vector<uint32_t>* exact_groups, const std::vector<PlanePair>* plane_pairs,
-                  std::vector<TracedPath>& out) const;
+                  const EdgePairBlock* edge_pairs, std::vector<TracedPath>& out) const;
   static void check_link(const Endpoint& antenna, const Endpoint& tag, double frequency_hz);
   void direct_path(const Endpoint& a, const Endpoint& t, double f, int los_hint, std::vector<TracedPath>& out) const;
   void reflections_exhaustive(const Endpoint& a, const Endpoint& t, double f, std::vector<TracedPath>& out) const;
@@ -286,9 +304,15 @@ class PathFinder {
   }
   // Level full (diffraction.cpp): every edge.
   void diffractions(const Endpoint& a, const Endpoint& t, double f, double floor, std::vector<TracedPath>& out) const;
-  // Levels full-selective and full (double_diffraction.cpp): every pair of edge_pairs_, in both orders.
-  void double_diffractions(const Endpoint& a, const Endpoint& t, double f, double floor,
+  // Levels full-selective and full (double_diffraction.cpp): every pair of edge_pairs_, in both orders, or only the
+  // orders of `block` when given (from edge_pairs_near: the same paths).
+  void double_diffractions(const Endpoint& a, const Endpoint& t, double f, double floor, const EdgePairBlock* block,
                            std::vector<TracedPath>& out) const;
+  // The orders of edge pairs that can carry a second-order path of some link from `antenna` to a tag inside the box
+  // [tags_lo, tags_hi]: every order except those that double_diffractions' per-link tests provably reject for every
+  // tag of the box (a parallel pair whose points fall off an edge; a corner pair whose shortest path is through its
+  // corner), with the edges and corners they read. Shared by the links of a block of nearby tags (trace_sum).
+  void edge_pairs_near(const Vec3& antenna, const Vec3& tags_lo, const Vec3& tags_hi, EdgePairBlock& out) const;
 
   std::shared_ptr<const Scene> scene_;
   TraceOptions options_;
@@ -316,6 +340,7 @@ class PathFinder {
   std::vector<uint32_t> paired_edges_;
   std::vector<Vec3> pair_corners_;
   std::vector<int32_t> pair_corner_of_;
+  double max_edge_coordinate_m_ = 0.0;  // the largest |coordinate| of a paired edge's ends (edge_pairs_near's margin)
   void index_edge_pairs();
   ThinPosts posts_;
   std::vector<uint64_t> occupancy_;

@@ -24,9 +24,10 @@ namespace rfidray {
 namespace {
 // The calling thread's tracer counters (rays, culled legs, mirror points, reflections found, plane pairs
 // tried), which a threaded batch credits to its caller.
-constexpr size_t kCounters = 5;
+constexpr size_t kCounters = 6;
 std::array<uint64_t*, kCounters> thread_counters() {
-  return {&tl_rays_traced, &tl_segments_culled, &tl_mirror_points, &tl_reflections_found, &tl_plane_pairs_tried};
+  return {&tl_rays_traced,       &tl_segments_culled,   &tl_mirror_points,
+          &tl_reflections_found, &tl_plane_pairs_tried, &tl_edge_pair_orders_tried};
 }
 }  // namespace
 
@@ -120,6 +121,7 @@ void RaytracedChannel::one_way(const Endpoint& antenna, std::span<const Endpoint
     for (size_t i = 0; i < n; ++i) order[i] = sorted[i].second;
   }
   finder_.decide_plane_pair_sharing(antenna.pose.position, tags, order, candidates);
+  finder_.decide_edge_pair_sharing(antenna.pose.position, tags, order, candidates);
   int width = 1;
   if (finder_.options().level == ChannelLevel::kLos) {
     width = los_packet_width_.load(std::memory_order_relaxed);

@@ -75,6 +75,10 @@ struct TraceOptions {
   // kept; ≥ 64 tags); kAlways and kNever are for tests and benchmarks.
   enum class Sharing { kAuto, kAlways, kNever };
   Sharing plane_pair_sharing = Sharing::kAuto;
+  // Levels full-selective and full, links traced together: the orders of edge pairs (second-order diffraction) each
+  // block of 16 nearby tags can use are found once and shared by its links (PathFinder::edge_pairs_near). Changes
+  // the work, never a path; kAuto as above, with its own measured threshold (PathFinder::decide_edge_pair_sharing).
+  Sharing edge_pair_sharing = Sharing::kAuto;
 };
 
 // "exhaustive" | "exact"
