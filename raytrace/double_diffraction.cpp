@@ -429,9 +429,20 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
   } else {
     for (size_t c = 0; c < pair_corners_.size(); ++c) view_corner(c);
   }
-  // One order of one pair (edge 1 first, then edge 2): the exact tests, the field, the legs.
-  const auto try_order = [&](size_t pi, int order) {
+  // Every order of every pair (2·pair + order), or the orders edge_pairs_near kept for this link's block (ascending:
+  // the same paths in the same order).
+  const size_t orders = block ? block->orders.size() : 2 * edge_pairs_.size();
+  tl_edge_pair_orders_tried += orders;
+  for (size_t i = 0; i < orders; ++i) {  // pairs found within double_diffraction_max_m (edge_pairs.h)
+    const uint32_t o = block ? block->orders[i] : static_cast<uint32_t>(i);
+    const size_t pi = o >> 1;
+    const int order = static_cast<int>(o & 1u);
     const EdgePair& pair = edge_pairs_[pi];
+    if (pair.parallel && !(tl_span[pair.first] && tl_span[pair.second])) {
+      if (!block) i |= 1u;  // the pair's other order fails it too: on to the next pair
+      continue;
+    }
+    // One order of the pair (edge 1 first, then edge 2): the exact tests, the field, the legs.
     const uint32_t i1 = order == 0 ? pair.first : pair.second, i2 = order == 0 ? pair.second : pair.first;
     const Edge& e1 = edges_[i1];
     const Edge& e2 = edges_[i2];
@@ -445,45 +456,45 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
       const Vec3& w12 = pair.offset_m[order];
       vt2 = feet1.v_t - w12;
       const double rho0 = feet1.rho_a, rho12 = pair.offset_length_m[order], rho2 = vt2.norm();
-      if (rho0 < kDoubleDiffractionOnEdgeM || rho2 < kDoubleDiffractionOnEdgeM) return;
+      if (rho0 < kDoubleDiffractionOnEdgeM || rho2 < kDoubleDiffractionOnEdgeM) continue;
       const double total = rho0 + rho12 + rho2;
       const double zq1 = za + (zt - za) * rho0 / total, zq2 = za + (zt - za) * (rho0 + rho12) / total;
-      if (zq1 < 0.0 || zq1 > e1.length_m) return;
+      if (zq1 < 0.0 || zq1 > e1.length_m) continue;
       q1 = e1.start + zq1 * d;
       q2 = e1.start + w12 + zq2 * d;
       const double along2 = (q2 - e2.start).dot(e2.direction);
-      if (along2 < 0.0 || along2 > e2.length_m) return;
+      if (along2 < 0.0 || along2 > e2.length_m) continue;
     } else {
       va = feet1.v_a;
       vt2 = tl_feet[i2].v_t;
-      if (feet1.rho_a < kDoubleDiffractionOnEdgeM || tl_feet[i2].rho_t < kDoubleDiffractionOnEdgeM) return;
+      if (feet1.rho_a < kDoubleDiffractionOnEdgeM || tl_feet[i2].rho_t < kDoubleDiffractionOnEdgeM) continue;
       // Both tests are exact; the corner's (two square roots) first: it rejects most corner pairs (paper
       // warehouse: it leaves 5 % of what the slope test leaves), the slope test's sixteen are then mostly spared.
       const int32_t corner = pair_corner_of_[2 * pi + order];
-      if (corner >= 0 && corner_view_is_shortest(e1, e2, tl_corners[corner])) return;
-      if (!path_points_on_edges(e1, e2, a, t)) return;
+      if (corner >= 0 && corner_view_is_shortest(e1, e2, tl_corners[corner])) continue;
+      if (!path_points_on_edges(e1, e2, a, t)) continue;
       double t1 = 0.0, t2 = 0.0;
-      if (!keller_points(e1, e2, a, t, 0.1 * min_leg_m, t1, t2)) return;
+      if (!keller_points(e1, e2, a, t, 0.1 * min_leg_m, t1, t2)) continue;
       q1 = e1.start + t1 * d;
       q2 = e2.start + t2 * e2.direction;
     }
     const Vec3 s1 = q1 - a, s12v = q2 - q1, s2 = t - q2;
     const double s_in = s1.norm(), s12 = s12v.norm(), s_out = s2.norm();
-    if (!(s_in > 0.0 && s12 > 0.0 && s_out > 0.0)) return;
+    if (!(s_in > 0.0 && s12 > 0.0 && s_out > 0.0)) continue;
     // The leg between the edges: at most double_diffraction_max_m, and at least λ/2 (k·s12 ≥ π): UTD at edge 2
     // takes edge 1's diffracted field there for a ray. Closer edges (a 3 cm shelf's two front edges) are one thick
     // edge, which this does not model.
-    if (s12 > options_.double_diffraction_max_m || s12 < min_leg_m) return;
+    if (s12 > options_.double_diffraction_max_m || s12 < min_leg_m) continue;
     const double length = s_in + s12 + s_out;
-    if (length * length > max_length2_) return;
+    if (length * length > max_length2_) continue;
     const Vec3 s_hat_in = s1 / s_in, s_hat_mid = s12v / s12, s_hat_out = s2 / s_out;
     const double sin_beta1 = s_hat_in.cross(d).norm(), sin_beta2 = s_hat_mid.cross(e2.direction).norm();
-    if (sin_beta1 < 1e-9 || sin_beta2 < 1e-9) return;
+    if (sin_beta1 < 1e-9 || sin_beta2 < 1e-9) continue;
     const double beta1 = std::atan2(sin_beta1, s_hat_in.dot(d));
     const double beta2 = std::atan2(sin_beta2, s_hat_mid.dot(e2.direction));
     // The leg between the edges, across each edge (from edge 1 into its side; from edge 2 back to edge 1).
     const Vec3 w1 = s12v - s12v.dot(d) * d, w2 = -(s12v - s12v.dot(e2.direction) * e2.direction);
-    if (w1.norm() < kDoubleDiffractionOnEdgeM || w2.norm() < kDoubleDiffractionOnEdgeM) return;
+    if (w1.norm() < kDoubleDiffractionOnEdgeM || w2.norm() < kDoubleDiffractionOnEdgeM) continue;
     const Vec3 u1 = w1.normalized(), u2 = w2.normalized();
     // One leg between the edges in free space, or one per side of their shared face (a sheet's two sides).
     const Vec3 face_normal = pair.shared_facet != kNoFacet ? facets[pair.shared_facet].normal : Vec3::Zero();
@@ -564,22 +575,6 @@ void PathFinder::double_diffractions(const Endpoint& ant, const Endpoint& tag, d
       p.contribution = contribution;
       out.push_back(p);
     }
-  };
-  if (block) {  // the orders edge_pairs_near kept for this link's block, ascending: the same paths in the same order
-    tl_edge_pair_orders_tried += block->orders.size();
-    for (const uint32_t o : block->orders) {
-      const EdgePair& pair = edge_pairs_[o >> 1];
-      if (pair.parallel && !(tl_span[pair.first] && tl_span[pair.second])) continue;
-      try_order(o >> 1, static_cast<int>(o & 1u));
-    }
-    return;
-  }
-  tl_edge_pair_orders_tried += 2 * edge_pairs_.size();
-  for (size_t pi = 0; pi < edge_pairs_.size(); ++pi) {  // found within double_diffraction_max_m (edge_pairs.h)
-    const EdgePair& pair = edge_pairs_[pi];
-    if (pair.parallel && !(tl_span[pair.first] && tl_span[pair.second])) continue;
-    try_order(pi, 0);
-    try_order(pi, 1);
   }
 }
 
