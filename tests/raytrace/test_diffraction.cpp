@@ -9,6 +9,7 @@
 #include "tests/support/half_plane_exact.h"
 #include "raytrace/raytraced_channel.h"
 #include "raytrace/warehouse.h"
+#include "tests/support/endpoint_at.h"
 
 namespace rfidray {
 namespace {
@@ -16,13 +17,7 @@ namespace {
 using C = std::complex<double>;
 constexpr double kF = 866e6;
 
-Endpoint linear(const Vec3& p, const Vec3& axis) {
-  Endpoint e;
-  e.pose.position = p;
-  e.polarization.kind = PolarizationKind::kLinear;
-  e.polarization.axis_local = axis.normalized();
-  return e;
-}
+using testing::linear_dipole_at;
 
 TEST(Edges, BoxSheetAndJunction) {
   // A closed metal box: 12 right-angled wedges (α = 90° or 270° depending on the winding), no free edge.
@@ -82,11 +77,12 @@ TEST(Diffraction, KnifeEdgeMatchesSommerfeldHalfPlane) {
   const RaytracedChannel no_diffraction(scene, o);
   const double k = wavenumber_rad_m(kF), rho = 5.0, range = 1e5;
   const double phi_prime = 60.0 * kPi / 180.0;  // reflection boundary φ = 120°, incident boundary φ = 240°
-  const Endpoint source = linear(range * Vec3(std::cos(phi_prime), std::sin(phi_prime), 0.0), Vec3::UnitZ());
+  const Endpoint source = linear_dipole_at(range * Vec3(std::cos(phi_prime), std::sin(phi_prime), 0.0), Vec3::UnitZ());
   const C incident_at_edge = path_contribution(range, 1.0, kF);
   auto field = [&](const RaytracedChannel& ch, double phi_deg) {
     const double phi = phi_deg * kPi / 180.0;
-    return sum_paths(ch.paths(source, linear(rho * Vec3(std::cos(phi), std::sin(phi), 0.0), Vec3::UnitZ()), kF)) /
+    return sum_paths(
+               ch.paths(source, linear_dipole_at(rho * Vec3(std::cos(phi), std::sin(phi), 0.0), Vec3::UnitZ()), kF)) /
            incident_at_edge;
   };
   // Lit (with and without the reflection), both transition regions (±1…±6° about 120° and 240°), the shadow.
@@ -115,14 +111,18 @@ TEST(Diffraction, KnifeEdgeMatchesSommerfeldHalfPlane) {
     auto change = [&](auto&& f) { return std::abs(f(b + 0.5)) - std::abs(f(b - 0.5)); };
     const double exact = change([&](double deg) { return sommerfeld_soft(k, rho, deg * kPi / 180.0, phi_prime); });
     EXPECT_LT(std::abs(change([&](double deg) { return field(full, deg); }) - exact), 0.02) << "boundary " << b;
-    EXPECT_GT(std::abs(change([&](double deg) { return field(no_diffraction, deg); }) - exact), 0.3) << "boundary " << b;
+    EXPECT_GT(std::abs(change([&](double deg) { return field(no_diffraction, deg); }) - exact), 0.3)
+        << "boundary " << b;
   }
   // Deep in the shadow the tag is reached by diffraction alone.
-  const auto deep = full.paths(source, linear(rho * Vec3(std::cos(5.0), std::sin(5.0), 0.0), Vec3::UnitZ()), kF);
+  const auto deep =
+      full.paths(source, linear_dipole_at(rho * Vec3(std::cos(5.0), std::sin(5.0), 0.0), Vec3::UnitZ()), kF);
   ASSERT_FALSE(deep.empty());
   for (const Path& p : deep) EXPECT_EQ(p.kind, PathKind::kDiffraction);
   EXPECT_LT(deep.front().point.norm(), 1e-9);  // on the edge, at the Fermat point z = 0
-  EXPECT_TRUE(no_diffraction.paths(source, linear(rho * Vec3(std::cos(5.0), std::sin(5.0), 0.0), Vec3::UnitZ()), kF).empty());
+  EXPECT_TRUE(
+      no_diffraction.paths(source, linear_dipole_at(rho * Vec3(std::cos(5.0), std::sin(5.0), 0.0), Vec3::UnitZ()), kF)
+          .empty());
 }
 
 // The same knife edge with the default options (surface_epsilon_m 0.1 mm) and the source 50 km away, on and near
@@ -140,13 +140,13 @@ TEST(Diffraction, DistantSourceKeepsItsReflectionAndItsBoundaries) {
   const RaytracedChannel full(scene, o);
   const double k = wavenumber_rad_m(kF), rho = 5.0, range = 5e4;
   const double phi_prime = 60.0 * kPi / 180.0;
-  const Endpoint source = linear(range * Vec3(std::cos(phi_prime), std::sin(phi_prime), 0.0), Vec3::UnitZ());
+  const Endpoint source = linear_dipole_at(range * Vec3(std::cos(phi_prime), std::sin(phi_prime), 0.0), Vec3::UnitZ());
   const C incident_at_edge = path_contribution(range, 1.0, kF);
   for (double phi_deg : {100.0, 105.0, 110.0, 115.0, 119.9, 120.0, 120.1, 239.9, 240.0, 240.1}) {
     const double phi = phi_deg * kPi / 180.0;
-    const C traced =
-        sum_paths(full.paths(source, linear(rho * Vec3(std::cos(phi), std::sin(phi), 0.0), Vec3::UnitZ()), kF)) /
-        incident_at_edge;
+    const C traced = sum_paths(full.paths(
+                         source, linear_dipole_at(rho * Vec3(std::cos(phi), std::sin(phi), 0.0), Vec3::UnitZ()), kF)) /
+                     incident_at_edge;
     EXPECT_LT(std::abs(traced - sommerfeld_soft(k, rho, phi, phi_prime)), 0.01) << "φ = " << phi_deg << "°";
   }
 }
@@ -163,7 +163,8 @@ TEST(Diffraction, FermatPointAndAHiddenTagInThePaperWarehouse) {
   o.level = ChannelLevel::kFull;
   o.drop_below_db = 400.0;
   const RaytracedChannel full(scene, o);
-  const Endpoint a = linear(Vec3(3.0, 2.0, 1.0), Vec3::UnitZ()), t = linear(Vec3(2.0, -1.5, 4.0), Vec3::UnitZ());
+  const Endpoint a = linear_dipole_at(Vec3(3.0, 2.0, 1.0), Vec3::UnitZ()),
+                 t = linear_dipole_at(Vec3(2.0, -1.5, 4.0), Vec3::UnitZ());
   const auto paths = full.paths(a, t, kF);
   const Path* d = nullptr;
   for (const Path& p : paths)
@@ -182,8 +183,8 @@ TEST(Diffraction, FermatPointAndAHiddenTagInThePaperWarehouse) {
   const RaytracedChannel sb(warehouse, w);
   w.level = ChannelLevel::kFull;
   const RaytracedChannel fl(warehouse, w);
-  const Endpoint ant = linear(Vec3(-1.0, -2.3, 1.68), Vec3::UnitZ());
-  const Endpoint hidden = linear(Vec3(3.0, -2.3, 1.5), Vec3::UnitZ());  // inside the rack, between shelves
+  const Endpoint ant = linear_dipole_at(Vec3(-1.0, -2.3, 1.68), Vec3::UnitZ());
+  const Endpoint hidden = linear_dipole_at(Vec3(3.0, -2.3, 1.5), Vec3::UnitZ());  // inside the rack, between shelves
   const auto with = fl.paths(ant, hidden, kF);
   size_t diffracted = 0;
   for (const Path& p : with) diffracted += p.kind == PathKind::kDiffraction;
@@ -252,8 +253,8 @@ TEST(SelectiveDiffraction, HiddenTagKeepsTheDiffractionsThatMatter) {
   // the top, under the bottom (no floor) and round both sides: full has 4; the selective level keeps the
   // strongest until the rest is within ε of them.
   const auto scene = plate_scene(3.0);
-  const Endpoint ant = linear(Vec3(0.3, 3.0, 3.2), Vec3::UnitZ());
-  const Endpoint hidden = linear(Vec3(-0.2, -1.0, 2.9), Vec3::UnitZ());  // behind the plate: no direct path
+  const Endpoint ant = linear_dipole_at(Vec3(0.3, 3.0, 3.2), Vec3::UnitZ());
+  const Endpoint hidden = linear_dipole_at(Vec3(-0.2, -1.0, 2.9), Vec3::UnitZ());  // behind the plate: no direct path
   const SelectiveCheck c = compare_selective(scene, ant, hidden);
   EXPECT_GE(c.kept_diffractions, 1u);
   EXPECT_EQ(c.kept_diffractions + c.skipped, 4u);
@@ -268,8 +269,8 @@ TEST(SelectiveDiffraction, LinkGrazingAnEdgeKeepsThatEdge) {
   const auto scene = plate_scene(1.0);  // 2 m × 2 m
   // The direct path passes 5 cm above the plate's top edge (z = 2 at y = 0): clear, but inside the edge's
   // incident-shadow transition region (X ≈ 0.06), where the diffracted field is half the direct one.
-  const Endpoint ant = linear(Vec3(0.0, 3.0, 1.0), Vec3::UnitZ());
-  const Endpoint tag = linear(Vec3(0.0, -1.0, 2.4), Vec3::UnitZ());
+  const Endpoint ant = linear_dipole_at(Vec3(0.0, 3.0, 1.0), Vec3::UnitZ());
+  const Endpoint tag = linear_dipole_at(Vec3(0.0, -1.0, 2.4), Vec3::UnitZ());
   const SelectiveCheck c = compare_selective(scene, ant, tag);
   EXPECT_GE(c.kept_diffractions, 1u);
   TraceOptions o;
@@ -293,8 +294,8 @@ TEST(SelectiveDiffraction, ClearLinkFarFromEveryBoundaryLeavesOutAWeakDiffractio
   add_quad(sheet, Vec3(0, 0, -50), Vec3(50, 0, 0), Vec3(0, 0, 100), 0, 1, 1);
   const auto scene = std::make_shared<const Scene>(std::vector<TriangleMesh>{sheet}, MaterialAssignment{});
   const double phi = 170.0 * kPi / 180.0;
-  const Endpoint ant = linear(Vec3(0.0, 10.0, 0.0), Vec3::UnitZ());
-  const Endpoint tag = linear(10.0 * Vec3(std::cos(phi), std::sin(phi), 0.0), Vec3::UnitZ());
+  const Endpoint ant = linear_dipole_at(Vec3(0.0, 10.0, 0.0), Vec3::UnitZ());
+  const Endpoint tag = linear_dipole_at(10.0 * Vec3(std::cos(phi), std::sin(phi), 0.0), Vec3::UnitZ());
   EXPECT_GT(utd_min_transition_argument(2.0, phi, kPi / 2.0, wavenumber_rad_m(kF) * 5.0), 70.0);
   TraceOptions o;
   o.level = ChannelLevel::kFull;
@@ -325,8 +326,8 @@ TEST(SelectiveDiffraction, SummedBoundHoldsOnPaperWarehouseLinks) {
   for (double x : {-1.0, 0.5, 2.0})
     for (double tx : {1.2, 2.6, 3.9})
       for (double tz : {0.4, 1.1, 1.5}) {
-        const Endpoint ant = linear(Vec3(x, -2.3, 1.68), Vec3::UnitZ());
-        const Endpoint tag = linear(Vec3(tx, -1.9, tz), Vec3::UnitZ());
+        const Endpoint ant = linear_dipole_at(Vec3(x, -2.3, 1.68), Vec3::UnitZ());
+        const Endpoint tag = linear_dipole_at(Vec3(tx, -1.9, tz), Vec3::UnitZ());
         skipped += compare_selective(warehouse, ant, tag).skipped;
         ++links;
       }
@@ -391,7 +392,7 @@ TEST(DiffractionContinuity, FullIsContinuousAcrossShadowAndReflectionBoundaries)
     };
     // Along the edge (soft), and tilted so that both the soft and the hard terms count.
     for (const Vec3& axis : {Vec3(Vec3::UnitZ()), Vec3(1.0, 1.0, 1.0)}) {
-      const Endpoint source = linear(at(1.0, phi_prime), axis);
+      const Endpoint source = linear_dipole_at(at(1.0, phi_prime), axis);
       // Incident shadow boundary φ' + π; reflection boundaries π − φ' (face 0) and (2n − 1)π − φ' (face n),
       // where they lie in the exterior.
       std::vector<double> boundaries = {phi_prime + kPi, kPi - phi_prime, 2.0 * c.exterior_rad - kPi - phi_prime};
@@ -400,9 +401,9 @@ TEST(DiffractionContinuity, FullIsContinuousAcrossShadowAndReflectionBoundaries)
         for (double rho : {0.04, 0.08, 0.16, 0.32}) {
           const Vec3 on = at(rho, b);
           const C h0 = path_contribution((on - source.pose.position).norm(), 1.0, kF);
-          const C h_on = sum_paths(full.paths(source, linear(on, axis), kF));
+          const C h_on = sum_paths(full.paths(source, linear_dipole_at(on, axis), kF));
           for (double side : {-1e-6, 1e-6}) {
-            const C h = sum_paths(full.paths(source, linear(at(rho, b + side), axis), kF));
+            const C h = sum_paths(full.paths(source, linear_dipole_at(at(rho, b + side), axis), kF));
             EXPECT_LE(std::abs(h - h_on), 1e-3 * std::abs(h0))
                 << c.name << ", axis " << axis.transpose() << ": boundary " << b * 180.0 / kPi << "°, ρ " << rho
                 << " m, side " << side << ": h/h0 " << h / h0 << " against " << h_on / h0 << " on it";
@@ -437,7 +438,7 @@ TEST(DiffractionContinuity, ThickWallAsASolidBoxHasNoJumpAtItsShadowBoundary) {
   solid.solid = true;
   const RaytracedChannel as_sheet(std::make_shared<const Scene>(std::vector<TriangleMesh>{sheet}, slab), o);
   const RaytracedChannel as_box(std::make_shared<const Scene>(std::vector<TriangleMesh>{box}, solid), o);
-  const Endpoint source = linear(Vec3(0.0, -0.8, 0.0), Vec3::UnitZ());
+  const Endpoint source = linear_dipole_at(Vec3(0.0, -0.8, 0.0), Vec3::UnitZ());
   const Vec3 edge(0.6, 0.0, 0.0);
   const Vec3 d = (edge - source.pose.position).normalized();  // the incident shadow boundary from the edge
   const Vec3 across(d.y(), -d.x(), 0.0);
@@ -445,8 +446,8 @@ TEST(DiffractionContinuity, ThickWallAsASolidBoxHasNoJumpAtItsShadowBoundary) {
     const Vec3 on = edge + rho * d;
     const C h0 = path_contribution((on - source.pose.position).norm(), 1.0, kF);
     const auto jump = [&](const RaytracedChannel& ch) {
-      const C lit = sum_paths(ch.paths(source, linear(on + 1e-3 * across, Vec3::UnitZ()), kF));
-      const C shadow = sum_paths(ch.paths(source, linear(on - 1e-3 * across, Vec3::UnitZ()), kF));
+      const C lit = sum_paths(ch.paths(source, linear_dipole_at(on + 1e-3 * across, Vec3::UnitZ()), kF));
+      const C shadow = sum_paths(ch.paths(source, linear_dipole_at(on - 1e-3 * across, Vec3::UnitZ()), kF));
       return std::abs(lit - shadow) / std::abs(h0);
     };
     EXPECT_LE(jump(as_box), 0.04) << "box, ρ " << rho;

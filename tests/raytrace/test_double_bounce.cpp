@@ -11,6 +11,7 @@
 #include "core/units.h"
 #include "raytrace/raytraced_channel.h"
 #include "raytrace/warehouse.h"
+#include "tests/support/endpoint_at.h"
 
 namespace rfidray {
 namespace {
@@ -18,13 +19,7 @@ namespace {
 using C = std::complex<double>;
 constexpr double kF = 866e6;
 
-Endpoint linear(const Vec3& p, const Vec3& axis) {
-  Endpoint e;
-  e.pose.position = p;
-  e.polarization.kind = PolarizationKind::kLinear;
-  e.polarization.axis_local = axis.normalized();
-  return e;
-}
+using testing::linear_dipole_at;
 
 TriangleMesh quad(const std::string& name, const Vec3& corner, const Vec3& u, const Vec3& v) {
   TriangleMesh m;
@@ -103,7 +98,7 @@ TEST(DoubleBounce, CornerOfTwoPerpendicularMetalWallsMatchesImageTheory) {
       for (const auto& [pa, pt] : {std::pair{Vec3(1.0, 2.5, 1.2), Vec3(3.0, 0.7, 1.9)},
                                    std::pair{Vec3(4.0, 1.0, 0.5), Vec3(0.8, 3.1, 2.2)},
                                    std::pair{Vec3(2.0, 2.0, 1.0), Vec3(2.5, 1.5, 1.0)}}) {
-        const Endpoint a = linear(pa, axis), t = linear(pt, axis);
+        const Endpoint a = linear_dipole_at(pa, axis), t = linear_dipole_at(pt, axis);
         const auto paths = ch.paths(a, t, kF);
         // LoS, the two single reflections, and exactly one double reflection: the line from A to the double
         // image (−tx, −ty) crosses one wall first, which fixes the order.
@@ -141,7 +136,7 @@ TEST(DoubleBounce, TwoParallelMetalWallsGiveBothImageOrders) {
   for (CandidateMode mode : {CandidateMode::kExact, CandidateMode::kExhaustive}) {
     const RaytracedChannel ch(scene, level_options(ChannelLevel::kDoubleBounce, mode));
     for (const Vec3& axis : {Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0.6, 0.2, -0.5)}) {
-      const Endpoint a = linear(Vec3(1.0, -2.0, 1.0), axis), t = linear(Vec3(2.7, 3.5, 1.6), axis);
+      const Endpoint a = linear_dipole_at(Vec3(1.0, -2.0, 1.0), axis), t = linear_dipole_at(Vec3(2.7, 3.5, 1.6), axis);
       const auto paths = ch.paths(a, t, kF);
       ASSERT_EQ(paths.size(), 5u);  // LoS, two single reflections, two double reflections
       const Expected first0 = expected_double(a, t, n, 0.0, n, w);  // x = 0 first, then x = 4
@@ -171,8 +166,9 @@ TEST(DoubleBounce, TwoParallelMetalWallsGiveBothImageOrders) {
 
 std::vector<Endpoint> paper_tags() {
   std::vector<Endpoint> tags;
-  for (double y : {0.57, -1.24, -3.03, -4.82, -6.75, -8.66}) tags.push_back(linear(Vec3(2.90, y, 2.05), Vec3::UnitZ()));
-  for (double y : {-7.70, -3.03, 1.44, 5.95}) tags.push_back(linear(Vec3(-4.85, y, 1.85), Vec3::UnitZ()));
+  for (double y : {0.57, -1.24, -3.03, -4.82, -6.75, -8.66})
+    tags.push_back(linear_dipole_at(Vec3(2.90, y, 2.05), Vec3::UnitZ()));
+  for (double y : {-7.70, -3.03, 1.44, 5.95}) tags.push_back(linear_dipole_at(Vec3(-4.85, y, 1.85), Vec3::UnitZ()));
   return tags;
 }
 
@@ -185,7 +181,7 @@ TEST(DoubleBounce, FastAgreesWithExhaustiveOnThePaperWarehouse) {
   const RaytracedChannel exhaustive(scene, ref), quick(scene, fast);
   size_t doubles = 0;
   for (double y = -10.0; y <= 8.0; y += 3.0) {
-    const Endpoint ant = linear(Vec3(-1.0, y, 1.68), Vec3::UnitZ());
+    const Endpoint ant = linear_dipole_at(Vec3(-1.0, y, 1.68), Vec3::UnitZ());
     for (const Endpoint& tag : paper_tags()) {
       const auto a = exhaustive.paths(ant, tag, kF);
       const auto b = quick.paths(ant, tag, kF);
@@ -245,12 +241,12 @@ SharingResult expect_shared_pairs_exact(const std::shared_ptr<const Scene>& scen
 TEST(DoubleBounceSharing, BlockPairsGiveEveryLinksPathsOnThePaperWarehouse) {
   const auto scene = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
   std::vector<Endpoint> antennas, tags;
-  for (double y = -10.0; y <= 8.0; y += 4.5) antennas.push_back(linear(Vec3(-1.0, y, 1.68), Vec3::UnitZ()));
+  for (double y = -10.0; y <= 8.0; y += 4.5) antennas.push_back(linear_dipole_at(Vec3(-1.0, y, 1.68), Vec3::UnitZ()));
   // The paper's tags and a grid along both rack faces at several heights (blocks of near and far tags).
   tags = paper_tags();
   for (double y = -9.0; y <= 7.0; y += 0.8)
     for (double z : {0.4, 1.1, 2.05})
-      for (double x : {2.90, -4.85}) tags.push_back(linear(Vec3(x, y, z), Vec3::UnitZ()));
+      for (double x : {2.90, -4.85}) tags.push_back(linear_dipole_at(Vec3(x, y, z), Vec3::UnitZ()));
   const SharingResult r = expect_shared_pairs_exact(scene, CandidateMode::kExact, antennas, tags,
                                                     TraceOptions::Sharing::kAlways);
   EXPECT_GT(r.doubles, 500u);  // floor, rack and wall pairs really exercised
@@ -271,10 +267,11 @@ TEST(DoubleBounceSharing, ProbeSharesWhereABlockKeepsFewPairs) {
   // Tags in one bay of the paper warehouse's racks, the antenna in front of it: a block's windows meet few
   // planes, the probe keeps fewer than 0.42 of the pairs (0.27 measured) and shares, with the same paths.
   const auto scene = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
-  const std::vector<Endpoint> antennas{linear(Vec3(1.5, -3.0, 1.68), Vec3::UnitZ())};
+  const std::vector<Endpoint> antennas{linear_dipole_at(Vec3(1.5, -3.0, 1.68), Vec3::UnitZ())};
   std::vector<Endpoint> tags;
   for (double y = -3.4; y <= -2.6; y += 0.1)
-    for (double z : {1.0, 1.1, 1.2, 1.3, 1.4, 1.5, 1.6, 1.7}) tags.push_back(linear(Vec3(2.90, y, z), Vec3::UnitZ()));
+    for (double z : {1.0, 1.1, 1.2, 1.3, 1.4, 1.5, 1.6, 1.7})
+      tags.push_back(linear_dipole_at(Vec3(2.90, y, z), Vec3::UnitZ()));
   const SharingResult r = expect_shared_pairs_exact(scene, CandidateMode::kExact, antennas, tags,
                                                     TraceOptions::Sharing::kAuto);
   EXPECT_LT(r.pairs_shared, 0.42 * r.pairs_every) << r.pairs_shared << " of " << r.pairs_every;
@@ -301,14 +298,15 @@ TEST(DoubleBounceSharing, BlockPairsGiveEveryLinksPathsInRandomScenes) {
     const auto scene = std::make_shared<const Scene>(std::vector<TriangleMesh>{m}, MaterialAssignment{});
     std::vector<Endpoint> antennas, tags;
     for (int i = 0; i < 3; ++i)
-      antennas.push_back(linear(Vec3(-5.5 + 11 * u(rng), -5.5 + 11 * u(rng), 0.3 + 2.5 * u(rng)), Vec3::UnitZ()));
+      antennas.push_back(
+          linear_dipole_at(Vec3(-5.5 + 11 * u(rng), -5.5 + 11 * u(rng), 0.3 + 2.5 * u(rng)), Vec3::UnitZ()));
     for (int i = 0; i < 120; ++i) {
       Vec3 p(-5.5 + 11 * u(rng), -5.5 + 11 * u(rng), 0.05 + 3.0 * u(rng));
       if (i % 4 == 0) p.z() = std::round(p.z() * 2.0) * 0.5 + (u(rng) < 0.5 ? 1e-3 : 2e-7);  // near a face
-      tags.push_back(linear(p, Vec3(u(rng), u(rng), 1.0)));
+      tags.push_back(linear_dipole_at(p, Vec3(u(rng), u(rng), 1.0)));
     }
     for (CandidateMode mode : {CandidateMode::kExact, CandidateMode::kExhaustive}) {
-      SCOPED_TRACE(testing::Message() << "scene " << scene_index << " mode " << to_string(mode));
+      SCOPED_TRACE(::testing::Message() << "scene " << scene_index << " mode " << to_string(mode));
       const SharingResult r = expect_shared_pairs_exact(scene, mode, antennas, tags, TraceOptions::Sharing::kAlways);
       EXPECT_GT(r.doubles, 50u);
       EXPECT_LT(r.pairs_shared, r.pairs_every);

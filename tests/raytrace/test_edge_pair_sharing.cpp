@@ -14,6 +14,7 @@
 #include "raytrace/path_finder.h"
 #include "raytrace/raytraced_channel.h"
 #include "raytrace/warehouse.h"
+#include "tests/support/endpoint_at.h"
 
 namespace rfidray {
 namespace {
@@ -21,13 +22,7 @@ namespace {
 using C = std::complex<double>;
 constexpr double kF = 866e6;
 
-Endpoint linear(const Vec3& p, const Vec3& axis) {
-  Endpoint e;
-  e.pose.position = p;
-  e.polarization.kind = PolarizationKind::kLinear;
-  e.polarization.axis_local = axis.normalized();
-  return e;
-}
+using testing::linear_dipole_at;
 
 TraceOptions full_options() {
   TraceOptions o;
@@ -79,7 +74,8 @@ std::vector<Endpoint> rack_patches() {
   for (double y0 : {-3.4, -0.2, 4.1})
     for (double x : {2.90, 2.75, -4.85})
       for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) tags.push_back(linear(Vec3(x, y0 + 0.1 * i, 0.95 + 0.12 * j), Vec3::UnitZ()));
+        for (int j = 0; j < 4; ++j)
+          tags.push_back(linear_dipole_at(Vec3(x, y0 + 0.1 * i, 0.95 + 0.12 * j), Vec3::UnitZ()));
   return tags;
 }
 
@@ -87,7 +83,7 @@ TEST(EdgePairSharing, BlockOrdersGiveEveryLinksChannelOnThePaperWarehouse) {
   const auto scene = std::make_shared<const Scene>(paper_warehouse_meshes(), MaterialAssignment{});
   const PathFinder finder(scene, full_options());
   std::vector<Endpoint> antennas;
-  for (double y : {-3.0, 1.0, 5.0}) antennas.push_back(linear(Vec3(0.5, y, 1.68), Vec3::UnitZ()));
+  for (double y : {-3.0, 1.0, 5.0}) antennas.push_back(linear_dipole_at(Vec3(0.5, y, 1.68), Vec3::UnitZ()));
   const Compared r = compare_shared(finder, antennas, rack_patches());
   EXPECT_GT(r.second_order_paths, 200u);  // the pairs the bounds judge really carry paths
   // Shared, a link walks a small part of the orders (each of 16 tags 0.1–0.36 m apart).
@@ -122,10 +118,12 @@ TEST(EdgePairSharing, BlockOrdersGiveEveryLinksChannelInRandomScenes) {
     const PathFinder finder(scene, full_options());
     std::vector<Endpoint> antennas;
     for (int i = 0; i < 2; ++i)
-      antennas.push_back(linear(Vec3(-3.5 + 7 * u(rng), -3.5 + 7 * u(rng), 0.3 + 2.0 * u(rng)), Vec3::UnitZ()));
+      antennas.push_back(
+          linear_dipole_at(Vec3(-3.5 + 7 * u(rng), -3.5 + 7 * u(rng), 0.3 + 2.0 * u(rng)), Vec3::UnitZ()));
     std::vector<Endpoint> tags;
     for (int i = 0; i < 32; ++i)  // two blocks anywhere
-      tags.push_back(linear(Vec3(-3.8 + 7.6 * u(rng), -3.8 + 7.6 * u(rng), 0.05 + 2.0 * u(rng)), Vec3(u(rng), 0, 1)));
+      tags.push_back(
+          linear_dipole_at(Vec3(-3.8 + 7.6 * u(rng), -3.8 + 7.6 * u(rng), 0.05 + 2.0 * u(rng)), Vec3(u(rng), 0, 1)));
     for (const Vec3& corner : corners)  // a block round each corner: at it, on its edges' lines, 1 mm and 5 cm off
       for (int i = 0; i < 16; ++i) {
         Vec3 p = corner;
@@ -136,11 +134,11 @@ TEST(EdgePairSharing, BlockOrdersGiveEveryLinksChannelInRandomScenes) {
         } else {
           p += Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * (i < 12 ? 2e-3 : 0.1);
         }
-        tags.push_back(linear(p, Vec3(1, u(rng), 0.5)));
+        tags.push_back(linear_dipole_at(p, Vec3(1, u(rng), 0.5)));
       }
     for (int i = 0; i < 16; ++i)  // a compact patch in the open
-      tags.push_back(linear(Vec3(0.1 * (i % 4), 0.1 * (i / 4), 1.3), Vec3::UnitZ()));
-    SCOPED_TRACE(testing::Message() << "scene " << scene_index);
+      tags.push_back(linear_dipole_at(Vec3(0.1 * (i % 4), 0.1 * (i / 4), 1.3), Vec3::UnitZ()));
+    SCOPED_TRACE(::testing::Message() << "scene " << scene_index);
     const Compared r = compare_shared(finder, antennas, tags);
     EXPECT_GT(r.second_order_paths, 20u);
     EXPECT_LT(r.orders_shared, r.orders_every);
@@ -155,12 +153,13 @@ TEST(EdgePairSharing, AutoSharesCompactBlocksAndDeclinesScatteredOnes) {
     const RaytracedChannel channel(scene, o);
     std::vector<C> h(tags.size());
     tl_edge_pair_orders_tried = 0;
-    channel.one_way(linear(Vec3(0.5, 0.0, 1.68), Vec3::UnitZ()), tags, kF, h);
+    channel.one_way(linear_dipole_at(Vec3(0.5, 0.0, 1.68), Vec3::UnitZ()), tags, kF, h);
     return static_cast<double>(tl_edge_pair_orders_tried) / static_cast<double>(tags.size());
   };
   // 64 tags 2.5 cm apart on one rack face: compact blocks, few orders kept.
   std::vector<Endpoint> compact;
-  for (int i = 0; i < 64; ++i) compact.push_back(linear(Vec3(2.90, -0.2 + 0.025 * (i % 8), 1.0 + 0.025 * (i / 8)), Vec3::UnitZ()));
+  for (int i = 0; i < 64; ++i)
+    compact.push_back(linear_dipole_at(Vec3(2.90, -0.2 + 0.025 * (i % 8), 1.0 + 0.025 * (i / 8)), Vec3::UnitZ()));
   const double every = orders_per_link(TraceOptions::Sharing::kNever, compact);
   EXPECT_LT(orders_per_link(TraceOptions::Sharing::kAuto, compact), 0.3 * every);
   // 64 tags scattered over the whole hall: a block's box spans it, the probe keeps most orders and declines.
@@ -168,7 +167,8 @@ TEST(EdgePairSharing, AutoSharesCompactBlocksAndDeclinesScatteredOnes) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<Endpoint> scattered;
   for (int i = 0; i < 64; ++i)
-    scattered.push_back(linear(Vec3(-6.0 + 12.0 * u(rng), -10.0 + 20.0 * u(rng), 0.2 + 2.5 * u(rng)), Vec3::UnitZ()));
+    scattered.push_back(
+        linear_dipole_at(Vec3(-6.0 + 12.0 * u(rng), -10.0 + 20.0 * u(rng), 0.2 + 2.5 * u(rng)), Vec3::UnitZ()));
   EXPECT_EQ(orders_per_link(TraceOptions::Sharing::kAuto, scattered),
             orders_per_link(TraceOptions::Sharing::kNever, scattered));
   // Too few tags for a probe to pay: never shared.

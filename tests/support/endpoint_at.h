@@ -19,4 +19,12 @@ inline Endpoint z_dipole_at(const Vec3& position_m) {
   return e;
 }
 
+// A linear dipole along `axis_local` (normalized here), at a position: the double-bounce and diffraction tests' ends.
+inline Endpoint linear_dipole_at(const Vec3& position_m, const Vec3& axis_local) {
+  Endpoint e = endpoint_at(position_m);
+  e.polarization.kind = PolarizationKind::kLinear;
+  e.polarization.axis_local = axis_local.normalized();
+  return e;
+}
+
 }  // namespace rfidray::testing
