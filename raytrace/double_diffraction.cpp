@@ -67,6 +67,31 @@ bool grazing_angles(const Edge& e, const Vec3& into_face, const Vec3& side, cons
 
 double sq(double x) { return x * x; }
 
+// The cone of directions from a point p to a ball (edge_pairs_near): its axis and half-angle, padded by 1e-7 rad for
+// acos's and asin's rounding near 0 and π; unbounded when the ball reaches p.
+struct ConeToBall {
+  Vec3 axis = Vec3::Zero();
+  double half_angle_rad = 0.0;
+  bool bounded = false;
+};
+ConeToBall cone_to_ball(const Vec3& p, const Vec3& centre, double radius) {
+  ConeToBall cone;
+  const Vec3 pm = centre - p;
+  const double distance = pm.norm();
+  cone.bounded = distance > 1.001 * radius;
+  if (cone.bounded) {
+    cone.axis = pm / distance;
+    cone.half_angle_rad = std::asin(radius / distance) + 1e-7;
+  }
+  return cone;
+}
+// The interval of d·u over the unit vectors u of a bounded cone (the cosines of d's angles to it), widened by 1e-9.
+void cosine_range(const ConeToBall& cone, const Vec3& d, double& lo_cos, double& hi_cos) {
+  const double theta = std::acos(std::clamp(d.dot(cone.axis), -1.0, 1.0));
+  hi_cos = std::cos(std::max(0.0, theta - cone.half_angle_rad)) + 1e-9;
+  lo_cos = std::cos(std::min(kPi, theta + cone.half_angle_rad)) - 1e-9;
+}
+
 // A corner of a pair of edges seen from the link's ends: the unit vectors (C − A)/|C − A| and (T − C)/|T − C|.
 struct CornerView {
   Vec3 from_a = Vec3::Zero(), to_t = Vec3::Zero();
@@ -223,7 +248,7 @@ void PathFinder::index_edge_pairs() {
 // is a superset of what the per-link test passes for any tag T in the box, widened by `margin` (1e-9 of the scene's
 // scale: the per-link arithmetic rounds by a few ulps of its coordinates, 10⁵ times less), so a pruned order is one
 // the per-link loop would have rejected for every tag of the block, and the kept ones are walked in the same order:
-// the same paths (tests/raytrace/test_double_diffraction.cpp). The box is taken as its bounding ball (centre m,
+// the same paths (tests/raytrace/test_edge_pair_sharing.cpp). The box is taken as its bounding ball (centre m,
 // radius r), and what a tag sees from a line is 1-Lipschitz in T: its coordinate along the line and its distance
 // from it move by at most |T − m| ≤ r.
 //  - Parallel pairs: the span test (both edges overlap [min(z_A, z_T), max(z_A, z_T)], over z_T's interval), then the
@@ -234,7 +259,9 @@ void PathFinder::index_edge_pairs() {
 //    both ends of q's interval (the cosines of d2's angles to the cone of directions from C to the ball) rejects
 //    every tag; kept when 1 − c² < 1e-3 (near-parallel edges, where rounding in f grows as 1/(1 − c²)) or the ball
 //    reaches C.
-//  - Other pairs: kept (their slope test, path_points_on_edges, is not bounded here).
+//  - Every pair not parallel: the antenna's half of the slope test (path_points_on_edges at t2 = 0 and len2, where the
+//    Fermat point on edge 1 does not depend on T), whose one tag-dependent term is a cosine over the cone from edge 2's
+//    end to the ball (below, slope_rejects_box).
 void PathFinder::edge_pairs_near(const Vec3& a, const Vec3& lo, const Vec3& hi, EdgePairBlock& out) const {
   out.orders.clear();
   out.edges.clear();
@@ -258,9 +285,9 @@ void PathFinder::edge_pairs_near(const Vec3& a, const Vec3& lo, const Vec3& hi, 
   }
   // Per corner: C's direction from A (as per link; A on C rejects every tag), and the cone from C to the ball.
   struct CornerCone {
-    Vec3 from_a = Vec3::Zero(), axis = Vec3::Zero();
-    double half_angle_rad = 0.0;
-    bool a_on_corner = false, bounded = false;
+    Vec3 from_a = Vec3::Zero();
+    bool a_on_corner = false;
+    ConeToBall to_ball;
   };
   thread_local std::vector<CornerCone> tl_cones;
   thread_local std::vector<uint8_t> tl_corner_used;
@@ -268,28 +295,12 @@ void PathFinder::edge_pairs_near(const Vec3& a, const Vec3& lo, const Vec3& hi, 
   tl_corner_used.assign(pair_corners_.size(), 0);
   for (size_t c = 0; c < pair_corners_.size(); ++c) {
     CornerCone& cone = tl_cones[c];
-    const Vec3 ca = pair_corners_[c] - a, cm = m - pair_corners_[c];
-    const double ca_norm = ca.norm(), cm_norm = cm.norm();
+    const Vec3 ca = pair_corners_[c] - a;
+    const double ca_norm = ca.norm();
     cone.a_on_corner = ca_norm < 1e-12;
     if (!cone.a_on_corner) cone.from_a = ca / ca_norm;
-    cone.bounded = cm_norm > 1.001 * r;
-    if (cone.bounded) {
-      cone.axis = cm / cm_norm;
-      cone.half_angle_rad = std::asin(r / cm_norm) + 1e-7;  // + acos's and asin's rounding near 0 and π
-    }
+    cone.to_ball = cone_to_ball(pair_corners_[c], m, r);
   }
-  // The interval of d·(T − p)/|T − p| over the ball (cosines of d's angles to the cone from p to the ball), widened
-  // by 1e-9; false when the ball reaches p.
-  const auto cosine_range = [&](const Vec3& d, const Vec3& p, double& lo_cos, double& hi_cos) {
-    const Vec3 pm = m - p;
-    const double distance = pm.norm();
-    if (!(distance > 1.001 * r)) return false;
-    const double half_angle = std::asin(r / distance) + 1e-7;  // + acos's and asin's rounding near 0 and π
-    const double theta = std::acos(std::clamp(d.dot(pm / distance), -1.0, 1.0));
-    hi_cos = std::cos(std::max(0.0, theta - half_angle)) + 1e-9;
-    lo_cos = std::cos(std::min(kPi, theta + half_angle)) - 1e-9;
-    return true;
-  };
   // Per edge taken second, at its start and its end: the interval of d2·(T − end)/|T − end| (computed when first
   // needed in this block; 0: not yet, 1: bounded, 2: unbounded).
   struct EndCosines {
@@ -315,7 +326,11 @@ void PathFinder::edge_pairs_near(const Vec3& a, const Vec3& lo, const Vec3& hi, 
       const Vec3 q2 = e2.start + t2 * d2;
       const double t1 = fermat_on_line(e1.start, d1, a, q2);
       if (!std::isfinite(t1)) return false;
-      if (ends.state[end] == 0) ends.state[end] = cosine_range(d2, q2, ends.lo[end], ends.hi[end]) ? 1 : 2;
+      if (ends.state[end] == 0) {
+        const ConeToBall cone = cone_to_ball(q2, m, r);
+        if (cone.bounded) cosine_range(cone, d2, ends.lo[end], ends.hi[end]);
+        ends.state[end] = cone.bounded ? 1 : 2;
+      }
       if (ends.state[end] != 1) continue;
       const Vec3 q1 = e1.start + t1 * d1;
       const double dv = d2.dot((q2 - q1).normalized());
@@ -367,11 +382,10 @@ void PathFinder::edge_pairs_near(const Vec3& a, const Vec3& lo, const Vec3& hi, 
           const CornerCone& cone = tl_cones[corner];
           if (cone.a_on_corner) continue;  // on_corner for every tag: rejected
           const double c = e1.direction.dot(e2.direction);
-          if (cone.bounded && 1.0 - c * c >= 1e-3) {
+          if (cone.to_ball.bounded && 1.0 - c * c >= 1e-3) {
             const double p = e1.direction.dot(cone.from_a);
-            const double theta = std::acos(std::clamp(e2.direction.dot(cone.axis), -1.0, 1.0));
-            const double q_hi = std::cos(std::max(0.0, theta - cone.half_angle_rad)) + 1e-9;
-            const double q_lo = std::cos(std::min(kPi, theta + cone.half_angle_rad)) - 1e-9;
+            double q_lo = 0.0, q_hi = 0.0;
+            cosine_range(cone.to_ball, e2.direction, q_lo, q_hi);
             const auto f_of = [&](double q) { return (p * p - 2.0 * c * p * q + q * q) / (1.0 - c * c); };
             if (std::max(f_of(q_lo), f_of(q_hi)) <= 1.0 - 1e-6) continue;
           }
