@@ -90,6 +90,21 @@ double AntennaPattern::gain_linear(const Vec3& d) const {
   return peak;
 }
 
+double AntennaPattern::max_gain_linear() const {
+  const double peak = peak_gain_dbi == 0.0 ? 1.0 : db_to_linear(peak_gain_dbi);
+  switch (kind) {
+    case PatternKind::kIsotropic:
+      return peak;
+    case PatternKind::kDipole:
+      return 1.64;  // broadside: cos²(π/2·cos θ)/sin²θ ≤ 1, equal at θ = 90°
+    case PatternKind::kPatch:
+      return std::max(peak, peak * db_to_linear(-front_to_back_db));  // boresight (the floor is below it)
+    case PatternKind::kTable:
+      return db_to_linear(*std::max_element(table->gain_dbi.begin(), table->gain_dbi.end()));
+  }
+  return peak;
+}
+
 void AntennaPattern::validate(const std::string& field) const {
   limits::check_range(peak_gain_dbi, -limits::kMaxGainDbi, limits::kMaxGainDbi, field + ".gain_dbi", "dBi");
   if (kind == PatternKind::kPatch) {

@@ -34,6 +34,9 @@ struct AntennaPattern {
     if (kind == PatternKind::kIsotropic) return gain_linear(direction_world);  // no rotation needed
     return gain_linear(orientation.conjugate() * direction_world);
   }
+  // The largest value gain_linear takes in any direction: a bound for sums and integrals over directions
+  // (raytrace/edge_end_finder.cpp). A table's is its largest entry (bilinear in dBi never exceeds it): O(entries).
+  double max_gain_linear() const;
   // Exponent n of the cos^n patch model (derived from beamwidth, or from the gain when no beamwidth).
   double patch_exponent() const;
   // Throws InputError naming `field` when parameters are out of range.

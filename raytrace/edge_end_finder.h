@@ -15,8 +15,11 @@
 // term's UTD coefficient is taken at z_Q all along (conservative near a boundary, where it is largest there).
 // Beyond four half-widths |step − T| is about 0.04 or less (the Fresnel tail there), below what is reported for any term share up to 1. The legs of the
 // reported edge's point (on the edge, or its nearer end when the point is past it) must be clear.
-// Cost: one pass over the edges with a few flops each, T for those near an end, UTD coefficients only where the
-// bound of D (core/utd.h: 1/(2√(πX)) per term) lets the estimate reach what is reported, two rays for the worst. Units: metres, hertz. Thread-safe (reads only); nothing throws.
+// Cost: one pass over the edges with a few flops each; for those near an end, T only where the bound of D
+// (core/utd.h: 1/(2√(πX)) per term) times a bound of |step − T| (edge_truncation_deficit_bound, at the ends'
+// largest pattern gains, then at their own) lets the estimate reach what is reported, UTD coefficients only where
+// that bound times |step − T| does, two rays for the worst. Units: metres, hertz. Thread-safe (reads only); nothing
+// throws.
 #include <complex>
 #include <functional>
 #include <optional>
@@ -41,5 +44,14 @@ std::optional<EdgeEnd> find_edge_end(const PathFinder& finder, const Endpoint& a
 std::complex<double> edge_truncation(const Vec3& start, const Vec3& direction, double length_m, const Vec3& antenna,
                                      const Vec3& tag, double wavenumber_rad_m,
                                      const std::function<double(double)>& end_weight = {});
+
+// An upper bound on |step − T| (step: 1 when the Keller point is on the edge, 0 past it) for every end_weight that
+// takes these values at z = 0 and z = length_m (the end terms read it there alone), from the two ends: the Fresnel
+// tails and the end terms bounded by parts (the .cpp has the derivation). It grows with both weights, so the ends'
+// largest pattern weight bounds it for every weight. +∞ when an end is within 10⁻³ of the Keller point in τ.
+// find_edge_end skips an edge's integral when even this bound cannot make its estimate reported.
+double edge_truncation_deficit_bound(const Vec3& start, const Vec3& direction, double length_m, const Vec3& antenna,
+                                     const Vec3& tag, double wavenumber_rad_m, double weight_at_start,
+                                     double weight_at_end);
 
 }  // namespace rfidray

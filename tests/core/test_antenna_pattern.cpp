@@ -1,6 +1,7 @@
 // Antenna gain patterns: isotropic, half-wave dipole, cos^n patch, azimuth × elevation table.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -174,6 +175,30 @@ std::string validate_error(const AntennaPattern& p) {
     return e.what();
   }
   return "";
+}
+
+// max_gain_linear bounds every direction and is reached (the edge-end check prunes edges with it).
+TEST(AntennaPattern, MaxGainBoundsEveryDirectionAndIsReached) {
+  AntennaPattern dipole;
+  dipole.kind = PatternKind::kDipole;
+  AntennaPattern patch;
+  patch.kind = PatternKind::kPatch;
+  patch.peak_gain_dbi = 6.0;
+  patch.beamwidth_deg = 70.0;
+  AntennaPattern table;
+  table.kind = PatternKind::kTable;
+  table.table = small_table();
+  for (const AntennaPattern& p : {isotropic_pattern(3.0), dipole, patch, table}) {
+    double largest = 0.0;
+    for (int i = 0; i <= 180; ++i)
+      for (int j = 0; j < 360; ++j) {
+        const double g = p.gain_linear(spherical(i * kPi / 180.0, j * kTwoPi / 360.0));
+        EXPECT_LE(g, p.max_gain_linear() * (1 + 1e-12)) << to_string(p.kind);
+        largest = std::max(largest, g);
+      }
+    // The 1° grid holds each pattern's maximum (broadside, boresight, the table's 6 dBi at az 0, el 0).
+    EXPECT_NEAR(largest, p.max_gain_linear(), 1e-12 * largest) << to_string(p.kind);
+  }
 }
 
 TEST(AntennaPattern, ValidateErrors) {
