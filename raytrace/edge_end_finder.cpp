@@ -38,9 +38,9 @@ template <double (*Distance)(double, double)>
 class IntegralGeometry {
  public:
   IntegralGeometry(const LineFeet& feet, double k) : feet_(feet), k_(k) {
-    // Exactly the 3-D distances, but the detour L(z) − L(z_Q) below is then formed without subtracting two path
-    // lengths of metres (which leaves ~1e-15 m of it: τ and the end term were noise for an end within ~10 µm of the
-    // Keller point, |T| up to 42 where it is 0.44).
+    // The distances are exactly the 3-D ones, but the detour L(z) − L(z_Q) below is formed without subtracting two
+    // path lengths of metres (which leaves ~1e-15 m of it: τ and the end term were noise for an end within ~10 µm
+    // of the Keller point, |T| up to 42 where it is 0.44).
     zq_ = feet_.z_a + (feet_.z_t - feet_.z_a) * feet_.rho_a / (feet_.rho_a + feet_.rho_t);
     s_in_ = dist_a(zq_);
     s_out_ = dist_t(zq_);
@@ -211,8 +211,8 @@ std::optional<EdgeEnd> find_edge_end(const PathFinder& finder, const Endpoint& a
       return bound < kEdgeEndReported || (worst && bound <= worst->estimated_error);
     };
     // So is an edge whose estimate cannot reach it with |step − T| bounded (EdgeIntegral::deficit_bound): first at
-    // the largest pattern weight (no pattern evaluated; on w1m 63 % of the edges near an end stop here), then at the
-    // ends' own weights (all the end terms take; 22 % more), before the integral itself.
+    // the ends' largest pattern weight (no pattern evaluated along the edge; on a w1m map 63 % of the edges near an
+    // end stop here), then at the ends' own weights (all the end terms read; 22 % more), before the integral itself.
     const EdgeIntegral integral(feet, e.length_m, k);
     const auto bound_below_reported = [&](double deficit_bound) {
       return x_min > 0.0 && below_reported(share_bound * (deficit_bound * (1.0 + 1e-6) + 1e-12));
@@ -222,7 +222,7 @@ std::optional<EdgeEnd> find_edge_end(const PathFinder& finder, const Endpoint& a
     const Vec3 end = e.start + e.length_m * e.direction;
     const double weight_at_start = pattern(e.start) / q_pattern, weight_at_end = pattern(end) / q_pattern;
     if (bound_below_reported(integral.deficit_bound(step, weight_at_start, weight_at_end))) continue;
-    const auto weight = [&](double z) {
+    const auto weight = [&](double z) {  // the ends' weights are the two just evaluated
       if (z == 0.0) return weight_at_start;
       if (z == e.length_m) return weight_at_end;
       return pattern(e.start + z * e.direction) / q_pattern;
