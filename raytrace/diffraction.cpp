@@ -147,13 +147,11 @@ void PathFinder::diffractions(const Endpoint& ant, const Endpoint& tag, double f
     const Vec3& d = e.direction;
     // Feet of A and T on the edge's line and their distances from it.
     const LineFeet feet = line_feet(e.start, d, a, t);
-    const double za = feet.z_a, zt = feet.z_t;
     const Vec3& va = feet.v_a;
     const Vec3& vt = feet.v_t;
     const double rho_a = feet.rho_a, rho_t = feet.rho_t;
     if (rho_a < kOnEdge || rho_t < kOnEdge) continue;
-    // Fermat: the unfolded path is straight, so Q divides [za, zt] in the ratio rho_a : rho_t.
-    const double zq = za + (zt - za) * rho_a / (rho_a + rho_t);
+    const double zq = fermat_point_z(feet);
     if (zq < 0.0 || zq > e.length_m) continue;
     const Vec3 q = e.start + zq * d;
     // Which exterior region holds both ends: measured from face a over angle α, or from face b over 2π − α.

@@ -41,7 +41,7 @@ class IntegralGeometry {
     // The distances are exactly the 3-D ones, but the detour L(z) − L(z_Q) below is formed without subtracting two
     // path lengths of metres (which leaves ~1e-15 m of it: τ and the end term were noise for an end within ~10 µm
     // of the Keller point, |T| up to 42 where it is 0.44).
-    zq_ = feet_.z_a + (feet_.z_t - feet_.z_a) * feet_.rho_a / (feet_.rho_a + feet_.rho_t);
+    zq_ = fermat_point_z(feet_);
     s_in_ = dist_a(zq_);
     s_out_ = dist_t(zq_);
     const double curvature = feet_.rho_a * feet_.rho_a / (s_in_ * s_in_ * s_in_) +
@@ -182,7 +182,7 @@ std::optional<EdgeEnd> find_edge_end(const PathFinder& finder, const Endpoint& a
     const Edge& e = edges[ei];
     const LineFeet feet = line_feet(e.start, e.direction, a, t);
     if (feet.rho_a < kOnEdge || feet.rho_t < kOnEdge) continue;
-    const double zq = feet.z_a + (feet.z_t - feet.z_a) * feet.rho_a / (feet.rho_a + feet.rho_t);
+    const double zq = fermat_point_z(feet);
     const double past_end = std::max(-zq, zq - e.length_m);  // < 0: on the edge
     // s', s and sin β₀ of the (possibly extended) edge's Keller point.
     const Vec3 q = e.start + zq * e.direction;

@@ -25,4 +25,8 @@ inline LineFeet line_feet(const Vec3& origin, const Vec3& d, const Vec3& a, cons
   return f;
 }
 
+// The coordinate along the line of the point through which the unfolded path between the two points is straight
+// (Fermat): it divides [z_a, z_t] in the ratio rho_a : rho_t. The Keller point of a diffracting edge.
+inline double fermat_point_z(const LineFeet& f) { return f.z_a + (f.z_t - f.z_a) * f.rho_a / (f.rho_a + f.rho_t); }
+
 }  // namespace rfidray

@@ -394,8 +394,7 @@ TEST(ObstacleValidity, EdgeTruncationDeficitBoundHolds) {
         [&](double z) { return max_weight * 0.5 * (1.0 + std::cos(phase + cycles * z)); },
         [&](double z) { return max_weight * std::clamp(z / length, 0.0, 1.0); }};
     // The step: 1 when the Keller point (where T → 1 deep inside) is on the edge.
-    const LineFeet feet = line_feet(start, Vec3::UnitX(), a, t);
-    const double zq = feet.z_a + (feet.z_t - feet.z_a) * feet.rho_a / (feet.rho_a + feet.rho_t);
+    const double zq = fermat_point_z(line_feet(start, Vec3::UnitX(), a, t));
     const double step = zq >= 0.0 && zq <= length ? 1.0 : 0.0;
     for (const auto& w : weights) {
       const double deficit = std::abs(step - edge_truncation(start, Vec3::UnitX(), length, a, t, k, w));
