@@ -15,14 +15,18 @@
 // term's UTD coefficient is taken at z_Q all along (conservative near a boundary, where it is largest there).
 // Beyond four half-widths |step − T| is about 0.04 or less (the Fresnel tail there), below what is reported for any term share up to 1. The legs of the
 // reported edge's point (on the edge, or its nearer end when the point is past it) must be clear.
-// Cost: one pass over the edges with a few flops each; for those near an end, T only where the bound of D
-// (core/utd.h: 1/(2√(πX)) per term) times a bound of |step − T| (edge_truncation_deficit_bound, at the ends'
-// largest pattern gains, then at their own) lets the estimate reach what is reported, UTD coefficients only where
-// that bound times |step − T| does, two rays for the worst. Units: metres, hertz. Thread-safe (reads only); nothing
-// throws.
+// Cost: one pass over the edges with a few flops each (no square root for an edge far from its ends); for those
+// near an end, T only where the bound of D (core/utd.h: 1/(2√(πX)) per term) times a bound of |step − T|
+// (edge_truncation_deficit_bound: with no pattern evaluated, at the ends' largest pattern gains, then at their own)
+// lets the estimate reach what is reported or the worst so far, UTD coefficients only where that bound times
+// |step − T| does, two rays for the worst. The edge the calling thread reported last is tried first (its estimate
+// then lets the bounds skip more); the result is the same in any order (the lowest-indexed edge of largest estimate).
+// Units: metres, hertz. Thread-safe (reads the scene; one thread_local edge index); nothing throws.
 #include <complex>
+#include <cstdint>
 #include <functional>
 #include <optional>
+#include <vector>
 
 #include "core/channel.h"
 #include "core/geometry.h"
@@ -36,6 +40,24 @@ class PathFinder;
 // (levels without diffraction) or none is that uncertain.
 std::optional<EdgeEnd> find_edge_end(const PathFinder& finder, const Endpoint& antenna, const Endpoint& tag,
                                      double frequency_hz);
+
+// The same result with every edge near an end evaluated in full, in index order: none of find_edge_end's bounds,
+// its square-root-free test or the edge it tries first (the edge its thread reported last). For tests: what those
+// skips must reproduce exactly. Many times slower.
+std::optional<EdgeEnd> find_edge_end_without_skips(const PathFinder& finder, const Endpoint& antenna,
+                                                   const Endpoint& tag, double frequency_hz);
+
+// For tests: for each edge near an end whose estimate is computed (in find_edge_end_without_skips), the values
+// find_edge_end compares before it instead, each of which must be at least the estimate (+∞ where X_min is 0), and
+// whether its square-root-free test keeps the edge (it must).
+struct EdgeEndCheck {
+  uint32_t edge = 0;
+  bool quick_test_keeps = false;
+  double bound_without_patterns = 0.0, bound_at_largest_weight = 0.0, bound_at_end_weights = 0.0;
+  double bound_with_integral = 0.0, estimate = 0.0;
+};
+std::vector<EdgeEndCheck> edge_end_checks(const PathFinder& finder, const Endpoint& antenna, const Endpoint& tag,
+                                          double frequency_hz);
 
 // The share T of an edge integral's stationary value that the edge [0, length_m] along `start` + z·`direction`
 // carries for the path antenna → edge → tag (see above). 1 for a Keller point deep inside, ½ at an end.

@@ -9,8 +9,12 @@
 #include <cmath>
 #include <complex>
 #include <functional>
+#include <iostream>
+#include <optional>
 #include <random>
+#include <set>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include "core/level_validity.h"
@@ -388,6 +392,10 @@ TEST(ObstacleValidity, EdgeTruncationDeficitBoundHolds) {
     const double bound_at_max = bound(max_weight, max_weight);
     if (!std::isfinite(bound_at_max)) continue;
     ++bounded;
+    // find_edge_end's first bound: the share carries the Keller point's pattern q ≤ M, the weight is M/q, and q
+    // times the bound there is at most M times the bound at weight 1 (no pattern evaluated).
+    const double q = max_weight * (0.001 + 0.999 * unit(rng));
+    ASSERT_LE(q * bound(max_weight / q, max_weight / q), max_weight * bound(1.0, 1.0) * (1.0 + 1e-12)) << i;
     const double phase = 2.0 * kPi * unit(rng), cycles = 20.0 * unit(rng);
     const std::array<std::function<double(double)>, 3> weights = {
         [&](double) { return max_weight; },
@@ -409,6 +417,97 @@ TEST(ObstacleValidity, EdgeTruncationDeficitBoundHolds) {
   EXPECT_GT(bounded, 3500);
   EXPECT_GT(tight, bounded / 2) << "the bound is loose";
   EXPECT_GT(worst_ratio, 0.9);
+}
+
+// find_edge_end skips edges by bounds (before their integral, their UTD coefficients, even their square roots) and
+// tries first the edge its thread reported last, so that the bounds skip more of the others: its result must be
+// exactly that of every edge near an end evaluated in full, in index order, whatever the thread judged before. Links
+// near a small warehouse's racks, from a patch antenna (as a reader's) and from a dipole: each link's edge end on a
+// thread that has just judged the links before it, on one that judged those after it, on a fresh thread, and
+// without the skips, field by field.
+TEST(ObstacleValidity, EdgeEndSkipsChangeNothing) {
+  WarehouseParams params;
+  params.rows = 2;
+  params.racks_per_row = 2;
+  params.shelves = 3;
+  params.walls = false;
+  const RaytracedChannel full = full_channel(scene_of(generate_warehouse(params)));
+  const PathFinder& finder = full.finder();
+  Endpoint patch = z_dipole_at(Vec3(-2.0, 0.5, 2.0));
+  patch.pattern.kind = PatternKind::kPatch;
+  patch.pattern.peak_gain_dbi = 6.0;
+  patch.pattern.beamwidth_deg = 70.0;
+  std::vector<Endpoint> tags;
+  std::mt19937_64 rng(20261208);
+  std::uniform_real_distribution<double> x(-1.0, 3.0), y(-2.0, 4.0), z(0.2, 3.0);
+  for (int i = 0; i < 400; ++i) tags.push_back(z_dipole_at(Vec3(x(rng), y(rng), z(rng))));
+  for (const Endpoint& antenna : {patch, z_dipole_at(Vec3(4.0, -1.0, 1.5))}) {
+    const auto judge = [&](size_t i) { return find_edge_end(finder, antenna, tags[i], kF); };
+    std::vector<std::optional<EdgeEnd>> forward(tags.size()), backward(tags.size()), fresh(tags.size()),
+        without_skips(tags.size());
+    for (size_t i = 0; i < tags.size(); ++i) forward[i] = judge(i);
+    std::thread([&] {
+      for (size_t i = tags.size(); i-- > 0;) backward[i] = judge(i);
+    }).join();
+    for (size_t i = 0; i < tags.size(); ++i) std::thread([&, i] { fresh[i] = judge(i); }).join();
+    for (size_t i = 0; i < tags.size(); ++i)
+      without_skips[i] = find_edge_end_without_skips(finder, antenna, tags[i], kF);
+    std::set<double> estimates;
+    for (size_t i = 0; i < tags.size(); ++i) {
+      for (const auto* other : {&backward[i], &fresh[i], &without_skips[i]}) {
+        ASSERT_EQ(forward[i].has_value(), other->has_value()) << i;
+        if (!forward[i]) continue;
+        EXPECT_EQ(forward[i]->past_end_m, (*other)->past_end_m) << i;
+        EXPECT_EQ(forward[i]->fresnel_half_width_m, (*other)->fresnel_half_width_m) << i;
+        EXPECT_EQ(forward[i]->term_share, (*other)->term_share) << i;
+        EXPECT_EQ(forward[i]->estimated_error, (*other)->estimated_error) << i;
+      }
+      if (forward[i]) estimates.insert(forward[i]->estimated_error);
+    }
+    // Most links have an edge end to report, and not all the same one: the edge tried first changes along the way.
+    EXPECT_GE(estimates.size(), tags.size() / 4);
+  }
+}
+
+// What find_edge_end compares before an edge's estimate is known, on every edge near an end of the links above:
+// its square-root-free test keeps each (it is exact up to rounding), and each bound is at least the estimate; the
+// closest each bound comes to it shows that a bound a few times lower would not hold.
+TEST(ObstacleValidity, EdgeEndBoundsHoldOnEveryEdgeNearAnEnd) {
+  WarehouseParams params;
+  params.rows = 2;
+  params.racks_per_row = 2;
+  params.shelves = 3;
+  params.walls = false;
+  const RaytracedChannel full = full_channel(scene_of(generate_warehouse(params)));
+  Endpoint patch = z_dipole_at(Vec3(-2.0, 0.5, 2.0));
+  patch.pattern.kind = PatternKind::kPatch;
+  patch.pattern.peak_gain_dbi = 6.0;
+  patch.pattern.beamwidth_deg = 70.0;
+  std::mt19937_64 rng(20261209);
+  std::uniform_real_distribution<double> x(-1.0, 3.0), y(-2.0, 4.0), z(0.2, 3.0);
+  size_t checked = 0;
+  std::array<double, 4> closest{1e300, 1e300, 1e300, 1e300};  // the smallest bound / estimate of each
+  for (const Endpoint& antenna : {patch, z_dipole_at(Vec3(4.0, -1.0, 1.5))}) {
+    for (int i = 0; i < 200; ++i) {
+      const Endpoint tag = z_dipole_at(Vec3(x(rng), y(rng), z(rng)));
+      for (const EdgeEndCheck& c : edge_end_checks(full.finder(), antenna, tag, kF)) {
+        ASSERT_TRUE(c.quick_test_keeps) << "edge " << c.edge;
+        const std::array<double, 4> bounds = {c.bound_without_patterns, c.bound_at_largest_weight,
+                                              c.bound_at_end_weights, c.bound_with_integral};
+        for (size_t b = 0; b < bounds.size(); ++b) {
+          ASSERT_GE(bounds[b], c.estimate) << "bound " << b << ", edge " << c.edge;
+          if (c.estimate > 1e-3) closest[b] = std::min(closest[b], bounds[b] / c.estimate);
+        }
+        ASSERT_LE(c.bound_at_largest_weight, c.bound_without_patterns * (1.0 + 1e-12));
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 10000u);
+  for (size_t b = 0; b < closest.size(); ++b) {
+    std::cout << "bound " << b << ": at least " << closest[b] << " times the estimate\n";
+    EXPECT_LT(closest[b], 2.0) << b;
+  }
 }
 
 // bench/fullwave's plate_grazing: a 1.8 × 0.6 m metal plate in z = 0, the source 5 cm above its plane. A tag 0.7 m
