@@ -419,6 +419,24 @@ TEST(ObstacleValidity, EdgeTruncationDeficitBoundHolds) {
   EXPECT_GT(worst_ratio, 0.9);
 }
 
+// A warehouse of 2 × 2 racks of three shelves, without walls; and a reader's antenna in it (a 6 dBi patch of 70°
+// beamwidth facing +x, the wire of its polarization vertical).
+std::shared_ptr<const Scene> small_warehouse() {
+  WarehouseParams params;
+  params.rows = 2;
+  params.racks_per_row = 2;
+  params.shelves = 3;
+  params.walls = false;
+  return scene_of(generate_warehouse(params));
+}
+Endpoint reader_patch_at(const Vec3& p) {
+  Endpoint patch = z_dipole_at(p);
+  patch.pattern.kind = PatternKind::kPatch;
+  patch.pattern.peak_gain_dbi = 6.0;
+  patch.pattern.beamwidth_deg = 70.0;
+  return patch;
+}
+
 // find_edge_end skips edges by bounds (before their integral, their UTD coefficients, even their square roots) and
 // tries first the edge its thread reported last, so that the bounds skip more of the others: its result must be
 // exactly that of every edge near an end evaluated in full, in index order, whatever the thread judged before. Links
@@ -426,17 +444,9 @@ TEST(ObstacleValidity, EdgeTruncationDeficitBoundHolds) {
 // thread that has just judged the links before it, on one that judged those after it, on a fresh thread, and
 // without the skips, field by field.
 TEST(ObstacleValidity, EdgeEndSkipsChangeNothing) {
-  WarehouseParams params;
-  params.rows = 2;
-  params.racks_per_row = 2;
-  params.shelves = 3;
-  params.walls = false;
-  const RaytracedChannel full = full_channel(scene_of(generate_warehouse(params)));
+  const RaytracedChannel full = full_channel(small_warehouse());
   const PathFinder& finder = full.finder();
-  Endpoint patch = z_dipole_at(Vec3(-2.0, 0.5, 2.0));
-  patch.pattern.kind = PatternKind::kPatch;
-  patch.pattern.peak_gain_dbi = 6.0;
-  patch.pattern.beamwidth_deg = 70.0;
+  const Endpoint patch = reader_patch_at(Vec3(-2.0, 0.5, 2.0));
   std::vector<Endpoint> tags;
   std::mt19937_64 rng(20261208);
   std::uniform_real_distribution<double> x(-1.0, 3.0), y(-2.0, 4.0), z(0.2, 3.0);
@@ -473,16 +483,8 @@ TEST(ObstacleValidity, EdgeEndSkipsChangeNothing) {
 // its square-root-free test keeps each (it is exact up to rounding), and each bound is at least the estimate; the
 // closest each bound comes to it shows that a bound a few times lower would not hold.
 TEST(ObstacleValidity, EdgeEndBoundsHoldOnEveryEdgeNearAnEnd) {
-  WarehouseParams params;
-  params.rows = 2;
-  params.racks_per_row = 2;
-  params.shelves = 3;
-  params.walls = false;
-  const RaytracedChannel full = full_channel(scene_of(generate_warehouse(params)));
-  Endpoint patch = z_dipole_at(Vec3(-2.0, 0.5, 2.0));
-  patch.pattern.kind = PatternKind::kPatch;
-  patch.pattern.peak_gain_dbi = 6.0;
-  patch.pattern.beamwidth_deg = 70.0;
+  const RaytracedChannel full = full_channel(small_warehouse());
+  const Endpoint patch = reader_patch_at(Vec3(-2.0, 0.5, 2.0));
   std::mt19937_64 rng(20261209);
   std::uniform_real_distribution<double> x(-1.0, 3.0), y(-2.0, 4.0), z(0.2, 3.0);
   size_t checked = 0;
