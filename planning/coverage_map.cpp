@@ -23,8 +23,6 @@ namespace rfidray::planning {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr size_t kChunk = 256;  // cells per work item
-
 // The cells in spatial (Morton) order, index order on ties: a work item's cells are then a compact patch rather
 // than a strip of a grid row, so its rays run through the same part of the BVH (warm caches). Every cell is
 // computed on its own, so the order changes nothing but speed.
@@ -124,6 +122,13 @@ size_t coverage_work(const Scenario& scenario, const SceneMotion& motion, size_t
   return antenna_pass(scenario, motion, antenna, options).poses.size() * cells;
 }
 
+size_t coverage_cells_per_item(size_t cells, int threads) {
+  constexpr size_t kMost = 256, kLeast = 64, kItemsPerThread = 4;
+  const size_t lanes = kItemsPerThread * static_cast<size_t>(std::max(threads, 1));
+  const size_t wanted = (cells + lanes - 1) / lanes;
+  return std::clamp((wanted + 15) / 16 * 16, kLeast, kMost);
+}
+
 CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, size_t antenna, const Channel& channel,
                         const Channel& ideal, const CoverageCells& cells, const CoverageOptions& options) {
   const ReaderParams& reader = scenario.antennas.at(antenna).reader;
@@ -137,8 +142,9 @@ CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, siz
   const size_t n = cells.size();
   CoverageValues out;
   out.resize(n, options.information);
-  const size_t n_chunks = (n + kChunk - 1) / kChunk;
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  const size_t chunk_cells = coverage_cells_per_item(n, threads);
+  const size_t n_chunks = (n + chunk_cells - 1) / chunk_cells;
   std::exception_ptr error;
   std::mutex error_mutex;
 
@@ -187,7 +193,7 @@ CoverageValues coverage(const Scenario& scenario, const SceneMotion& motion, siz
 #pragma omp for schedule(dynamic, 1)
     for (size_t chunk = 0; chunk < n_chunks; ++chunk) {
       try {
-        const size_t c0 = chunk * kChunk, c1 = std::min(n, c0 + kChunk), m = c1 - c0;
+        const size_t c0 = chunk * chunk_cells, c1 = std::min(n, c0 + chunk_cells), m = c1 - c0;
         const uint32_t* cell_of = &order[c0];  // the chunk's i-th cell
         std::vector<Endpoint> tags(m);
         for (size_t i = 0; i < m; ++i) {
