@@ -23,6 +23,7 @@ namespace rfidray::planning {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
 // The cells in spatial (Morton) order, index order on ties: a work item's cells are then a compact patch rather
 // than a strip of a grid row, so its rays run through the same part of the BVH (warm caches). Every cell is
 // computed on its own, so the order changes nothing but speed.
