@@ -11,7 +11,11 @@
 #include <sdf/World.hh>
 #include <sdf/sdf.hh>
 
+#include <algorithm>
+#include <cctype>
+#include <fstream>
 #include <iostream>
+#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -84,6 +88,40 @@ std::vector<std::string> console_lines(const std::string& text, const std::strin
   return out;
 }
 
+// "; FILE:LINE: <sdf version="V"> is not a version such as 1.9" when the file's first <sdf> element has a version
+// attribute that is not MAJOR.MINOR digits (what sdformat's converter parses with std::stoi); else "".
+// Scanned by hand: libstdc++'s std::regex recurses per character and a 64 kB input can overflow the stack.
+std::string sdf_version_remark(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+  size_t open = text.find("<sdf");
+  while (open != std::string::npos && open + 4 < text.size() && !space(text[open + 4]))
+    open = text.find("<sdf", open + 4);  // not <sdfx>
+  if (open == std::string::npos) return "";
+  const size_t close = text.find('>', open);
+  const std::string tag = text.substr(open, close == std::string::npos ? std::string::npos : close - open);
+  size_t k = tag.find("version");
+  while (k != std::string::npos && !space(tag[k - 1])) k = tag.find("version", k + 7);
+  if (k == std::string::npos) return "";
+  k = tag.find_first_not_of(" \t\r\n", k + 7);
+  if (k == std::string::npos || tag[k] != '=') return "";
+  k = tag.find_first_not_of(" \t\r\n", k + 1);
+  if (k == std::string::npos || (tag[k] != '"' && tag[k] != '\'')) return "";
+  const size_t end = tag.find(tag[k], k + 1);
+  if (end == std::string::npos) return "";
+  const std::string version = tag.substr(k + 1, end - k - 1);
+  const size_t dot = version.find('.');
+  const auto digits = [](const std::string& d) {
+    return !d.empty() && d.size() <= 4 &&
+           std::all_of(d.begin(), d.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+  };
+  if (dot != std::string::npos && digits(version.substr(0, dot)) && digits(version.substr(dot + 1))) return "";
+  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(open), '\n');
+  return "; " + file + ":" + std::to_string(line) + ": <sdf version=\"" + clip(version) +
+         "\"> is not a version such as 1.9";
+}
+
 std::string element_where(const sdf::ElementPtr& e, const std::string& file) {
   const std::string f = e && !e->FilePath().empty() ? e->FilePath() : file;
   return e && e->LineNumber() ? f + ":" + std::to_string(*e->LineNumber()) : f;
@@ -127,6 +165,15 @@ class Importer {
       std::streambuf* const saved = std::cerr.rdbuf(console.rdbuf());
       try {
         errors = root.Load(options_.file, config);
+      } catch (const InputError&) {
+        std::cerr.rdbuf(saved);
+        throw;
+      } catch (const std::exception& e) {
+        // sdformat 12 throws std::invalid_argument ("stoi") from its version converter when <sdf version="...">
+        // is not two numbers (e.g. "1.a", "1..6"): a bad file, not a crash.
+        std::cerr.rdbuf(saved);
+        throw InputError(options_.file + ": not a usable SDF world: sdformat stopped reading it (" + clip(e.what()) +
+                         ")" + sdf_version_remark(options_.file));
       } catch (...) {
         std::cerr.rdbuf(saved);
         throw;

@@ -249,6 +249,17 @@ TEST_F(BadWorld, NoWorldElement) {
   EXPECT_NE(e.find("no <world>"), std::string::npos) << e;
 }
 
+// sdformat 12 throws std::invalid_argument from its version converter for these (found by the sdf_world fuzzer):
+// an input error naming the file, the line and the attribute, never another exception.
+TEST_F(BadWorld, VersionThatIsNotTwoNumbersNamesTheAttribute) {
+  for (const std::string v : {"1.a", "1..6", "x.6", "1.99999999999", "1.6.x"}) {
+    const std::string e = error_of("<?xml version=\"1.0\"?>\n<sdf version=\"" + v + "\">\n<world name=\"w\"/>\n</sdf>\n");
+    EXPECT_NE(e.find("not a usable SDF world"), std::string::npos) << v << ": " << e;
+    EXPECT_NE(e.find(file_.string() + ":2: <sdf version=\"" + v + "\"> is not a version"), std::string::npos)
+        << v << ": " << e;
+  }
+}
+
 TEST_F(BadWorld, UnknownModelUri) {
   const std::string e = error_of(world_with(
       "<model name=\"m\"><static>true</static><link name=\"l\"><collision name=\"c\"><geometry><mesh>"
