@@ -125,7 +125,12 @@ size_t coverage_work(const Scenario& scenario, const SceneMotion& motion, size_t
 
 size_t coverage_cells_per_item(size_t cells, int threads) {
   constexpr size_t kMost = 256, kLeast = 64, kItemsPerThread = 4;
-  const size_t lanes = kItemsPerThread * static_cast<size_t>(std::max(threads, 1));
+  const size_t thread_count = static_cast<size_t>(std::max(threads, 1));
+  // A map under 64 cells shares no pairs in any item (raytrace/path_finder.h: from 64 tags on): one item per thread.
+  // (From 64 cells on, a 64-cell item that shares beats splitting it: 120 cells as 60 + 60 took 1.08× the time of
+  // 64 + 56 on 2 threads; bench/results/planning/.)
+  if (cells < kLeast) return std::max<size_t>(1, (cells + thread_count - 1) / thread_count);
+  const size_t lanes = kItemsPerThread * thread_count;
   const size_t wanted = (cells + lanes - 1) / lanes;
   return std::clamp((wanted + 15) / 16 * 16, kLeast, kMost);
 }

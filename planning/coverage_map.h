@@ -80,7 +80,8 @@ size_t coverage_work(const Scenario& scenario, const SceneMotion& motion, size_t
 // patch whose rays share the BVH's warm parts; on a small map few enough that each thread gets about four items
 // (one item of 256 ran a 200-cell map on one thread, and 400 cells as 256 + 144 left one of two threads idle a
 // third of the time); at least 64 and a multiple of 16, since a batch shares its plane and edge pairs over blocks
-// of 16 tags from 64 tags on (raytrace/path_finder.h). The results do not depend on it.
+// of 16 tags from 64 tags on (raytrace/path_finder.h). A map under 64 cells, where no item shares, is one item per
+// thread (it ran on one thread). The results do not depend on it.
 size_t coverage_cells_per_item(size_t cells, int threads);
 
 // Coverage of antenna `antenna` of the scenario over `cells`. `motion` is build_motion(scenario); `channel` the
