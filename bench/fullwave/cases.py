@@ -164,21 +164,22 @@ PLATE_HALF_M = 0.3
 PLATE_DISTANCES = (("lambda/8", 1 / 8), ("lambda/4", 1 / 4), ("lambda/2", 1 / 2))
 
 
-def plate_front() -> Case:
+def _plate_case(name: str, description: str, distances, off_wall_m: float = 0.0, symmetries=()) -> Case:
+    """Case (b)'s plate and source, tags at `distances` (label, fraction of λ) in front of it at the centre and 3 cm
+    inside the edges x = 0.3 (∥ E) and z = 0.3 (⊥ E), `off_wall_m` off the planes x = 0 and z = 0."""
     from geometry import WAVELENGTH_M
     plate = Box((-PLATE_HALF_M, 0.0, -PLATE_HALF_M), (PLATE_HALF_M, 0.0, PLATE_HALF_M), "metal")
+    w = off_wall_m
     specs = []
-    for name, frac in PLATE_DISTANCES:
+    for label, frac in distances:
         d = frac * WAVELENGTH_M
-        tag = name.replace("lambda/", "L")
-        specs += [(f"centre_{tag}", (0.0, -d, 0.0), "centre"),
-                  (f"edge_soft_{tag}", (PLATE_HALF_M - 0.03, -d, 0.0), "3 cm inside the edge ∥ E (soft)"),
-                  (f"edge_hard_{tag}", (0.0, -d, PLATE_HALF_M - 0.03), "3 cm inside the edge ⊥ E (hard)")]
+        tag = label.replace("lambda/", "L")
+        specs += [(f"centre_{tag}", (w, -d, w), "centre"),
+                  (f"edge_soft_{tag}", (PLATE_HALF_M - 0.03, -d, w), "3 cm inside the edge ∥ E (soft)"),
+                  (f"edge_hard_{tag}", (w, -d, PLATE_HALF_M - 0.03), "3 cm inside the edge ⊥ E (hard)")]
     return Case(
-        name="plate_front",
-        description="tag in front of a PEC plate 0.6 × 0.6 m (y = 0, x, z ∈ [−0.3, 0.3]); z dipole at (0, −1, 0); "
-                    "tags at d = λ/8, λ/4, λ/2 (4.3, 8.7, 17.3 cm) at the centre and 3 cm inside the edges x = 0.3 "
-                    "(∥ E) and z = 0.3 (⊥ E)",
+        name=name,
+        description=description,
         boxes=(plate,),
         source=(0.0, -1.0, 0.0),
         axis="z",
@@ -186,8 +187,32 @@ def plate_front() -> Case:
         domain_lo=(-0.45, -1.10, -0.45),
         domain_hi=(0.45, 0.15, 0.45),
         polarization_name="vertical (z)",
-        symmetries=(("x", 1), ("z", -1)),
+        symmetries=symmetries,
     )
+
+
+def plate_front() -> Case:
+    return _plate_case("plate_front",
+                       "tag in front of a PEC plate 0.6 × 0.6 m (y = 0, x, z ∈ [−0.3, 0.3]); z dipole at (0, −1, 0); "
+                       "tags at d = λ/8, λ/4, λ/2 (4.3, 8.7, 17.3 cm) at the centre and 3 cm inside the edges x = 0.3 "
+                       "(∥ E) and z = 0.3 (⊥ E)",
+                       PLATE_DISTANCES, symmetries=(("x", 1), ("z", -1)))
+
+
+# Case (b′): the same plate with tags close to it, for the graded-mesh FDTD of fdtd_openems.py (meep's uniform grid
+# cannot place d = λ/100): d = λ/100 (3.5 mm) and, to check that FDTD against meep's converged case (b), λ/8. Each
+# observer is 4 mm off the planes x = 0 and z = 0 (z = 0 is the FDTD's electric wall: a probe there reads the
+# wall's boundary node).
+PLATE_NEAR_DISTANCES = (("lambda/100", 1 / 100), ("lambda/8", 1 / 8))
+PLATE_NEAR_OFF_WALL_M = 0.004
+
+
+def plate_front_near() -> Case:
+    return _plate_case("plate_front_near",
+                       "tag close to a PEC plate 0.6 × 0.6 m (y = 0, x, z ∈ [−0.3, 0.3]); z dipole at (0, −1, 0); "
+                       "tags at d = λ/100 and λ/8 (3.5 mm, 4.3 cm) at the centre and 3 cm inside the edges x = 0.3 "
+                       "(∥ E) and z = 0.3 (⊥ E), 4 mm off the planes x = 0 and z = 0; graded-mesh FDTD (openEMS)",
+                       PLATE_NEAR_DISTANCES, off_wall_m=PLATE_NEAR_OFF_WALL_M)
 
 
 # Case (c): the front edge of a rack bay: two horizontal PEC shelf plates 0.9 × 0.5 m (x ∈ [−0.45, 0.45],
@@ -506,6 +531,7 @@ CASES = {
     "wedge_edge_hard": lambda: wedge_edge("x"),
     "concrete_wall": concrete_wall,
     "plate_front": plate_front,
+    "plate_front_near": plate_front_near,
     "rack_bay": rack_bay,
     "upright": upright,
     "upright_hard": lambda: upright("x"),
