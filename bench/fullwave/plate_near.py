@@ -5,7 +5,7 @@ graded-mesh FDTD of fdtd_openems.py at two mesh scales, its λ/8 observers check
     python3 bench/fullwave/plate_near.py --rfidray build/rfidray -o bench/results/fullwave [--scales 2,1]
 
 Each openEMS run is cached in OUT/fdtd/plate_front_near_openems_sSCALE.json (delete it to run again); two runs per
-scale (with the plate, without it), ~1.5 min each at scale 2 and ~12 min at scale 1 on 2 cores. The reference is
+scale (with the plate, without it), ~1.5 min each at scale 2 and ~7 min at scale 1 on 2 cores. The reference is
 the finest scale; its own error is stated as the change from the next scale (the grid's first-order convergence
 near a sheet would make the finest about that far from the limit).
 """
