@@ -4,7 +4,8 @@
   /usr/bin/python3 bench/fullwave/run.py --validity --rfidray build/rfidray -o bench/results/fullwave \
       [--before bench/results/fullwave/validity_before.csv]
 
-For every observer of every case whose CSV is in OUT (run.py --case CASE wrote it: the FDTD reference and each
+For every observer of every case whose CSV is in OUT (run.py --case CASE wrote it, or plate_near.py for
+plate_front_near: the FDTD reference and each
 level's error |h/h_ideal − E/E_free|, a fraction of the free-space field) and every level, it calls
 `rfidray link --level L --json` for the same link (rfidray_link.link_json: the case's source and polarization,
 isotropic patterns) and reads its `validity` object. A link is *flagged* when `level_ok` is false; it is *wrong*
@@ -24,7 +25,8 @@ import cases
 import rfidray_link
 from summary import read_rows
 
-CASE_ORDER = tuple(cases.RUNS)
+# The meep cases, then the graded-mesh openEMS case (plate_near.py writes its CSV in the same layout).
+CASE_ORDER = tuple(cases.RUNS) + ("plate_front_near",)
 WRONG = 0.1       # a level is wrong at an observer when its error exceeds this fraction of the free-space field
 VERY_WRONG = 0.2  # the goal: no observer this far off left level_ok
 
