@@ -54,17 +54,12 @@ def graded_lines(fixed, zones, fine_m: float, coarse_m: float, ratio: float = 1.
     return np.array(lines)
 
 
-def pml_extend(lines: np.ndarray, cells: int = 8) -> np.ndarray:
-    """`cells` more cells of the last cell's size beyond each end (openEMS puts its PML inside the mesh)."""
-    lo_step, hi_step = lines[1] - lines[0], lines[-1] - lines[-2]
-    lo = lines[0] - lo_step * np.arange(cells, 0, -1)
-    hi = lines[-1] + hi_step * np.arange(1, cells + 1)
+def pml_extend(lines: np.ndarray, low: bool = True, cells: int = 8) -> np.ndarray:
+    """`cells` more cells of the end cell's size beyond the high end and, if `low`, the low end (openEMS puts its
+    PML inside the mesh)."""
+    hi = lines[-1] + (lines[-1] - lines[-2]) * np.arange(1, cells + 1)
+    lo = lines[0] - (lines[1] - lines[0]) * np.arange(cells, 0, -1) if low else lines[:0]
     return np.concatenate((lo, lines, hi))
-
-
-def pml_extend_high(lines: np.ndarray, cells: int = 8) -> np.ndarray:
-    step = lines[-1] - lines[-2]
-    return np.concatenate((lines, lines[-1] + step * np.arange(1, cells + 1)))
 
 
 def half_mesh(case: Case, scale: float, gap_m: float):
@@ -82,7 +77,7 @@ def half_mesh(case: Case, scale: float, gap_m: float):
     z = graded_lines(fz, [(ze - 0.04, ze + 0.01)], edge, coarse)
     # Across the gap: `fine` from the plate to past the nearest observers (and as far behind the sheet).
     y = graded_lines(fy, [(-max(2.0 * gap_m, 8 * fine), 4 * fine)], fine, coarse)
-    return pml_extend(x), pml_extend(y), pml_extend_high(z)
+    return pml_extend(x), pml_extend(y), pml_extend(z, low=False)  # z = 0: the electric wall
 
 
 # The record's length: the pulse (9.45 ns) has passed every observer 1.3 m from the source by ~14 ns; the field
@@ -95,13 +90,14 @@ RECORD_CUTS_S = (16e-9, 19e-9, 22e-9)
 
 def run(case: Case, scale: float, gap_m: float, with_boxes: bool, work_dir: str, keep: bool = False,
         time_step_factor: float = 0.9, log=print) -> dict:
-    """One openEMS run; returns {'fields': complex E_z at 866 MHz per observer (arbitrary common scale), 'cells',
-    'steps', 'seconds', 'tail': the last 5 % of the probe signals over their peak (how far the run had decayed)}."""
+    """One openEMS run; returns {'fields': complex E_z at 866 MHz per observer (arbitrary common scale), 'fields_by_cut'
+    (observer × RECORD_CUTS_S), 'cells', 'steps' (probe samples), 'seconds', 'tail': the last 5 % of the probe signals
+    over their peak (how far the run had decayed)}. `keep` leaves openEMS's files in `work_dir`."""
     from CSXCAD import ContinuousStructure
     from openEMS import openEMS
 
     if case.axis != "z":
-        raise ValueError("fdtd_openems: only a z dipole (the quarter's walls assume it)")
+        raise ValueError("fdtd_openems: only a z dipole (the electric wall z = 0 assumes it)")
     x, y, z = half_mesh(case, scale, gap_m)
     fdtd = openEMS(NrTS=10_000_000, EndCriteria=1e-12)
     fdtd.SetMaxTime(RECORD_CUTS_S[-1])
@@ -157,8 +153,7 @@ def run(case: Case, scale: float, gap_m: float, with_boxes: bool, work_dir: str,
         shutil.rmtree(path, ignore_errors=True)
     fields = np.array(fields)  # observer × cut
     return {"fields": fields[:, -1], "fields_by_cut": fields, "cells": cells, "steps": steps, "seconds": seconds,
-            "tail": max(tails),
-            "lines": (len(x), len(y), len(z))}
+            "tail": max(tails)}
 
 
 def ratio(case: Case, scale: float, gap_m: float, work_dir: str, log=print) -> dict:

@@ -27,6 +27,8 @@ import cases  # noqa: E402
 import fdtd_openems  # noqa: E402
 import rfidray_link  # noqa: E402
 from geometry import WAVELENGTH_M  # noqa: E402
+from run import atomic_write  # noqa: E402
+from validity_table import write_csv  # noqa: E402
 
 
 def openems_ratio(case, scale: float, out_dir: str, log) -> dict:
@@ -100,12 +102,7 @@ def main():
             row[f"{lv}_abs"], row[f"{lv}_arg_rad"], row[f"{lv}_error"] = abs(h), cmath.phase(h), abs(h - ref[i])
         rows.append(row)
     os.makedirs(a.out, exist_ok=True)
-    with open(os.path.join(a.out, "plate_front_near.csv.tmp"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
-    os.replace(os.path.join(a.out, "plate_front_near.csv.tmp"), os.path.join(a.out, "plate_front_near.csv"))
+    write_csv(rows, os.path.join(a.out, "plate_front_near.csv"))
     lines = [f"# {case.name}", "", case.description + ".", "",
              "Graded-mesh FDTD (openEMS 0.0.35, `bench/fullwave/fdtd_openems.py`), E/E_free at 866 MHz; reference = "
              f"mesh scale {scales[-1]:g}, spread = its change from scale {scales[-2]:g}"
@@ -129,9 +126,7 @@ def main():
               "reference's change from the next coarser mesh; record spread: how far it moves between the records cut "
               f"at {cuts} ns. The meep column is case (b)'s converged field at the observer of the same label, 4 mm "
               "away (on the planes x = 0 and z = 0)."]
-    with open(os.path.join(a.out, "plate_front_near.md.tmp"), "w") as f:
-        f.write("\n".join(lines) + "\n")
-    os.replace(os.path.join(a.out, "plate_front_near.md.tmp"), os.path.join(a.out, "plate_front_near.md"))
+    atomic_write(os.path.join(a.out, "plate_front_near.md"), "\n".join(lines) + "\n")
     print("\n".join(lines))
 
 
